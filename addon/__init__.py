@@ -1,0 +1,1 @@
+"""Everything that touches bpy: scene extraction, the render engine and its UI."""

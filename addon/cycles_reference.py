@@ -1,0 +1,268 @@
+"""Ground-truth images from real Cycles, to measure LPV Preview against.
+
+Cycles renders the scene on the CPU from its camera into a multilayer EXR in a temporary
+folder; the passes are read back with OpenImageIO. In Blender 5.0 every view-layer pass
+reaches the file only once `image_settings.media_type` is 'MULTI_LAYER_IMAGE' (only then
+can `file_format` be 'OPEN_EXR_MULTILAYER'); plain 'OPEN_EXR' holds Combined alone.
+Every setting changed on the user's scene is given back afterwards.
+"""
+import os
+import shutil
+import tempfile
+import time
+from collections import namedtuple
+from contextlib import contextmanager
+
+import bpy
+import numpy as np
+import OpenImageIO as oiio
+
+import addon_utils  # on the path only once bpy is imported
+
+from ..gpu.errors import LPVError
+
+ColourPass = namedtuple("ColourPass", "view_layer_flag exr_layer")
+
+# Blender's short pass names, each with the view-layer switch that makes Cycles produce
+# it and the layer name it gets in a multilayer EXR.
+COLOUR_PASSES = {
+    "Combined": ColourPass("use_pass_combined", "Combined"),
+    "DiffDir": ColourPass("use_pass_diffuse_direct", "Diffuse Direct"),
+    "DiffInd": ColourPass("use_pass_diffuse_indirect", "Diffuse Indirect"),
+    "DiffCol": ColourPass("use_pass_diffuse_color", "Diffuse Color"),
+    "GlossDir": ColourPass("use_pass_glossy_direct", "Glossy Direct"),
+    "GlossInd": ColourPass("use_pass_glossy_indirect", "Glossy Indirect"),
+    "GlossCol": ColourPass("use_pass_glossy_color", "Glossy Color"),
+    "TransDir": ColourPass("use_pass_transmission_direct", "Transmission Direct"),
+    "TransInd": ColourPass("use_pass_transmission_indirect", "Transmission Indirect"),
+    "TransCol": ColourPass("use_pass_transmission_color", "Transmission Color"),
+    "Emit": ColourPass("use_pass_emit", "Emission"),
+    "Env": ColourPass("use_pass_environment", "Environment"),
+    "AO": ColourPass("use_pass_ambient_occlusion", "Ambient Occlusion"),
+}
+_PASS_BY_NAME = {**COLOUR_PASSES, **{p.exr_layer: p for p in COLOUR_PASSES.values()}}
+
+# Every setting render_cycles_passes may change, in the order they are given back:
+# the image media type before the file format, because the media type limits the formats.
+_RENDER_ATTRIBUTES = (
+    "engine", "resolution_x", "resolution_y", "resolution_percentage", "use_border",
+    "use_multiview", "filepath", "use_file_extension", "use_compositing", "use_sequencer",
+    "use_freestyle")
+_IMAGE_ATTRIBUTES = (
+    "media_type", "file_format", "color_depth", "color_mode", "exr_codec", "use_exr_interleave",
+    "color_management")
+_CYCLES_ATTRIBUTES = (
+    "device", "samples", "use_adaptive_sampling", "time_limit", "use_layer_samples",
+    "use_sample_subset", "seed", "use_animated_seed", "use_denoising", "light_sampling_threshold",
+    "filter_width", "max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces",
+    "volume_bounces", "sample_clamp_direct", "sample_clamp_indirect")
+_BOUNCE_ATTRIBUTES = (
+    "max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces")
+
+
+@contextmanager
+def restored_attributes(*owners_and_names):
+    """Give each listed attribute its old value back on exit, also when the body raises.
+
+    Arguments are `(owner, attribute_names)` pairs; values come back in the order listed,
+    so a setting that limits another (image media type, then file format) goes first.
+    Every attribute is tried even if one cannot be restored; the first failure is raised.
+    """
+    saved = [(owner, name, getattr(owner, name)) for owner, names in owners_and_names for name in names]
+    try:
+        yield
+    finally:
+        first_failure = None
+        for owner, name, value in saved:
+            try:
+                setattr(owner, name, value)
+            except (AttributeError, TypeError, ValueError) as failure:
+                first_failure = first_failure or failure
+        if first_failure is not None:
+            raise first_failure
+
+
+@contextmanager
+def temporary_render_settings(scene, view_layer):
+    """Let a reference render change the scene's engine, Cycles, output and pass settings freely.
+
+    Covers the render and image-format settings, Cycles sampling and bounces, the frame,
+    the pass switches of `view_layer` and which view layers are rendered. Cycles must be
+    enabled first, because `scene.cycles` only exists then.
+    """
+    render = scene.render
+    with restored_attributes(
+            (scene, ("frame_current",)),
+            (render, _RENDER_ATTRIBUTES),
+            (render.image_settings, _IMAGE_ATTRIBUTES),
+            (scene.cycles, _CYCLES_ATTRIBUTES),
+            (view_layer, tuple(p.view_layer_flag for p in COLOUR_PASSES.values())),
+            *((layer, ("use",)) for layer in scene.view_layers)):
+        yield
+
+
+def render_cycles_passes(scene, passes=("Combined", "DiffDir", "DiffCol"), samples=64, resolution=None,
+                         seed=0, max_bounces=None, light_threshold=0.0, pixel_filter_width=None):
+    """Render `passes` of `scene` with Cycles on the CPU, as linear float32 (H, W, 3) RGB arrays.
+
+    Row 0 is the top of the picture, as Blender's Image Editor shows it: world +X of a
+    camera with no roll is to the right and its up direction is at the top.
+
+    Pass names are Blender's short names (`COLOUR_PASSES`: "Combined", "DiffDir", "DiffCol",
+    ...) or a layer name as Cycles writes it in a multilayer EXR ("Diffuse Direct", an AOV);
+    the short names also switch their pass on. A pass without R, G and B channels in the
+    rendered file raises LPVError naming it.
+
+    `resolution` is (width, height) at 100 %, or None for the scene's own size and
+    percentage; `max_bounces`, when given, caps every bounce type (0: direct light only);
+    `pixel_filter_width` in pixels, None keeps the scene's. Denoising, adaptive sampling,
+    clamping, the compositor and the sequencer are off, so the passes are raw Cycles.
+
+    Returns {pass name: array, ..., "settings": dict of what was really used}; see
+    `describe_reference_settings`. The scene's settings are all given back afterwards.
+    """
+    _enable_cycles()
+    view_layer = _view_layer_to_render(scene)
+    wanted_layers = {name: _PASS_BY_NAME[name].exr_layer if name in _PASS_BY_NAME else name for name in passes}
+    with _temporary_folder() as folder, temporary_render_settings(scene, view_layer):
+        exr_path = os.path.join(folder, "cycles_reference.exr")
+        _apply_reference_settings(scene, view_layer, exr_path, passes, samples, resolution, seed,
+                                  max_bounces, light_threshold, pixel_filter_width)
+        settings = _settings_in_use(scene, view_layer)
+        started = time.perf_counter()
+        _render_to_file(scene, exr_path)
+        settings["render_seconds"] = time.perf_counter() - started
+        images = _read_exr_passes(exr_path, view_layer.name, wanted_layers)
+    return {**images, "settings": settings}
+
+
+def describe_reference_settings(settings):
+    """One line saying how a reference was rendered, for reports and the UI."""
+    width, height = settings["resolution"]
+    return (f"Cycles {settings['device']}, {settings['samples']} samples, seed {settings['seed']}, "
+            f"{width}x{height}, max bounces {settings['max_bounces']} (diffuse {settings['diffuse_bounces']}), "
+            f"light threshold {settings['light_threshold']:g}, {settings['pixel_filter']} filter "
+            f"{settings['pixel_filter_width']:g} px, no denoising, "
+            f"rendered in {settings['render_seconds']:.2f} s")
+
+
+def _enable_cycles():
+    if not addon_utils.check("cycles")[1] and addon_utils.enable("cycles", default_set=True) is None:
+        raise LPVError("The Cycles add-on could not be enabled; enable it in Preferences > Add-ons.")
+
+
+def _view_layer_to_render(scene):
+    """The view layer the user is looking at, when `scene` is the current one."""
+    if bpy.context.scene == scene and bpy.context.view_layer is not None:
+        return bpy.context.view_layer
+    return scene.view_layers[0]
+
+
+@contextmanager
+def _temporary_folder():
+    try:
+        folder = tempfile.mkdtemp(prefix="lpv_cycles_reference_")
+    except OSError as error:
+        raise LPVError(f"Cannot create a temporary folder for the Cycles reference in "
+                       f"'{tempfile.gettempdir()}' ({error.strerror}); set TMPDIR to a writable folder.") from error
+    try:
+        yield folder
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, resolution, seed,
+                              max_bounces, light_threshold, pixel_filter_width):
+    render, cycles = scene.render, scene.cycles
+    render.engine = "CYCLES"
+    if resolution is not None:
+        render.resolution_x, render.resolution_y = resolution
+        render.resolution_percentage = 100
+    render.use_border = False
+    render.use_multiview = False
+    render.filepath = exr_path
+    render.use_file_extension = False
+    render.use_compositing = False
+    render.use_sequencer = False
+    render.use_freestyle = False
+
+    image = render.image_settings
+    image.media_type = "MULTI_LAYER_IMAGE"
+    image.file_format = "OPEN_EXR_MULTILAYER"
+    image.color_depth = "32"
+    image.exr_codec = "ZIP"
+    image.use_exr_interleave = False
+    image.color_management = "FOLLOW_SCENE"
+
+    cycles.device = "CPU"
+    cycles.samples = samples
+    cycles.use_adaptive_sampling = False
+    cycles.time_limit = 0.0
+    cycles.use_layer_samples = "IGNORE"
+    cycles.use_sample_subset = False
+    cycles.seed = seed
+    cycles.use_animated_seed = False
+    cycles.use_denoising = False
+    cycles.light_sampling_threshold = light_threshold
+    cycles.sample_clamp_direct = 0.0
+    cycles.sample_clamp_indirect = 0.0
+    if pixel_filter_width is not None:
+        cycles.filter_width = pixel_filter_width
+    if max_bounces is not None:
+        for name in _BOUNCE_ATTRIBUTES:
+            setattr(cycles, name, max_bounces)
+
+    for layer in scene.view_layers:
+        layer.use = layer == view_layer
+    for name in passes:
+        if name in _PASS_BY_NAME:
+            setattr(view_layer, _PASS_BY_NAME[name].view_layer_flag, True)
+
+
+def _settings_in_use(scene, view_layer):
+    cycles, render = scene.cycles, scene.render
+    return {
+        "resolution": (render.resolution_x * render.resolution_percentage // 100,
+                       render.resolution_y * render.resolution_percentage // 100),
+        "device": cycles.device, "samples": cycles.samples, "seed": cycles.seed,
+        "max_bounces": cycles.max_bounces, "diffuse_bounces": cycles.diffuse_bounces,
+        "light_threshold": cycles.light_sampling_threshold, "pixel_filter": cycles.pixel_filter_type,
+        "pixel_filter_width": cycles.filter_width, "frame": scene.frame_current,
+        "view_layer": view_layer.name,
+    }
+
+
+def _render_to_file(scene, exr_path):
+    try:
+        bpy.ops.render.render(write_still=True, scene=scene.name)
+    except RuntimeError as error:
+        reason = str(error).splitlines()[0].removeprefix("Error: ").rstrip(".")
+        raise LPVError(f"Cycles could not render or save the reference image: {reason}.") from error
+    if not os.path.isfile(exr_path):
+        raise LPVError(f"Cycles rendered the reference but wrote no image to '{exr_path}'.")
+
+
+def _read_exr_passes(exr_path, view_layer_name, wanted_layers):
+    """{pass name: (H, W, 3) float32} from the multilayer EXR, top row first."""
+    reader = oiio.ImageInput.open(exr_path)
+    if reader is None:
+        raise LPVError(f"Cannot read the Cycles reference image '{exr_path}': {oiio.geterror()}.")
+    channel_places = {}  # channel name -> (sub-image, channel index)
+    subimage = 0
+    while reader.seek_subimage(subimage, 0):
+        for index, channel in enumerate(reader.spec().channelnames):
+            channel_places[channel] = (subimage, index)
+        subimage += 1
+    reader.close()
+
+    prefix = f"{view_layer_name}."
+    images = {}
+    for name, layer in wanted_layers.items():
+        places = [channel_places.get(f"{prefix}{layer}.{c}") for c in "RGB"]
+        if None in places or len({s for s, _ in places}) != 1:
+            present = sorted({c[len(prefix):].rsplit(".", 1)[0] for c in channel_places if c.startswith(prefix)})
+            raise LPVError(f"The Cycles render has no '{name}' pass with R, G and B channels; "
+                           f"it has {', '.join(present)}.")
+        pixels = oiio.ImageBuf(exr_path, places[0][0], 0).get_pixels(oiio.FLOAT)
+        images[name] = np.ascontiguousarray(pixels[..., [index for _, index in places]], dtype=np.float32)
+    return images

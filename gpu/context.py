@@ -1,0 +1,115 @@
+"""A headless OpenGL 4.5 context through EGL, the shaders it runs, and wall-clock timing.
+
+The GPU driver is used when there is one, Mesa's llvmpipe otherwise. Setting the
+environment variable LPV_PREVIEW_NO_GPU=1 makes context creation fail as it would on a
+machine without any OpenGL 4.5 driver, so that path can be tested.
+"""
+import os
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+from .errors import LPVError
+
+SHADER_DIR = Path(__file__).parent / "shaders"
+NO_GPU_VARIABLE = "LPV_PREVIEW_NO_GPU"
+INSTALL_HINT = ("install an OpenGL 4.5 driver with EGL (on Debian/Ubuntu: apt-get install libegl1 "
+                "libgl1-mesa-dri) or a GPU driver")
+
+
+class GLContext:
+    """One standalone moderngl context and a cache of the programs compiled in it."""
+
+    def __init__(self):
+        if os.environ.get(NO_GPU_VARIABLE):
+            raise LPVError(f"No OpenGL 4.5 context is available ({NO_GPU_VARIABLE} is set); "
+                           f"unset it, or {INSTALL_HINT}.")
+        try:
+            import moderngl
+        except ImportError as error:
+            raise LPVError(f"The Python package moderngl is missing ({error}); run the README's set-up command.")
+        try:
+            self.gl = moderngl.create_standalone_context(require=450, backend="egl")
+        except Exception as error:  # moderngl raises plain Exception for a missing EGL or GL 4.5
+            raise LPVError(f"No OpenGL 4.5 context could be created through EGL ({error}); {INSTALL_HINT}.")
+        self.renderer = self.gl.info["GL_RENDERER"]
+        self.version = self.gl.info["GL_VERSION"]
+        self.is_software = "llvmpipe" in self.renderer.lower() or "softpipe" in self.renderer.lower()
+        self._programs = {}
+
+    def compute(self, name, **defines):
+        """The compute shader `shaders/<name>.comp`, compiled once per set of defines."""
+        key = (name, tuple(sorted(defines.items())))
+        if key not in self._programs:
+            self._programs[key] = self.gl.compute_shader(load_shader(f"{name}.comp", defines))
+        return self._programs[key]
+
+    def program(self, vertex, fragment, **defines):
+        """The program of `shaders/<vertex>.vert` and `shaders/<fragment>.frag`, compiled once."""
+        key = (vertex, fragment, tuple(sorted(defines.items())))
+        if key not in self._programs:
+            self._programs[key] = self.gl.program(vertex_shader=load_shader(f"{vertex}.vert", defines),
+                                                  fragment_shader=load_shader(f"{fragment}.frag", defines))
+        return self._programs[key]
+
+    @contextmanager
+    def timed(self, stats, stage):
+        """Add the wall-clock milliseconds of the block, GPU work finished, to stats[stage].
+
+        Wall clock after finish() rather than timer queries: llvmpipe's timer queries
+        return nonsense, and the wall clock is what a user waits for.
+        """
+        self.gl.finish()
+        start = time.perf_counter()
+        yield
+        self.gl.finish()
+        stats[stage] = stats.get(stage, 0.0) + (time.perf_counter() - start) * 1000.0
+
+    def release(self):
+        for program in self._programs.values():
+            program.release()
+        self._programs.clear()
+        self.gl.release()
+
+
+def load_shader(filename, defines=None):
+    """GLSL source from shaders/, with `#include "x.glsl"` expanded and defines inserted."""
+    source = (SHADER_DIR / filename).read_text()
+    lines = []
+    for line in source.splitlines():
+        if line.startswith("#include"):
+            lines.append((SHADER_DIR / line.split('"')[1]).read_text())
+        else:
+            lines.append(line)
+    text = "\n".join(lines)
+    if defines:
+        head, _, rest = text.partition("\n")
+        text = head + "\n" + "".join(f"#define {k} {v}\n" for k, v in defines.items()) + rest
+    return text
+
+
+def set_uniforms(program, **values):
+    """Set uniforms by name; a uniform the driver optimised away is skipped.
+
+    Matrices are numpy 4x4 arrays in row-major (mathematical) order; arrays of them are
+    (k, 4, 4). They are transposed into GL's column-major layout here.
+    """
+    import numpy as np
+    for name, value in values.items():
+        member = program.get(name, None)
+        if member is None:
+            continue
+        if isinstance(value, np.ndarray) and value.shape[-2:] == (4, 4):
+            member.write(np.ascontiguousarray(np.swapaxes(value, -1, -2), dtype=np.float32).tobytes())
+        elif isinstance(value, np.ndarray):
+            member.write(np.ascontiguousarray(value, dtype=np.int32 if value.dtype.kind == "i" else np.float32).tobytes())
+        else:
+            member.value = value
+
+
+def dispatch(program, *counts, local=(8, 8, 1)):
+    """Run a compute shader over `counts` invocations and make its writes visible."""
+    groups = [max(1, -(-c // l)) for c, l in zip(counts, local)]
+    groups += [1] * (3 - len(groups))
+    program.run(*groups)
+    program.ctx.memory_barrier()

@@ -1,0 +1,140 @@
+"""Runs the stages RSM -> VPL -> LPV -> shade, caching each by what it depends on.
+
+A stage is redone only when its inputs change (ARCHITECTURE.md, "What each stage depends
+on"): a camera move reuses every light's RSM and VPLs and the LPV; a light change redoes
+that light's RSM and VPLs and the LPV; a geometry change redoes everything.
+"""
+import time
+from dataclasses import dataclass
+
+from .context import GLContext
+from .errors import LPVError
+from .lpv import LightPropagationVolume, fit_grid
+from .mesh_buffer import MeshBuffer
+from .rsm import render_rsm
+from .settings import Settings
+from .shade import PASS_NAMES, FrameTargets, render_gbuffer, shade_direct, shade_indirect
+from .vpl import VPLSampler
+
+
+@dataclass
+class Frame:
+    """The passes (name -> (height, width, 3) float32 linear, top row first) and statistics."""
+
+    passes: dict
+    stats: dict
+
+
+class Pipeline:
+    """One GL context and the cached results of every stage."""
+
+    def __init__(self, settings=None, glc=None):
+        self.settings = settings or Settings()
+        self.glc = glc or GLContext()
+        self.vpl_sampler = VPLSampler(self.glc)
+        self._mesh = None          # (geometry key, MeshBuffer)
+        self._lights = {}          # light cache key -> (RSM, VPLSet)
+        self._lpv = None           # (key, LightPropagationVolume)
+        self._targets = None
+
+    def light_maps(self, scene, stats=None):
+        """Each light's (RSM, VPLs), rendered only when the light, geometry or settings changed."""
+        stats = {} if stats is None else stats
+        s = self.settings
+        geometry_key = self._upload(scene, stats)
+        bounds = scene.bounds()
+        maps, keys = [], []
+        for light in scene.lights:
+            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light)
+            if key not in self._lights:
+                with self.glc.timed(stats, "rsm_ms"):
+                    rsm = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution, bounds)
+                with self.glc.timed(stats, "vpl_ms"):
+                    vpls = self.vpl_sampler.sample(rsm, s.vpls_per_light)
+                self._lights[key] = (rsm, vpls)
+            maps.append(self._lights[key])
+            keys.append(key)
+        for stale in set(self._lights) - set(keys):
+            for resource in self._lights.pop(stale):
+                resource.release()
+        return maps, keys
+
+    def render(self, scene, settings=None):
+        """Render the scene from its camera; returns a Frame."""
+        if settings is not None:
+            self.settings = settings
+        s = self.settings
+        if scene.camera is None:
+            raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
+        if not scene.sanitized:
+            scene.sanitize()
+        start = time.perf_counter()
+        stats = {}
+        maps, keys = self.light_maps(scene, stats)
+        grid = fit_grid(scene.bounds(), s.lpv_resolution)
+        lpv_key = (tuple(keys), grid, s.propagation_iterations, s.occlusion)
+        if self._lpv is None or self._lpv[0] != lpv_key:
+            lpv = self._lpv[1] if self._lpv is not None and self._lpv[1].grid == grid else None
+            if lpv is None:
+                if self._lpv is not None:
+                    self._lpv[1].release()
+                lpv = LightPropagationVolume(self.glc, grid)
+            with self.glc.timed(stats, "inject_ms"):
+                lpv.inject([vpls for _, vpls in maps], sum(rsm.flux_bound for rsm, _ in maps))
+                if s.occlusion:
+                    lpv.inject_geometry([rsm for rsm, _ in maps])
+            with self.glc.timed(stats, "propagate_ms"):
+                lpv.propagate(s.propagation_iterations, s.occlusion)
+            self._lpv = (lpv_key, lpv)
+        lpv = self._lpv[1]
+        if self._targets is None or self._targets.size != (s.width, s.height):
+            if self._targets is not None:
+                self._targets.release()
+            self._targets = FrameTargets(self.glc.gl, s.width, s.height)
+        targets = self._targets
+        with self.glc.timed(stats, "gbuffer_ms"):
+            render_gbuffer(self.glc, self._mesh[1], scene.camera, targets)
+        with self.glc.timed(stats, "direct_ms"):
+            for rsm, _ in maps:
+                shade_direct(self.glc, targets, rsm, s.shadow_bias)
+        with self.glc.timed(stats, "indirect_ms"):
+            shade_indirect(self.glc, targets, lpv, s.indirect_intensity)
+        with self.glc.timed(stats, "readback_ms"):
+            passes = {name: targets.read(name) for name in PASS_NAMES}
+        stats["total_ms"] = (time.perf_counter() - start) * 1000.0
+        stats.update({
+            "vpl_count": int(sum(vpls.count for _, vpls in maps)),
+            "lights": len(scene.lights),
+            "triangles": scene.triangle_count,
+            "dropped_triangles": dict(scene.dropped),
+            "rsm_resolution": s.rsm_resolution,
+            "rsm_faces": int(sum(rsm.face_count for rsm, _ in maps)),
+            "lpv_resolution": s.lpv_resolution,
+            "lpv_cell_size": grid.cell_size,
+            "propagation_iterations": s.propagation_iterations,
+            "image_size": [s.width, s.height],
+            "renderer": self.glc.renderer,
+        })
+        return Frame(passes, stats)
+
+    def _upload(self, scene, stats):
+        key = scene.geometry_key()
+        if self._mesh is None or self._mesh[0] != key:
+            if self._mesh is not None:
+                self._mesh[1].release()
+            with self.glc.timed(stats, "upload_ms"):
+                self._mesh = (key, MeshBuffer(self.glc, scene))
+        return key
+
+    def release(self):
+        for rsm, vpls in self._lights.values():
+            rsm.release()
+            vpls.release()
+        self._lights.clear()
+        for cached in (self._mesh, self._lpv):
+            if cached is not None:
+                cached[1].release()
+        if self._targets is not None:
+            self._targets.release()
+        self.vpl_sampler.release()
+        self.glc.release()

@@ -1,0 +1,135 @@
+"""Reflective shadow maps: the cube faces a light needs, or one orthographic map for a sun.
+
+All faces of one light share an atlas (up to three faces a row) of three float textures:
+position + shadow distance, light-facing normal + surfel area, reflected flux. A texel's
+flux is albedo x intensity x the texel's solid angle (METHOD §2), so the texels' fluxes
+add up to the power the light delivers to visible surfaces times their albedo.
+"""
+import math
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from .context import set_uniforms
+from .scene import look_at_view, perspective
+
+LIGHT_KIND_INDEX = {"POINT": 0, "SPOT": 1, "AREA": 2, "SUN": 3}
+ATLAS_COLUMNS = 3
+
+
+@dataclass
+class ReflectiveShadowMap:
+    """One light's RSM atlas and what the shading needs to look it up."""
+
+    light: object
+    resolution: int
+    face_view_projections: np.ndarray   # (faces, 4, 4)
+    face_origins: np.ndarray            # (faces, 2) lower-left texel of each face in the atlas
+    atlas_size: tuple
+    position: moderngl.Texture
+    normal: moderngl.Texture
+    flux: moderngl.Texture
+    light_uniforms: dict
+    ortho_texel: float                  # sun: a texel's width in world units, else 0
+    flux_bound: float                   # no channel of the total flux can exceed this
+
+    @property
+    def face_count(self):
+        return len(self.face_view_projections)
+
+    def read(self, texture):
+        """An atlas texture as a (height, width, 4) float32 array (GL's bottom row first)."""
+        width, height = self.atlas_size
+        return np.frombuffer(texture.read(), dtype=np.float32).reshape(height, width, 4)
+
+    def release(self):
+        for texture in (self.position, self.normal, self.flux):
+            texture.release()
+
+
+def light_frame(light):
+    """The light's local axes in world space: right (+X), up (+Y), back (+Z = -direction)."""
+    back = -light.direction
+    up = light.up - back * np.dot(light.up, back)
+    if np.linalg.norm(up) < 1e-6:
+        up = np.array([0.0, 0.0, 1.0]) if abs(back[2]) < 0.9 else np.array([0.0, 1.0, 0.0])
+        up = up - back * np.dot(up, back)
+    up /= np.linalg.norm(up)
+    return np.cross(up, back), up, back
+
+
+def cube_faces(light):
+    """(forward, up) of each cube face the light needs (METHOD §1), front face first."""
+    right, up, back = light_frame(light)
+    front = [(-back, up)]
+    sides = [(right, up), (-right, up), (up, back), (-up, back)]
+    if light.kind == "POINT":
+        return front + sides + [(back, up)]
+    if light.kind == "SPOT" and light.spot_size / 2 <= math.pi / 4 + 1e-9:
+        return front  # a cone of half-angle <= 45 degrees lies inside the front face
+    return front + sides  # spot over 45 degrees, area: the front hemisphere
+
+
+def light_uniforms(light, position):
+    cos_half = math.cos(light.spot_size / 2)
+    blend_width = (1.0 - cos_half) * light.spot_blend
+    return {
+        "light_kind": LIGHT_KIND_INDEX[light.kind],
+        "light_position": tuple(float(v) for v in position),
+        "light_direction": tuple(float(v) for v in light.direction),
+        "light_peak": tuple(float(v) for v in light.peak_intensity),
+        "spot_cos_half": cos_half,
+        "spot_smooth": 1.0 / blend_width if blend_width > 1e-12 else 1e20,
+    }
+
+
+def render_rsm(glc, mesh, light, resolution, bounds):
+    """Rasterise the light's RSM faces into a fresh atlas."""
+    low, high = bounds
+    centre = (low + high) / 2
+    radius = max(float(np.linalg.norm(high - low)) / 2, 1e-6)
+    if light.kind == "SUN":
+        origin = centre - light.direction * radius * 1.01
+        _, up, _ = light_frame(light)
+        view = look_at_view(origin, light.direction, up)
+        depth = 2.02 * radius
+        projection = np.diag([1 / radius, 1 / radius, -2 / depth, 1.0])
+        projection[2, 3] = -1.0
+        faces = [projection @ view]
+        ortho_texel = 2 * radius / resolution
+        flux_bound = float(np.max(light.rgb_power)) * (2 * radius) ** 2
+    else:
+        origin = light.position
+        corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+        far = float(np.max(np.linalg.norm(corners - origin, axis=1))) * 1.01 + 1e-6
+        projection = perspective(math.pi / 2, 1.0, far * 1e-5, far)
+        faces = [projection @ look_at_view(origin, forward, up) for forward, up in cube_faces(light)]
+        ortho_texel = 0.0
+        flux_bound = float(np.max(light.rgb_power))
+    columns = min(len(faces), ATLAS_COLUMNS)
+    rows = -(-len(faces) // ATLAS_COLUMNS)
+    atlas_size = (columns * resolution, rows * resolution)
+    origins = np.array([((f % ATLAS_COLUMNS) * resolution, (f // ATLAS_COLUMNS) * resolution)
+                        for f in range(len(faces))], dtype=np.int32)
+    gl = glc.gl
+    textures = [gl.texture(atlas_size, 4, dtype="f4") for _ in range(3)]
+    for texture in textures:
+        texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    depth = gl.depth_renderbuffer(atlas_size)
+    framebuffer = gl.framebuffer(color_attachments=textures, depth_attachment=depth)
+    program = glc.program("raster", "rsm")
+    uniforms = light_uniforms(light, origin)
+    framebuffer.use()
+    framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+    gl.enable(moderngl.DEPTH_TEST)
+    gl.disable(moderngl.CULL_FACE)
+    for view_projection, face_origin in zip(faces, origins):
+        framebuffer.viewport = (int(face_origin[0]), int(face_origin[1]), resolution, resolution)
+        set_uniforms(program, view_projection=view_projection, face_origin=tuple(float(v) for v in face_origin),
+                     resolution=float(resolution), ortho_texel_area=ortho_texel ** 2, **uniforms)
+        mesh.vertex_array(program).render(moderngl.TRIANGLES)
+    framebuffer.release()
+    depth.release()
+    return ReflectiveShadowMap(light, resolution, np.array(faces), origins, atlas_size, *textures,
+                               uniforms, ortho_texel, flux_bound)

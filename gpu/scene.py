@@ -1,0 +1,225 @@
+"""The scene as plain arrays: triangles, normals, albedo, lights and a camera.
+
+Everything the GPU stages need, in world space, with Blender's light units already
+turned into radiometric quantities (see `Light`). `addon/extract.py` builds one from a
+depsgraph; `Scene.load` reads one saved by `Scene.save` (for the GPU machine, which has
+no Blender).
+"""
+import hashlib
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import LPVError
+
+LIGHT_KINDS = ("POINT", "SPOT", "AREA", "SUN")
+
+
+@dataclass
+class Light:
+    """One light in world space.
+
+    `power` is Blender's: watts for point, spot and area lights (exposure applied),
+    irradiance in W/m² for a sun. `color` is linear RGB and multiplies the power.
+    `direction` is the light's -Z axis (where a spot, area or sun points) and `up` its
+    +Y axis. Radiant intensity follows Cycles: a point or spot light sends P/(4π) W/sr
+    (a spot cut to its cone with Cycles' smoothstep blend), an area light (P/π)·cosθ.
+    """
+
+    kind: str
+    position: np.ndarray
+    direction: np.ndarray
+    up: np.ndarray
+    color: np.ndarray
+    power: float
+    radius: float = 0.0
+    spot_size: float = math.pi / 4
+    spot_blend: float = 0.15
+    size: tuple = (0.0, 0.0)
+    name: str = "light"
+
+    def __post_init__(self):
+        if self.kind not in LIGHT_KINDS:
+            raise LPVError(f"Light '{self.name}' has type {self.kind!r}; supported types are {', '.join(LIGHT_KINDS)}.")
+        for name in ("position", "direction", "up", "color"):
+            value = np.asarray(getattr(self, name), dtype=np.float64).reshape(3)
+            if not np.all(np.isfinite(value)):
+                raise LPVError(f"Light '{self.name}' has a non-finite {name}; fix the light's transform or color.")
+            setattr(self, name, value)
+        self.direction = self.direction / max(np.linalg.norm(self.direction), 1e-30)
+        self.up = self.up / max(np.linalg.norm(self.up), 1e-30)
+        self.power = float(self.power)
+        if not math.isfinite(self.power) or self.power < 0:
+            raise LPVError(f"Light '{self.name}' has power {self.power}; it must be a finite number of at least 0.")
+
+    @property
+    def rgb_power(self):
+        """Power (or sun irradiance) per colour channel."""
+        return self.color * self.power
+
+    @property
+    def peak_intensity(self):
+        """Largest radiant intensity per channel in W/sr (irradiance in W/m² for a sun)."""
+        if self.kind == "SUN":
+            return self.rgb_power
+        if self.kind == "AREA":
+            return self.rgb_power / math.pi
+        return self.rgb_power / (4 * math.pi)
+
+    def key(self):
+        """A content key: equal keys mean the light's RSM would be the same."""
+        parts = [self.kind, self.power, self.radius, self.spot_size, self.spot_blend, tuple(self.size)]
+        parts += [tuple(np.round(v, 9)) for v in (self.position, self.direction, self.up, self.color)]
+        return hashlib.sha1(repr(parts).encode()).hexdigest()[:16]
+
+
+@dataclass
+class Camera:
+    """A camera: world-to-view and projection matrices (OpenGL conventions), 4x4 each."""
+
+    view: np.ndarray
+    projection: np.ndarray
+
+    def __post_init__(self):
+        self.view = np.asarray(self.view, dtype=np.float64).reshape(4, 4)
+        self.projection = np.asarray(self.projection, dtype=np.float64).reshape(4, 4)
+        if not (np.all(np.isfinite(self.view)) and np.all(np.isfinite(self.projection))):
+            raise LPVError("The camera has a non-finite transform; fix the camera object.")
+
+    @property
+    def position(self):
+        return np.linalg.inv(self.view)[:3, 3]
+
+    @staticmethod
+    def look_at(eye, target, up=(0, 0, 1), fov_y=math.radians(40), aspect=1.0, near=0.05, far=100.0):
+        """A perspective camera at `eye` looking at `target` (for tests and demos)."""
+        eye, target, up = (np.asarray(v, dtype=np.float64) for v in (eye, target, up))
+        return Camera(look_at_view(eye, target - eye, up), perspective(fov_y, aspect, near, far))
+
+    def key(self):
+        return hashlib.sha1(self.view.tobytes() + self.projection.tobytes()).hexdigest()[:16]
+
+
+def look_at_view(eye, forward, up):
+    """OpenGL world-to-view matrix of an eye looking along `forward`."""
+    forward = np.asarray(forward, dtype=np.float64) / np.linalg.norm(forward)
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    true_up = np.cross(right, forward)
+    view = np.eye(4)
+    view[0, :3], view[1, :3], view[2, :3] = right, true_up, -forward
+    view[:3, 3] = -view[:3, :3] @ np.asarray(eye, dtype=np.float64)
+    return view
+
+
+def perspective(fov_y, aspect, near, far):
+    """OpenGL perspective projection matrix."""
+    f = 1.0 / math.tan(fov_y / 2)
+    m = np.zeros((4, 4))
+    m[0, 0], m[1, 1] = f / aspect, f
+    m[2, 2], m[2, 3] = (far + near) / (near - far), 2 * far * near / (near - far)
+    m[3, 2] = -1.0
+    return m
+
+
+@dataclass
+class Scene:
+    """Triangles in world space, one albedo per triangle, lights and a camera.
+
+    `triangles` is (T, 3, 3) float32 vertex positions, `normals` (T, 3, 3) float32 unit
+    vertex normals (flat or smooth as the mesh says), `albedo` (T, 3) float32 linear
+    diffuse colour. `dropped` counts what `sanitize` removed, by reason.
+    """
+
+    triangles: np.ndarray
+    normals: np.ndarray
+    albedo: np.ndarray
+    lights: list
+    camera: Camera = None
+    dropped: dict = field(default_factory=lambda: {"non_finite": 0, "zero_area": 0})
+    sanitized: bool = False
+
+    @property
+    def triangle_count(self):
+        return int(self.triangles.shape[0])
+
+    def bounds(self):
+        """(min, max) corners of the triangles' bounding box."""
+        flat = self.triangles.reshape(-1, 3)
+        return flat.min(axis=0).astype(np.float64), flat.max(axis=0).astype(np.float64)
+
+    def sanitize(self):
+        """Drop triangles the GPU must never see (NaN/inf or zero area), counting them.
+
+        Raises LPVError for a scene with nothing left to render or no light.
+        """
+        tri = np.asarray(self.triangles, dtype=np.float32).reshape(-1, 3, 3)
+        nrm = np.asarray(self.normals, dtype=np.float32).reshape(-1, 3, 3)
+        alb = np.asarray(self.albedo, dtype=np.float32).reshape(-1, 3)
+        finite = np.isfinite(tri).all(axis=(1, 2)) & np.isfinite(alb).all(axis=1)
+        cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        with np.errstate(invalid="ignore", over="ignore"):
+            doubled_area = np.linalg.norm(cross.astype(np.float64), axis=1)
+            extent = np.abs(tri).max(axis=(1, 2)).astype(np.float64)
+            # An area below float32 resolution at the triangle's own scale is no area.
+            has_area = doubled_area > (extent * extent + 1e-30) * 1e-12
+        keep = finite & has_area
+        self.dropped = {
+            "non_finite": self.dropped.get("non_finite", 0) + int((~finite).sum()),
+            "zero_area": self.dropped.get("zero_area", 0) + int((finite & ~has_area).sum()),
+        }
+        tri, nrm, alb, cross = tri[keep], nrm[keep], alb[keep], cross[keep]
+        # Vertex normals that are missing or broken fall back to the face normal.
+        face = cross / np.linalg.norm(cross, axis=1, keepdims=True)
+        length = np.linalg.norm(nrm, axis=2, keepdims=True)
+        bad = ~np.isfinite(length) | (length < 1e-6)
+        nrm = np.where(bad, face[:, None, :], nrm / np.where(bad, 1.0, length))
+        self.triangles = np.ascontiguousarray(tri, dtype=np.float32)
+        self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
+        self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0), dtype=np.float32)
+        if self.triangle_count == 0:
+            raise LPVError("The scene has no renderable triangles; add a visible mesh object.")
+        if not self.lights:
+            raise LPVError("The scene has no lights; add a point, spot, area or sun light.")
+        self.sanitized = True
+        return self
+
+    def geometry_key(self):
+        """A content key of the triangles, normals and albedo."""
+        h = hashlib.sha1()
+        for array in (self.triangles, self.normals, self.albedo):
+            h.update(np.ascontiguousarray(array).tobytes())
+        return h.hexdigest()[:16]
+
+    def save(self, path):
+        """Write the scene to an .npz file that `Scene.load` reads without Blender."""
+        lights = {}
+        for i, light in enumerate(self.lights):
+            for name in ("kind", "position", "direction", "up", "color", "power", "radius",
+                         "spot_size", "spot_blend", "size", "name"):
+                lights[f"light{i}_{name}"] = np.asarray(getattr(light, name))
+        camera = {} if self.camera is None else {
+            "camera_view": self.camera.view, "camera_projection": self.camera.projection}
+        np.savez_compressed(path, triangles=self.triangles, normals=self.normals, albedo=self.albedo,
+                            light_count=len(self.lights), **lights, **camera,
+                            dropped=np.array([self.dropped["non_finite"], self.dropped["zero_area"]]))
+
+    @staticmethod
+    def load(path):
+        try:
+            data = np.load(path)
+        except (OSError, ValueError) as error:
+            raise LPVError(f"Cannot read scene file '{path}' ({error}); export it again with 'lpv_preview export'.")
+        lights = []
+        for i in range(int(data["light_count"])):
+            get = lambda name: data[f"light{i}_{name}"]
+            lights.append(Light(kind=str(get("kind")), position=get("position"), direction=get("direction"),
+                                up=get("up"), color=get("color"), power=float(get("power")),
+                                radius=float(get("radius")), spot_size=float(get("spot_size")),
+                                spot_blend=float(get("spot_blend")), size=tuple(get("size").tolist()),
+                                name=str(get("name"))))
+        camera = Camera(data["camera_view"], data["camera_projection"]) if "camera_view" in data else None
+        dropped = data["dropped"]
+        return Scene(data["triangles"], data["normals"], data["albedo"], lights, camera,
+                     {"non_finite": int(dropped[0]), "zero_area": int(dropped[1])})

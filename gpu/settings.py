@@ -1,0 +1,61 @@
+"""Every parameter of the pipeline: its default, its valid range and what it means.
+
+This is the one source of truth: Blender properties, command-line flags and benchmark
+sweeps are generated from `PARAMETERS` or checked against it.
+"""
+from dataclasses import dataclass, field, fields, replace
+
+from .errors import LPVError
+
+METHODS = ("cm",)
+
+
+def _param(default, description, minimum=None, maximum=None, choices=None):
+    return field(default=default, metadata={
+        "description": description, "min": minimum, "max": maximum, "choices": choices})
+
+
+@dataclass(frozen=True)
+class Settings:
+    """All pipeline parameters; constructing one validates it."""
+
+    method: str = _param("cm", "How omnidirectional reflective shadow maps are made", choices=METHODS)
+    rsm_resolution: int = _param(512, "Texels along one side of each RSM face", 16, 4096)
+    vpls_per_light: int = _param(2048, "Virtual point lights sampled per light", 1, 65536)
+    lpv_resolution: int = _param(32, "Cells along each side of the light propagation volume", 4, 128)
+    propagation_iterations: int = _param(8, "Propagation steps through the volume", 1, 64)
+    occlusion: bool = _param(True, "Block propagation with the geometry volume")
+    indirect_intensity: float = _param(1.0, "Scale of the indirect light", 0.0, 100.0)
+    shadow_bias: float = _param(1.5, "Shadow-map normal offset in texels", 0.0, 16.0)
+    width: int = _param(640, "Image width in pixels", 1, 16384)
+    height: int = _param(480, "Image height in pixels", 1, 16384)
+
+    def __post_init__(self):
+        for f in fields(self):
+            value = getattr(self, f.name)
+            meta = f.metadata
+            if meta["choices"] is not None:
+                if value not in meta["choices"]:
+                    raise LPVError(f"Setting '{f.name}' is {value!r}; choose one of {', '.join(meta['choices'])}.")
+                continue
+            kind = f.type if isinstance(f.type, type) else {"int": int, "float": float, "bool": bool}[f.type]
+            if kind is bool:
+                if not isinstance(value, bool):
+                    raise LPVError(f"Setting '{f.name}' must be true or false, not {value!r}.")
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or (kind is int and value != int(value)):
+                raise LPVError(f"Setting '{f.name}' must be a {kind.__name__}, not {value!r}.")
+            if not (meta["min"] <= value <= meta["max"]) or value != value:
+                raise LPVError(
+                    f"Setting '{f.name}' is {value}; it must lie between {meta['min']} and {meta['max']}.")
+            object.__setattr__(self, f.name, kind(value))
+
+    def with_changes(self, **changes):
+        """A validated copy with some parameters changed."""
+        unknown = set(changes) - {f.name for f in fields(self)}
+        if unknown:
+            raise LPVError(f"Unknown setting '{sorted(unknown)[0]}'; known settings are {', '.join(PARAMETERS)}.")
+        return replace(self, **changes)
+
+
+PARAMETERS = {f.name: f for f in fields(Settings)}

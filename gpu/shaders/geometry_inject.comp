@@ -1,0 +1,29 @@
+#version 450 core
+// Geometry volume: every RSM surfel adds its blocking potential clamp(A / cell^2, 0, 1)
+// as a cosine lobe around its normal, in a grid whose cell centres sit on LPV cell corners.
+#include "common.glsl"
+layout(local_size_x = 8, local_size_y = 8) in;
+uniform sampler2D rsm_position;
+uniform sampler2D rsm_normal;
+layout(std430, binding = 0) buffer Accumulator { int accumulator[]; };  // cell * 4 + k
+uniform ivec2 atlas_size;
+uniform vec3 grid_origin;
+uniform float cell_size;
+uniform int grid_size;  // LPV cells per side; the geometry volume has one more
+uniform float fixed_point_scale;
+
+void main() {
+    ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
+    if (texel.x >= atlas_size.x || texel.y >= atlas_size.y) return;
+    vec4 p = texelFetch(rsm_position, texel, 0);
+    if (p.w <= 0.0) return;
+    vec4 n = texelFetch(rsm_normal, texel, 0);
+    int size = grid_size + 1;
+    ivec3 cell = ivec3(floor((p.xyz - grid_origin) / cell_size + 0.5));
+    if (any(lessThan(cell, ivec3(0))) || any(greaterThanEqual(cell, ivec3(size)))) return;
+    int base = ((cell.z * size + cell.y) * size + cell.x) * 4;
+    vec4 c = cos_lobe(n.xyz) * clamp(n.w / (cell_size * cell_size), 0.0, 1.0) * fixed_point_scale;
+    for (int k = 0; k < 4; ++k) {
+        atomicAdd(accumulator[base + k], int(round(c[k])));
+    }
+}

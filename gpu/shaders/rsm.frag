@@ -1,0 +1,37 @@
+#version 450 core
+// Reflective shadow map texel: position, light-facing normal, reflected flux (METHOD §2).
+#include "common.glsl"
+#include "light.glsl"
+in vec3 world_position;
+in vec3 world_normal;
+in vec3 surface_albedo;
+uniform vec2 face_origin;        // this face's lower-left texel in the atlas
+uniform float resolution;        // texels along one side of a face
+uniform float ortho_texel_area;  // sun: the area one texel covers across the beam
+layout(location = 0) out vec4 out_position;  // xyz world, w shadow distance (0: empty)
+layout(location = 1) out vec4 out_normal;    // xyz normal toward the light, w surfel area
+layout(location = 2) out vec4 out_flux;      // rgb reflected flux in W, w 1
+
+void main() {
+    vec3 w;
+    float dist;
+    light_ray(world_position, w, dist);
+    vec3 n = normalize(world_normal);
+    if (dot(n, w) > 0.0) n = -n;
+    float cos_receiver = max(abs(dot(n, w)), 0.05);
+    vec3 power;
+    float area;
+    if (light_kind == LIGHT_SUN) {
+        power = light_peak * ortho_texel_area;
+        area = ortho_texel_area / cos_receiver;
+    } else {
+        // Cube-face texel solid angle: dA / (1 + u^2 + v^2)^(3/2), u, v in [-1, 1].
+        vec2 uv = (gl_FragCoord.xy - face_origin) / resolution * 2.0 - 1.0;
+        float solid_angle = 4.0 / (resolution * resolution) / pow(1.0 + dot(uv, uv), 1.5);
+        power = light_intensity(w) * solid_angle;
+        area = dist * dist * solid_angle / cos_receiver;
+    }
+    out_position = vec4(world_position, max(dist, 1e-30));
+    out_normal = vec4(n, area);
+    out_flux = vec4(surface_albedo * power, 1.0);
+}

@@ -1,0 +1,62 @@
+#version 450 core
+// Direct light of one light: Lambert, shadowed by the light's RSM distances (3x3 PCF with a
+// normal offset), added into the direct image.
+#include "common.glsl"
+#include "light.glsl"
+layout(local_size_x = 8, local_size_y = 8) in;
+uniform sampler2D g_position;
+uniform sampler2D g_normal;
+uniform sampler2D g_albedo;
+uniform sampler2D rsm_position;
+layout(rgba32f, binding = 0) uniform image2D direct;
+uniform mat4 face_view_projection[6];
+uniform ivec2 face_origin[6];
+uniform int face_count;
+uniform int resolution;
+uniform float texel_angle;   // 2 / resolution: a texel's width per unit distance
+uniform float ortho_texel;   // sun: a texel's width in world units
+uniform float shadow_bias;   // normal offset in texels
+
+float visibility(vec3 p) {
+    vec3 w;
+    float dist;
+    light_ray(p, w, dist);
+    float texel_world = light_kind == LIGHT_SUN ? ortho_texel : dist * texel_angle;
+    for (int f = 0; f < face_count; ++f) {
+        vec4 clip = face_view_projection[f] * vec4(p, 1.0);
+        if (clip.w <= 0.0) continue;
+        vec2 ndc = clip.xy / clip.w;
+        if (any(greaterThan(abs(ndc), vec2(1.0)))) continue;
+        ivec2 centre = ivec2(floor((ndc * 0.5 + 0.5) * float(resolution)));
+        float lit = 0.0;
+        for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+                ivec2 t = clamp(centre + ivec2(dx, dy), ivec2(0), ivec2(resolution - 1));
+                float stored = texelFetch(rsm_position, face_origin[f] + t, 0).w;
+                lit += (stored <= 0.0 || dist <= stored + 0.5 * texel_world) ? 1.0 : 0.0;
+            }
+        }
+        return lit / 9.0;
+    }
+    return 1.0;
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(pixel, imageSize(direct)))) return;
+    vec4 p = texelFetch(g_position, pixel, 0);
+    if (p.w <= 0.0) return;
+    vec3 n = texelFetch(g_normal, pixel, 0).xyz;
+    vec3 albedo = texelFetch(g_albedo, pixel, 0).rgb;
+    vec3 w;
+    float dist;
+    light_ray(p.xyz, w, dist);
+    float cos_theta = dot(n, -w);
+    if (cos_theta <= 0.0) return;
+    vec3 irradiance = light_kind == LIGHT_SUN ? light_peak * cos_theta
+                                              : light_intensity(w) * cos_theta / (dist * dist);
+    float texel_world = light_kind == LIGHT_SUN ? ortho_texel : dist * texel_angle;
+    float v = visibility(p.xyz + n * shadow_bias * texel_world);
+    vec4 previous = imageLoad(direct, pixel);
+    imageStore(direct, pixel, previous + vec4(albedo / PI * irradiance * v, 0.0));
+}

@@ -1,0 +1,141 @@
+"""Virtual point lights sampled from an RSM by Poisson-disk cells (METHOD §6).
+
+Each face of the atlas gets a Poisson-disk point set; every texel joins its nearest
+point's cell, and the cell's VPL carries the summed flux of all its texels, placed at the
+valid texel nearest the point. The VPLs' fluxes therefore add up to the RSM's flux.
+"""
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import moderngl
+import numpy as np
+
+from .context import dispatch, set_uniforms
+
+GATHER_ROW = 32768  # workgroups per row of the gather dispatch (GL guarantees 65535)
+
+
+@lru_cache(maxsize=64)
+def poisson_disk_points(count, candidates=12, seed=20240607):
+    """`count` points in [0, 1)^2 by Mitchell's best-candidate algorithm (a Poisson-disk set).
+
+    Each new point is the candidate farthest from the points so far, found through a grid
+    of buckets about one spacing wide, so a large set costs O(count) steps.
+    """
+    rng = np.random.default_rng(seed + count)
+    grid = max(1, int(math.sqrt(count)))
+    capacity = 8
+    buckets = np.full((grid + 2, grid + 2, capacity, 2), np.nan)  # one empty ring around
+    filled = np.zeros((grid + 2, grid + 2), dtype=np.int64)
+    offsets = np.array([(dx, dy) for dx in (-1, 0, 1) for dy in (-1, 0, 1)])
+    points = np.empty((count, 2))
+    for i in range(count):
+        trial = rng.random((candidates, 2))
+        cells = (trial * grid).astype(np.int64) + 1
+        around = cells[:, None, :] + offsets[None, :, :]
+        near = buckets[around[..., 0], around[..., 1]]
+        distance = np.sqrt(np.nansum((near - trial[:, None, None, :]) ** 2, axis=-1))
+        distance[np.isnan(near[..., 0])] = np.inf
+        best = trial[np.argmax(distance.min(axis=(1, 2)))]
+        points[i] = best
+        bx, by = (best * grid).astype(np.int64) + 1
+        if filled[bx, by] < capacity:
+            buckets[bx, by, filled[bx, by]] = best
+            filled[bx, by] += 1
+    return points.astype(np.float32)
+
+
+@dataclass
+class VPLSet:
+    """The VPLs of one light in a GPU buffer: per VPL position (w valid), normal (w surfel
+    area), flux (rgb) as three vec4."""
+
+    buffer: moderngl.Buffer
+    count: int
+
+    def read(self):
+        data = np.frombuffer(self.buffer.read(), dtype=np.float32).reshape(self.count, 3, 4)
+        return {"position": data[:, 0, :3], "valid": data[:, 0, 3] > 0, "normal": data[:, 1, :3],
+                "area": data[:, 1, 3], "flux": data[:, 2, :3]}
+
+    def release(self):
+        self.buffer.release()
+
+
+class PoissonCells:
+    """Which texel belongs to which VPL's cell, for one atlas layout and VPL count."""
+
+    def __init__(self, glc, atlas_size, face_origins, resolution, vpl_count):
+        gl = glc.gl
+        faces = len(face_origins)
+        per_face = [vpl_count // faces + (f < vpl_count % faces) for f in range(faces)]
+        self.count = sum(per_face)
+        self.cell_ids = gl.texture(atlas_size, 1, dtype="i4")
+        self.cell_ids.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        bounds = np.tile(np.array([2 ** 30, 2 ** 30, -1, -1], dtype=np.int32), (self.count, 1))
+        self.bounds = gl.buffer(bounds.tobytes())
+        samples = []
+        program = glc.compute("vpl_assign")
+        self.cell_ids.bind_to_image(0, read=False, write=True)
+        self.bounds.bind_to_storage_buffer(2)
+        first = 0
+        for origin, n in zip(face_origins, per_face):
+            if n == 0:
+                continue
+            grid = max(1, int(math.sqrt(n)))
+            points = poisson_disk_points(n)
+            bucket = np.minimum((points * grid).astype(np.int64), grid - 1)
+            order = np.argsort(bucket[:, 1] * grid + bucket[:, 0], kind="stable")
+            points = points[order]
+            keys = (bucket[order, 1] * grid + bucket[order, 0])
+            starts = np.searchsorted(keys, np.arange(grid * grid + 1)).astype(np.int32)
+            point_buffer = gl.buffer(points.tobytes())
+            start_buffer = gl.buffer(starts.tobytes())
+            point_buffer.bind_to_storage_buffer(0)
+            start_buffer.bind_to_storage_buffer(1)
+            set_uniforms(program, face_origin=tuple(int(v) for v in origin), resolution=resolution,
+                         first_cell=first, point_count=n, grid=grid)
+            dispatch(program, resolution, resolution)
+            point_buffer.release()
+            start_buffer.release()
+            samples.append(origin[None, :] + points * resolution)
+            first += n
+        self.samples = gl.buffer(np.concatenate(samples).astype(np.float32).tobytes())
+
+    def release(self):
+        for resource in (self.cell_ids, self.bounds, self.samples):
+            resource.release()
+
+
+class VPLSampler:
+    """Samples VPLs from RSMs, keeping the Poisson cells of each atlas layout."""
+
+    def __init__(self, glc):
+        self.glc = glc
+        self._cells = {}
+
+    def cells(self, rsm, vpl_count):
+        key = (rsm.atlas_size, rsm.resolution, rsm.face_count, vpl_count)
+        if key not in self._cells:
+            self._cells[key] = PoissonCells(self.glc, rsm.atlas_size, rsm.face_origins, rsm.resolution, vpl_count)
+        return self._cells[key]
+
+    def sample(self, rsm, vpl_count):
+        cells = self.cells(rsm, vpl_count)
+        program = self.glc.compute("vpl_gather")
+        output = self.glc.gl.buffer(reserve=cells.count * 48)
+        for unit, texture in enumerate((rsm.position, rsm.normal, rsm.flux, cells.cell_ids)):
+            texture.use(location=unit)
+        set_uniforms(program, rsm_position=0, rsm_normal=1, rsm_flux=2, cell_ids=3, cell_count=cells.count)
+        cells.samples.bind_to_storage_buffer(0)
+        cells.bounds.bind_to_storage_buffer(1)
+        output.bind_to_storage_buffer(2)
+        program.run(min(cells.count, GATHER_ROW), -(-cells.count // GATHER_ROW), 1)
+        self.glc.gl.memory_barrier()
+        return VPLSet(output, cells.count)
+
+    def release(self):
+        for cells in self._cells.values():
+            cells.release()
+        self._cells.clear()

@@ -1,0 +1,13 @@
+"""Make the repository importable as the package `lpv_preview` for the tests."""
+import os
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+try:
+    import lpv_preview  # noqa: F401  (the set-up script links it into the virtual environment)
+except ImportError:
+    link_dir = tempfile.mkdtemp(prefix="lpv_preview_")
+    os.symlink(ROOT, os.path.join(link_dir, "lpv_preview"))
+    sys.path.insert(0, link_dir)

@@ -73,8 +73,12 @@ class GLContext:
 
 
 def load_shader(filename, defines=None):
-    """GLSL source from shaders/, with `#include "x.glsl"` expanded and defines inserted."""
-    source = (SHADER_DIR / filename).read_text()
+    """GLSL source of shaders/<filename>, preprocessed."""
+    return preprocess((SHADER_DIR / filename).read_text(), defines)
+
+
+def preprocess(source, defines=None):
+    """Expand `#include "x.glsl"` (from shaders/) and insert `#define`s after `#version`."""
     lines = []
     for line in source.splitlines():
         if line.startswith("#include"):

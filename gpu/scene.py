@@ -158,8 +158,8 @@ class Scene:
         nrm = np.asarray(self.normals, dtype=np.float32).reshape(-1, 3, 3)
         alb = np.asarray(self.albedo, dtype=np.float32).reshape(-1, 3)
         finite = np.isfinite(tri).all(axis=(1, 2)) & np.isfinite(alb).all(axis=1)
-        cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         with np.errstate(invalid="ignore", over="ignore"):
+            cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
             doubled_area = np.linalg.norm(cross.astype(np.float64), axis=1)
             extent = np.abs(tri).max(axis=(1, 2)).astype(np.float64)
             # An area below float32 resolution at the triangle's own scale is no area.

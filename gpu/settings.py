@@ -20,7 +20,7 @@ class Settings:
     """All pipeline parameters; constructing one validates it."""
 
     method: str = _param("cm", "How omnidirectional reflective shadow maps are made", choices=METHODS)
-    rsm_resolution: int = _param(512, "Texels along one side of each RSM face", 16, 4096)
+    rsm_resolution: int = _param(512, "Texels along one side of each RSM face", 16, 2048)
     vpls_per_light: int = _param(2048, "Virtual point lights sampled per light", 1, 65536)
     lpv_resolution: int = _param(32, "Cells along each side of the light propagation volume", 4, 128)
     propagation_iterations: int = _param(8, "Propagation steps through the volume", 1, 64)

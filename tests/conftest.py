@@ -11,3 +11,15 @@ except ImportError:
     link_dir = tempfile.mkdtemp(prefix="lpv_preview_")
     os.symlink(ROOT, os.path.join(link_dir, "lpv_preview"))
     sys.path.insert(0, link_dir)
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture(scope="session")
+def glc():
+    """One real OpenGL 4.5 context (llvmpipe on CI) shared by the GPU tests."""
+    from lpv_preview.gpu.context import GLContext
+    context = GLContext()
+    print(f"\nOpenGL renderer: {context.renderer} ({context.version})")
+    yield context
+    context.release()

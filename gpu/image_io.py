@@ -1,0 +1,81 @@
+"""Writing passes: one multi-layer EXR (linear float) and tone-mapped PNGs, via OpenImageIO.
+
+OpenImageIO is imported when an image is written, so the rest of gpu/ runs where it is
+missing (the GPU machine).
+"""
+import os
+
+import numpy as np
+
+from .errors import LPVError
+
+CHANNELS = ("R", "G", "B")
+
+
+def _open_output(path, spec):
+    import OpenImageIO as oiio
+    directory = os.path.dirname(os.path.abspath(path))
+    try:
+        os.makedirs(directory, exist_ok=True)
+    except OSError as error:
+        raise LPVError(f"Cannot create the output folder '{directory}' ({error.strerror}); choose a writable folder.")
+    output = oiio.ImageOutput.create(path)
+    if output is None or not output.open(path, spec):
+        message = oiio.geterror() if output is None else output.geterror()
+        raise LPVError(f"Cannot write '{path}' ({message or 'not writable'}); choose a writable output folder.")
+    return output
+
+
+def write_exr(path, passes):
+    """All passes in one float EXR, channels named '<pass>.R', '<pass>.G', '<pass>.B'."""
+    import OpenImageIO as oiio
+    names = list(passes)
+    height, width, _ = passes[names[0]].shape
+    spec = oiio.ImageSpec(width, height, 3 * len(names), "float")
+    spec.channelnames = tuple(f"{name}.{c}" for name in names for c in CHANNELS)
+    spec.attribute("compression", "zip")
+    pixels = np.concatenate([np.asarray(passes[name], dtype=np.float32) for name in names], axis=2)
+    output = _open_output(path, spec)
+    output.write_image(np.ascontiguousarray(pixels))
+    output.close()
+
+
+def read_exr(path):
+    """Passes of an EXR written by write_exr (or any EXR with '<layer>.R/G/B' channels)."""
+    import OpenImageIO as oiio
+    image = oiio.ImageInput.open(path)
+    if image is None:
+        raise LPVError(f"Cannot read '{path}' ({oiio.geterror()}); check the path.")
+    names = image.spec().channelnames
+    pixels = image.read_image("float")
+    image.close()
+    passes = {}
+    for index, name in enumerate(names):
+        layer, _, channel = name.rpartition(".")
+        if channel in CHANNELS:
+            passes.setdefault(layer, {})[channel] = pixels[:, :, index]
+    return {layer: np.stack([c[k] for k in CHANNELS], axis=2) for layer, c in passes.items()
+            if all(k in c for k in CHANNELS)}
+
+
+def tone_map(image, key=0.18):
+    """Linear HDR to display sRGB in [0, 1]: Reinhard's photographic operator, auto exposure.
+
+    The exposure maps the log-average luminance of the lit pixels to `key`.
+    """
+    image = np.maximum(np.asarray(image, dtype=np.float64), 0.0)
+    luminance = image @ np.array([0.2126, 0.7152, 0.0722])
+    lit = luminance[luminance > 1e-9]
+    average = np.exp(np.mean(np.log(lit))) if lit.size else 1.0
+    scaled = image * (key / average)
+    mapped = scaled / (1.0 + scaled)
+    return np.where(mapped <= 0.0031308, 12.92 * mapped, 1.055 * np.power(mapped, 1 / 2.4) - 0.055)
+
+
+def write_png(path, image):
+    """A tone-mapped 8-bit PNG of a linear image."""
+    import OpenImageIO as oiio
+    height, width, _ = image.shape
+    output = _open_output(path, oiio.ImageSpec(width, height, 3, "uint8"))
+    output.write_image(np.ascontiguousarray(np.round(tone_map(image) * 255).astype(np.uint8)))
+    output.close()

@@ -92,7 +92,8 @@ class LightPropagationVolume:
 
         `flux_bound` bounds any channel's total flux, so the fixed-point sums cannot overflow.
         """
-        self.fixed_point_scale = LPV_FIXED_POINT_RANGE / max(flux_bound / math.pi * LOBE_C1, 1e-30)
+        largest = flux_bound / math.pi * LOBE_C1
+        self.fixed_point_scale = LPV_FIXED_POINT_RANGE / largest if largest > 0 else 1.0
         self.accumulator.clear()
         program = self.glc.compute("lpv_inject")
         self.accumulator.bind_to_storage_buffer(1)

@@ -1,0 +1,108 @@
+"""End to end on the built-in Cornell box (built with bpy, rendered on real GL)."""
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from lpv_preview.addon.extract import extract_scene  # noqa: E402
+from lpv_preview.demo import build  # noqa: E402
+from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
+from lpv_preview.gpu.settings import Settings  # noqa: E402
+
+SIZE = 128
+
+
+@pytest.fixture(scope="module")
+def cornell():
+    build("cornell")
+    return extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=(SIZE, SIZE))
+
+
+@pytest.fixture(scope="module")
+def pipeline():
+    p = Pipeline(Settings(width=SIZE, height=SIZE, rsm_resolution=256))
+    yield p
+    p.release()
+
+
+@pytest.fixture(scope="module")
+def frame(cornell, pipeline):
+    return pipeline.render(cornell)
+
+
+def pixel_of(camera, point):
+    """Row and column of a world point in a top-row-first image."""
+    clip = camera.projection @ camera.view @ np.append(point, 1.0)
+    ndc = clip[:2] / clip[3]
+    return int((1 - (ndc[1] * 0.5 + 0.5)) * SIZE), int((ndc[0] * 0.5 + 0.5) * SIZE)
+
+
+def window(image, row_col, radius=2):
+    row, col = row_col
+    return image[row - radius:row + radius + 1, col - radius:col + radius + 1].reshape(-1, 3).mean(axis=0)
+
+
+def test_every_pass_is_finite_and_non_negative(frame):
+    for name, image in frame.passes.items():
+        assert image.shape == (SIZE, SIZE, 3), name
+        assert np.all(np.isfinite(image)), name
+        assert image.min() >= 0.0, name
+    np.testing.assert_allclose(frame.passes["combined"], frame.passes["direct"] + frame.passes["indirect"],
+                               rtol=1e-5, atol=1e-6)
+    assert frame.passes["indirect"].mean() > 0.01 * frame.passes["direct"].mean()
+
+
+def test_floor_next_to_the_red_wall_is_redder(cornell, frame):
+    indirect = frame.passes["indirect"]
+    near_red = window(indirect, pixel_of(cornell.camera, (-0.85, -0.7, 0.0)))
+    near_green = window(indirect, pixel_of(cornell.camera, (0.85, -0.7, 0.0)))
+    redness = lambda c: c[0] / c[1]
+    print(f"\nindirect on the floor: next to red {near_red}, next to green {near_green}")
+    assert redness(near_red) > 1.3 * redness(near_green)
+    assert near_green[1] / near_green[0] > 1.3 * near_red[1] / near_red[0]
+
+
+def test_vpls_carry_the_rsm_flux(cornell, pipeline):
+    (rsm, vpls), = pipeline.light_maps(cornell)[0]
+    rsm_flux = rsm.read(rsm.flux)[..., :3].astype(np.float64).sum(axis=(0, 1))
+    vpl_flux = vpls.read()["flux"].astype(np.float64).sum(axis=0)
+    print(f"\nRSM flux {rsm_flux} W, VPL flux {vpl_flux} W, {vpls.count} VPLs")
+    assert vpls.count == 2048
+    np.testing.assert_allclose(vpl_flux, rsm_flux, rtol=0.01)
+
+
+def test_rsm_flux_is_the_light_power_times_albedo(cornell, pipeline):
+    """A closed-ish room: the point light's power lands on walls with albedo <= 0.73."""
+    (rsm, _), = pipeline.light_maps(cornell)[0]
+    flux = rsm.read(rsm.flux)[..., :3].astype(np.float64).sum(axis=(0, 1))
+    power = cornell.lights[0].rgb_power
+    assert np.all(flux < 0.73 * power + 1e-6) and np.all(flux > 0.05 * power)
+
+
+def test_no_light_power_gives_no_light(cornell):
+    dark = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=(SIZE, SIZE))
+    dark.lights[0].power = 0.0
+    pipeline = Pipeline(Settings(width=SIZE, height=SIZE, rsm_resolution=128))
+    try:
+        frame = pipeline.render(dark)
+    finally:
+        pipeline.release()
+    assert np.all(frame.passes["indirect"] == 0.0)
+    assert np.all(frame.passes["direct"] == 0.0)
+
+
+def test_stats_report_every_stage(frame, cornell):
+    for stage in ("rsm_ms", "vpl_ms", "inject_ms", "propagate_ms", "gbuffer_ms", "direct_ms", "indirect_ms"):
+        assert frame.stats[stage] > 0.0, stage
+    assert frame.stats["vpl_count"] == 2048
+    assert frame.stats["triangles"] == cornell.triangle_count
+    assert frame.stats["rsm_faces"] == 6
+
+
+def test_a_camera_move_reuses_the_lights_and_the_volume(cornell, pipeline, frame):
+    moved = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=(SIZE, SIZE))
+    moved.camera.view = moved.camera.view @ np.array(
+        [[1, 0, 0, 0.1], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]], dtype=np.float64)
+    again = pipeline.render(moved)
+    assert not any(stage in again.stats for stage in ("rsm_ms", "vpl_ms", "inject_ms", "propagate_ms"))
+    assert again.stats["gbuffer_ms"] > 0.0

@@ -160,24 +160,28 @@ class Scene:
         finite = np.isfinite(tri).all(axis=(1, 2)) & np.isfinite(alb).all(axis=1)
         with np.errstate(invalid="ignore", over="ignore"):
             cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-            doubled_area = np.linalg.norm(cross.astype(np.float64), axis=1)
+            doubled_area_squared = np.einsum("ij,ij->i", cross, cross).astype(np.float64)
             extent = np.abs(tri).max(axis=(1, 2)).astype(np.float64)
             # An area below float32 resolution at the triangle's own scale is no area.
-            has_area = doubled_area > (extent * extent + 1e-30) * 1e-12
+            has_area = doubled_area_squared > (extent ** 4 + 1e-60) * 1e-24
         keep = finite & has_area
         self.dropped = {
             "non_finite": self.dropped.get("non_finite", 0) + int((~finite).sum()),
             "zero_area": self.dropped.get("zero_area", 0) + int((finite & ~has_area).sum()),
         }
-        tri, nrm, alb, cross = tri[keep], nrm[keep], alb[keep], cross[keep]
+        if not keep.all():
+            tri, nrm, alb, cross = tri[keep], nrm[keep], alb[keep], cross[keep]
         # Vertex normals that are missing or broken fall back to the face normal.
-        face = cross / np.linalg.norm(cross, axis=1, keepdims=True)
-        length = np.linalg.norm(nrm, axis=2, keepdims=True)
-        bad = ~np.isfinite(length) | (length < 1e-6)
-        nrm = np.where(bad, face[:, None, :], nrm / np.where(bad, 1.0, length))
-        self.triangles = np.ascontiguousarray(tri, dtype=np.float32)
+        with np.errstate(invalid="ignore", over="ignore"):
+            length = np.sqrt(np.einsum("ijk,ijk->ij", nrm, nrm))[..., None]
+        bad = ~(length > 1e-6) | ~np.isfinite(length)
+        nrm = nrm / np.where(bad, 1.0, length)
+        if bad.any():
+            face = cross / np.linalg.norm(cross, axis=1, keepdims=True)
+            nrm = np.where(bad, face[:, None, :], nrm)
+        self.triangles = np.ascontiguousarray(tri)
         self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
-        self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0), dtype=np.float32)
+        self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
         if self.triangle_count == 0:
             raise LPVError("The scene has no renderable triangles; add a visible mesh object.")
         if not self.lights:

@@ -34,7 +34,6 @@ def build_plane_scene(kind):
     mesh = bpy.data.meshes.new("plane")
     mesh.from_pydata([(-2, -2, 0), (2, -2, 0), (2, 2, 0), (-2, 2, 0)], [], [(0, 1, 2, 3)])
     material = bpy.data.materials.new("diffuse")
-    material.use_nodes = True
     principled = material.node_tree.nodes["Principled BSDF"]
     principled.inputs["Base Color"].default_value = (*ALBEDO, 1.0)
     principled.inputs["Roughness"].default_value = 1.0

@@ -117,6 +117,16 @@ class Pipeline:
         })
         return Frame(passes, stats)
 
+    def invalidate(self):
+        """Forget every cached stage result, so the next render redoes every stage."""
+        for rsm, vpls in self._lights.values():
+            rsm.release()
+            vpls.release()
+        self._lights.clear()
+        if self._lpv is not None:
+            self._lpv[1].release()
+            self._lpv = None
+
     def _upload(self, scene, stats):
         key = scene.geometry_key()
         if self._mesh is None or self._mesh[0] != key:
@@ -127,13 +137,9 @@ class Pipeline:
         return key
 
     def release(self):
-        for rsm, vpls in self._lights.values():
-            rsm.release()
-            vpls.release()
-        self._lights.clear()
-        for cached in (self._mesh, self._lpv):
-            if cached is not None:
-                cached[1].release()
+        self.invalidate()
+        if self._mesh is not None:
+            self._mesh[1].release()
         if self._targets is not None:
             self._targets.release()
         self.vpl_sampler.release()

@@ -139,15 +139,20 @@ class Scene:
     camera: Camera = None
     dropped: dict = field(default_factory=lambda: {"non_finite": 0, "zero_area": 0})
     sanitized: bool = False
+    _bounds: tuple = field(default=None, repr=False, compare=False)
+    _geometry_key: str = field(default=None, repr=False, compare=False)
 
     @property
     def triangle_count(self):
         return int(self.triangles.shape[0])
 
     def bounds(self):
-        """(min, max) corners of the triangles' bounding box."""
+        """(min, max) corners of the triangles' bounding box (kept once sanitized)."""
+        if self.sanitized and self._bounds is not None:
+            return self._bounds
         flat = self.triangles.reshape(-1, 3)
-        return flat.min(axis=0).astype(np.float64), flat.max(axis=0).astype(np.float64)
+        self._bounds = flat.min(axis=0).astype(np.float64), flat.max(axis=0).astype(np.float64)
+        return self._bounds
 
     def sanitize(self):
         """Drop triangles the GPU must never see (NaN/inf or zero area), counting them.
@@ -179,6 +184,7 @@ class Scene:
         if bad.any():
             face = cross / np.linalg.norm(cross, axis=1, keepdims=True)
             nrm = np.where(bad, face[:, None, :], nrm)
+        self._bounds = self._geometry_key = None
         self.triangles = np.ascontiguousarray(tri)
         self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
@@ -190,11 +196,15 @@ class Scene:
         return self
 
     def geometry_key(self):
-        """A content key of the triangles, normals and albedo."""
+        """A content key of the triangles, normals and albedo (kept once sanitized: a
+        sanitized scene's arrays are not to be changed in place; make a new Scene)."""
+        if self.sanitized and self._geometry_key is not None:
+            return self._geometry_key
         h = hashlib.sha1()
         for array in (self.triangles, self.normals, self.albedo):
             h.update(np.ascontiguousarray(array).tobytes())
-        return h.hexdigest()[:16]
+        self._geometry_key = h.hexdigest()[:16]
+        return self._geometry_key
 
     def save(self, path):
         """Write the scene to an .npz file that `Scene.load` reads without Blender."""

@@ -19,6 +19,7 @@ class FrameTargets:
         self.depth = gl.depth_renderbuffer(self.size)
         self.framebuffer = gl.framebuffer(color_attachments=[self.position, self.normal, self.albedo],
                                           depth_attachment=self.depth)
+        self.direct_framebuffer = gl.framebuffer(color_attachments=[self.direct])
 
     def read(self, name):
         """An output image as (height, width, 3) float32, top row first."""
@@ -28,6 +29,7 @@ class FrameTargets:
 
     def release(self):
         self.framebuffer.release()
+        self.direct_framebuffer.release()
         self.depth.release()
         for texture in (self.position, self.normal, self.albedo, self.direct, self.indirect, self.combined):
             texture.release()
@@ -45,7 +47,7 @@ def render_gbuffer(glc, mesh, camera, targets):
     set_uniforms(program, view_projection=camera.projection @ camera.view,
                  camera_position=tuple(float(v) for v in camera.position))
     mesh.vertex_array(program).render(moderngl.TRIANGLES)
-    targets.direct.write(np.zeros((targets.size[1], targets.size[0], 4), dtype=np.float32).tobytes())
+    targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
 
 
 def shade_direct(glc, targets, rsm, shadow_bias):

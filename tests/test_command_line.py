@@ -1,0 +1,47 @@
+"""The command line writes every promised output and fails with one line on bad input."""
+import json
+import os
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from lpv_preview.__main__ import main  # noqa: E402
+from lpv_preview.gpu.image_io import read_exr  # noqa: E402
+
+SMALL = ["--width", "64", "--height", "64", "--rsm-resolution", "128", "--vpls-per-light", "512"]
+
+
+def test_demo_writes_exr_pngs_and_stats(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["demo", "--out", str(out), *SMALL]) == 0
+    assert sorted(os.listdir(out)) == ["combined.png", "indirect.png", "passes.exr", "stats.json"]
+    passes = read_exr(str(out / "passes.exr"))
+    assert sorted(passes) == ["combined", "direct", "indirect"]
+    for image in passes.values():
+        assert image.shape == (64, 64, 3) and np.all(np.isfinite(image))
+    stats = json.loads((out / "stats.json").read_text())
+    assert stats["vpl_count"] == 512 and stats["triangles"] == 900
+    assert all(stats[k] > 0 for k in ("rsm_ms", "vpl_ms", "propagate_ms", "total_ms"))
+
+
+def test_render_a_saved_blend_file(tmp_path):
+    from lpv_preview.demo import build
+    build("cornell")
+    blend = tmp_path / "cornell.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+    out = tmp_path / "render"
+    assert main(["render", str(blend), "--out", str(out), *SMALL]) == 0
+    assert read_exr(str(out / "passes.exr"))["combined"].shape == (64, 64, 3)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["render", "/nonexistent/scene.blend"], "There is no file"),
+    (["demo", "--rsm-resolution", "5"], "rsm_resolution"),
+    (["demo", "--out", "/proc/forbidden", *SMALL], "Cannot"),
+])
+def test_errors_print_one_line(argv, words, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and len(err.splitlines()) == 1, err

@@ -1,0 +1,46 @@
+"""The pipeline's settings as Blender properties, generated from gpu/settings.py.
+
+One property per parameter, with the same default, range and description, stored on the
+scene as `scene.lpv_preview`.
+"""
+import bpy
+
+from ..gpu.settings import PARAMETERS, Settings
+
+
+def _property(name, field):
+    meta = field.metadata
+    label = name.replace("_", " ").capitalize()
+    common = {"name": label, "description": meta["description"], "default": field.default}
+    if meta["choices"] is not None:
+        items = [(choice, choice.upper(), "") for choice in meta["choices"]]
+        return bpy.props.EnumProperty(items=items, **common)
+    kind = {"bool": bool, "int": int, "float": float}.get(field.type, field.type)
+    if kind is bool:
+        return bpy.props.BoolProperty(**common)
+    if kind is int:
+        return bpy.props.IntProperty(min=meta["min"], max=meta["max"], **common)
+    return bpy.props.FloatProperty(min=meta["min"], max=meta["max"], **common)
+
+
+LPVPreviewSettings = type("LPVPreviewSettings", (bpy.types.PropertyGroup,), {
+    "__annotations__": {name: _property(name, field) for name, field in PARAMETERS.items()},
+    "__doc__": "LPV Preview settings of a scene (generated from gpu/settings.py)",
+})
+
+
+def settings_from_properties(properties, **overrides):
+    """A validated Settings from a scene's properties."""
+    values = {name: getattr(properties, name) for name in PARAMETERS}
+    values.update(overrides)
+    return Settings(**values)
+
+
+def register():
+    bpy.utils.register_class(LPVPreviewSettings)
+    bpy.types.Scene.lpv_preview = bpy.props.PointerProperty(type=LPVPreviewSettings)
+
+
+def unregister():
+    del bpy.types.Scene.lpv_preview
+    bpy.utils.unregister_class(LPVPreviewSettings)

@@ -44,12 +44,16 @@ class GLContext:
             self._programs[key] = self.gl.compute_shader(load_shader(f"{name}.comp", defines))
         return self._programs[key]
 
-    def program(self, vertex, fragment, **defines):
-        """The program of `shaders/<vertex>.vert` and `shaders/<fragment>.frag`, compiled once."""
-        key = (vertex, fragment, tuple(sorted(defines.items())))
+    def program(self, vertex, fragment, geometry=None, **defines):
+        """The program of `shaders/<vertex>.vert`, `<fragment>.frag` and optionally
+        `<geometry>.geom`, compiled once."""
+        key = (vertex, fragment, geometry, tuple(sorted(defines.items())))
         if key not in self._programs:
-            self._programs[key] = self.gl.program(vertex_shader=load_shader(f"{vertex}.vert", defines),
-                                                  fragment_shader=load_shader(f"{fragment}.frag", defines))
+            stages = {"vertex_shader": load_shader(f"{vertex}.vert", defines),
+                      "fragment_shader": load_shader(f"{fragment}.frag", defines)}
+            if geometry is not None:
+                stages["geometry_shader"] = load_shader(f"{geometry}.geom", defines)
+            self._programs[key] = self.gl.program(**stages)
         return self._programs[key]
 
     @contextmanager

@@ -48,7 +48,7 @@ class Pipeline:
             key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light)
             if key not in self._lights:
                 with self.glc.timed(stats, "rsm_ms"):
-                    rsm = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution, bounds)
+                    rsm = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution, bounds, s.method)
                 with self.glc.timed(stats, "vpl_ms"):
                     vpls = self.vpl_sampler.sample(rsm, s.vpls_per_light)
                 self._lights[key] = (rsm, vpls)

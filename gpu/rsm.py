@@ -1,4 +1,5 @@
-"""Reflective shadow maps: the cube faces a light needs, or one orthographic map for a sun.
+"""Reflective shadow maps: the cube faces (CM) or paraboloid hemispheres (DPM) a light
+needs, or one orthographic map for a sun.
 
 All faces of one light share an atlas (up to three faces a row) of three float textures:
 position + shadow distance, light-facing normal + surfel area, reflected flux. A texel's
@@ -15,6 +16,7 @@ from .context import set_uniforms
 from .scene import look_at_view, perspective
 
 LIGHT_KIND_INDEX = {"POINT": 0, "SPOT": 1, "AREA": 2, "SUN": 3}
+PROJECTION_CUBE, PROJECTION_PARABOLOID, PROJECTION_ORTHO = 0, 1, 2
 ATLAS_COLUMNS = 3
 
 
@@ -24,7 +26,8 @@ class ReflectiveShadowMap:
 
     light: object
     resolution: int
-    face_view_projections: np.ndarray   # (faces, 4, 4)
+    projection_kind: int
+    face_matrices: np.ndarray           # (faces, 4, 4): view-projection, or hemisphere view for DPM
     face_origins: np.ndarray            # (faces, 2) lower-left texel of each face in the atlas
     atlas_size: tuple
     position: moderngl.Texture
@@ -36,7 +39,7 @@ class ReflectiveShadowMap:
 
     @property
     def face_count(self):
-        return len(self.face_view_projections)
+        return len(self.face_matrices)
 
     def read(self, texture):
         """An atlas texture as a (height, width, 4) float32 array (GL's bottom row first)."""
@@ -71,6 +74,23 @@ def cube_faces(light):
     return front + sides  # spot over 45 degrees, area: the front hemisphere
 
 
+def hemisphere_views(light, origin):
+    """World-to-hemisphere matrices (+z the axis) of the paraboloid maps the light needs:
+    both for a point light, the front one for a spot or area light.
+
+    The back hemisphere negates z and mirrors x, so both maps keep their orientation.
+    """
+    right, up, back = light_frame(light)
+    front = np.eye(4)
+    front[:3, :3] = np.stack([right, up, -back])
+    rear = np.eye(4)
+    rear[:3, :3] = np.stack([-right, up, back])
+    views = [front] + ([rear] if light.kind == "POINT" else [])
+    for view in views:
+        view[:3, 3] = -view[:3, :3] @ origin
+    return views
+
+
 def light_uniforms(light, position):
     cos_half = math.cos(light.spot_size / 2)
     blend_width = (1.0 - cos_half) * light.spot_blend
@@ -84,11 +104,12 @@ def light_uniforms(light, position):
     }
 
 
-def render_rsm(glc, mesh, light, resolution, bounds):
-    """Rasterise the light's RSM faces into a fresh atlas."""
+def render_rsm(glc, mesh, light, resolution, bounds, method="cm"):
+    """Rasterise the light's RSM faces (cube faces for "cm", hemispheres for "dpm")."""
     low, high = bounds
     centre = (low + high) / 2
     radius = max(float(np.linalg.norm(high - low)) / 2, 1e-6)
+    near = far = 0.0
     if light.kind == "SUN":
         origin = centre - light.direction * radius * 1.01
         _, up, _ = light_frame(light)
@@ -96,15 +117,20 @@ def render_rsm(glc, mesh, light, resolution, bounds):
         depth = 2.02 * radius
         projection = np.diag([1 / radius, 1 / radius, -2 / depth, 1.0])
         projection[2, 3] = -1.0
-        faces = [projection @ view]
+        kind, faces = PROJECTION_ORTHO, [projection @ view]
         ortho_texel = 2 * radius / resolution
         flux_bound = float(np.max(light.rgb_power)) * (2 * radius) ** 2
     else:
         origin = light.position
         corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
         far = float(np.max(np.linalg.norm(corners - origin, axis=1))) * 1.01 + 1e-6
-        projection = perspective(math.pi / 2, 1.0, far * 1e-5, far)
-        faces = [projection @ look_at_view(origin, forward, up) for forward, up in cube_faces(light)]
+        near = far * 1e-5
+        if method == "dpm":
+            kind, faces = PROJECTION_PARABOLOID, hemisphere_views(light, origin)
+        else:
+            projection = perspective(math.pi / 2, 1.0, near, far)
+            kind = PROJECTION_CUBE
+            faces = [projection @ look_at_view(origin, forward, up) for forward, up in cube_faces(light)]
         ortho_texel = 0.0
         flux_bound = float(np.max(light.rgb_power))
     columns = min(len(faces), ATLAS_COLUMNS)
@@ -118,18 +144,22 @@ def render_rsm(glc, mesh, light, resolution, bounds):
         texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
     depth = gl.depth_renderbuffer(atlas_size)
     framebuffer = gl.framebuffer(color_attachments=textures, depth_attachment=depth)
-    program = glc.program("raster", "rsm")
+    if kind == PROJECTION_PARABOLOID:
+        program = glc.program("dpm", "rsm", geometry="dpm")
+    else:
+        program = glc.program("raster", "rsm")
     uniforms = light_uniforms(light, origin)
     framebuffer.use()
     framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
-    for view_projection, face_origin in zip(faces, origins):
+    for matrix, face_origin in zip(faces, origins):
         framebuffer.viewport = (int(face_origin[0]), int(face_origin[1]), resolution, resolution)
-        set_uniforms(program, view_projection=view_projection, face_origin=tuple(float(v) for v in face_origin),
-                     resolution=float(resolution), ortho_texel_area=ortho_texel ** 2, **uniforms)
+        set_uniforms(program, view_projection=matrix, hemisphere_view=matrix, near=near, far=far,
+                     face_origin=tuple(float(v) for v in face_origin), resolution=float(resolution),
+                     projection_kind=kind, ortho_texel_area=ortho_texel ** 2, **uniforms)
         mesh.vertex_array(program).render(moderngl.TRIANGLES)
     framebuffer.release()
     depth.release()
-    return ReflectiveShadowMap(light, resolution, np.array(faces), origins, atlas_size, *textures,
+    return ReflectiveShadowMap(light, resolution, kind, np.array(faces), origins, atlas_size, *textures,
                                uniforms, ortho_texel, flux_bound)

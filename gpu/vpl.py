@@ -12,13 +12,15 @@ import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms
+from .rsm import PROJECTION_PARABOLOID
 
 GATHER_ROW = 32768  # workgroups per row of the gather dispatch (GL guarantees 65535)
 
 
 @lru_cache(maxsize=64)
-def poisson_disk_points(count, candidates=12, seed=20240607):
-    """`count` points in [0, 1)^2 by Mitchell's best-candidate algorithm (a Poisson-disk set).
+def poisson_disk_points(count, in_disk=False, candidates=12, seed=20240607):
+    """`count` points in [0, 1)^2 by Mitchell's best-candidate algorithm (a Poisson-disk set),
+    or only inside the disk inscribed in it (a paraboloid map's valid region).
 
     Each new point is the candidate farthest from the points so far, found through a grid
     of buckets about one spacing wide, so a large set costs O(count) steps.
@@ -31,7 +33,10 @@ def poisson_disk_points(count, candidates=12, seed=20240607):
     offsets = np.array([(dx, dy) for dx in (-1, 0, 1) for dy in (-1, 0, 1)])
     points = np.empty((count, 2))
     for i in range(count):
-        trial = rng.random((candidates, 2))
+        trial = rng.random((2 * candidates, 2))
+        if in_disk:
+            trial = trial[np.sum((2 * trial - 1) ** 2, axis=1) <= 1.0]
+        trial = trial[:candidates]
         cells = (trial * grid).astype(np.int64) + 1
         around = cells[:, None, :] + offsets[None, :, :]
         near = buckets[around[..., 0], around[..., 1]]
@@ -66,7 +71,7 @@ class VPLSet:
 class PoissonCells:
     """Which texel belongs to which VPL's cell, for one atlas layout and VPL count."""
 
-    def __init__(self, glc, atlas_size, face_origins, resolution, vpl_count):
+    def __init__(self, glc, atlas_size, face_origins, resolution, vpl_count, in_disk):
         gl = glc.gl
         faces = len(face_origins)
         per_face = [vpl_count // faces + (f < vpl_count % faces) for f in range(faces)]
@@ -84,7 +89,7 @@ class PoissonCells:
             if n == 0:
                 continue
             grid = max(1, int(math.sqrt(n)))
-            points = poisson_disk_points(n)
+            points = poisson_disk_points(n, in_disk)
             bucket = np.minimum((points * grid).astype(np.int64), grid - 1)
             order = np.argsort(bucket[:, 1] * grid + bucket[:, 0], kind="stable")
             points = points[order]
@@ -116,9 +121,11 @@ class VPLSampler:
         self._cells = {}
 
     def cells(self, rsm, vpl_count):
-        key = (rsm.atlas_size, rsm.resolution, rsm.face_count, vpl_count)
+        in_disk = rsm.projection_kind == PROJECTION_PARABOLOID
+        key = (rsm.atlas_size, rsm.resolution, rsm.face_count, vpl_count, in_disk)
         if key not in self._cells:
-            self._cells[key] = PoissonCells(self.glc, rsm.atlas_size, rsm.face_origins, rsm.resolution, vpl_count)
+            self._cells[key] = PoissonCells(self.glc, rsm.atlas_size, rsm.face_origins, rsm.resolution, vpl_count,
+                                            in_disk)
         return self._cells[key]
 
     def sample(self, rsm, vpl_count):

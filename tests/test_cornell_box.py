@@ -108,3 +108,19 @@ def test_a_camera_move_reuses_the_lights_and_the_volume(cornell, pipeline, frame
     again = pipeline.render(moved)
     assert not any(stage in again.stats for stage in ("rsm_ms", "vpl_ms", "inject_ms", "propagate_ms"))
     assert again.stats["gbuffer_ms"] > 0.0
+
+
+def test_dual_paraboloid_vpls_carry_the_cube_map_flux(cornell, pipeline):
+    (cube, cube_vpls), = pipeline.light_maps(cornell)[0]
+    cube_flux = cube_vpls.read()["flux"].astype(np.float64).sum(axis=0)
+    dpm = Pipeline(Settings(width=SIZE, height=SIZE, rsm_resolution=256, method="dpm"))
+    try:
+        (rsm, vpls), = dpm.light_maps(cornell)[0]
+        assert rsm.face_count == 2
+        data = vpls.read()
+        dpm_flux = data["flux"].astype(np.float64).sum(axis=0)
+        print(f"\nVPL flux: CM {cube_flux} W, DPM {dpm_flux} W, DPM valid VPLs {data['valid'].sum()} of {vpls.count}")
+        np.testing.assert_allclose(dpm_flux, cube_flux, rtol=0.02)
+        assert data["valid"].sum() > 0.8 * vpls.count  # Poisson points only inside the disks
+    finally:
+        dpm.release()

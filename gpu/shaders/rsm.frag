@@ -2,12 +2,17 @@
 // Reflective shadow map texel: position, light-facing normal, reflected flux (METHOD §2).
 #include "common.glsl"
 #include "light.glsl"
+#include "paraboloid.glsl"
+#define PROJECTION_CUBE 0
+#define PROJECTION_PARABOLOID 1
+#define PROJECTION_ORTHO 2
 in vec3 world_position;
 in vec3 world_normal;
 in vec3 surface_albedo;
 uniform vec2 face_origin;        // this face's lower-left texel in the atlas
 uniform float resolution;        // texels along one side of a face
 uniform float ortho_texel_area;  // sun: the area one texel covers across the beam
+uniform int projection_kind;
 layout(location = 0) out vec4 out_position;  // xyz world, w shadow distance (0: empty)
 layout(location = 1) out vec4 out_normal;    // xyz normal toward the light, w surfel area
 layout(location = 2) out vec4 out_flux;      // rgb reflected flux in W, w 1
@@ -25,9 +30,11 @@ void main() {
         power = light_peak * ortho_texel_area;
         area = ortho_texel_area / cos_receiver;
     } else {
-        // Cube-face texel solid angle: dA / (1 + u^2 + v^2)^(3/2), u, v in [-1, 1].
+        // The texel's solid angle from its map coordinates (METHOD §2).
         vec2 uv = (gl_FragCoord.xy - face_origin) / resolution * 2.0 - 1.0;
-        float solid_angle = 4.0 / (resolution * resolution) / pow(1.0 + dot(uv, uv), 1.5);
+        float solid_angle = projection_kind == PROJECTION_PARABOLOID
+            ? paraboloid_texel_solid_angle(uv, resolution)
+            : 4.0 / (resolution * resolution) / pow(1.0 + dot(uv, uv), 1.5);
         power = light_intensity(w) * solid_angle;
         area = dist * dist * solid_angle / cos_receiver;
     }

@@ -3,13 +3,15 @@
 // normal offset), added into the direct image.
 #include "common.glsl"
 #include "light.glsl"
+#include "paraboloid.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 uniform sampler2D g_position;
 uniform sampler2D g_normal;
 uniform sampler2D g_albedo;
 uniform sampler2D rsm_position;
 layout(rgba32f, binding = 0) uniform image2D direct;
-uniform mat4 face_view_projection[6];
+uniform mat4 face_matrix[6];   // view-projection, or world-to-hemisphere for paraboloids
+uniform bool paraboloid;
 uniform ivec2 face_origin[6];
 uniform int face_count;
 uniform int resolution;
@@ -23,10 +25,17 @@ float visibility(vec3 p) {
     light_ray(p, w, dist);
     float texel_world = light_kind == LIGHT_SUN ? ortho_texel : dist * texel_angle;
     for (int f = 0; f < face_count; ++f) {
-        vec4 clip = face_view_projection[f] * vec4(p, 1.0);
-        if (clip.w <= 0.0) continue;
-        vec2 ndc = clip.xy / clip.w;
-        if (any(greaterThan(abs(ndc), vec2(1.0)))) continue;
+        vec2 ndc;
+        if (paraboloid) {
+            vec3 h = (face_matrix[f] * vec4(p, 1.0)).xyz;
+            if (h.z < 0.0) continue;
+            ndc = paraboloid_project(h);
+        } else {
+            vec4 clip = face_matrix[f] * vec4(p, 1.0);
+            if (clip.w <= 0.0) continue;
+            ndc = clip.xy / clip.w;
+            if (any(greaterThan(abs(ndc), vec2(1.0)))) continue;
+        }
         ivec2 centre = ivec2(floor((ndc * 0.5 + 0.5) * float(resolution)));
         float lit = 0.0;
         for (int dy = -1; dy <= 1; ++dy) {

@@ -1,0 +1,59 @@
+#version 450 core
+// Dual paraboloid rasterisation: clip each triangle at the hemisphere's rim in hemisphere
+// space (exactly, before projecting), then project each vertex with eq. 3. The rasterizer
+// interpolates linearly between projected vertices: that is the distortion WDPM corrects.
+#include "paraboloid.glsl"
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 4) out;
+in vec3 world_position_v[];
+in vec3 world_normal_v[];
+in vec3 surface_albedo_v[];
+out vec3 world_position;
+out vec3 world_normal;
+out vec3 surface_albedo;
+uniform mat4 hemisphere_view;  // world to hemisphere space (+z the hemisphere's axis)
+uniform float near;
+uniform float far;
+
+vec3 kept_position[4];
+vec3 kept_normal[4];
+vec3 kept_albedo[4];
+int kept = 0;
+
+void keep(vec3 p, vec3 n, vec3 a) {
+    kept_position[kept] = p;
+    kept_normal[kept] = n;
+    kept_albedo[kept] = a;
+    kept += 1;
+}
+
+void emit(int i) {
+    vec3 p = (hemisphere_view * vec4(kept_position[i], 1.0)).xyz;
+    float depth = clamp((length(p) - near) / (far - near), 0.0, 1.0);
+    gl_Position = vec4(paraboloid_project(p), depth * 2.0 - 1.0, 1.0);
+    world_position = kept_position[i];
+    world_normal = kept_normal[i];
+    surface_albedo = kept_albedo[i];
+    EmitVertex();
+}
+
+void main() {
+    float z[3];
+    for (int i = 0; i < 3; ++i) z[i] = (hemisphere_view * vec4(world_position_v[i], 1.0)).z;
+    // Sutherland-Hodgman against z >= 0: at most four vertices survive.
+    for (int i = 0; i < 3; ++i) {
+        int j = (i + 1) % 3;
+        if (z[i] >= 0.0) keep(world_position_v[i], world_normal_v[i], surface_albedo_v[i]);
+        if ((z[i] >= 0.0) != (z[j] >= 0.0)) {
+            float f = z[i] / (z[i] - z[j]);
+            keep(mix(world_position_v[i], world_position_v[j], f), mix(world_normal_v[i], world_normal_v[j], f),
+                 mix(surface_albedo_v[i], surface_albedo_v[j], f));
+        }
+    }
+    if (kept < 3) return;
+    emit(0);
+    emit(1);
+    if (kept == 4) emit(3);
+    emit(2);
+    EndPrimitive();
+}

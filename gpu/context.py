@@ -18,7 +18,21 @@ INSTALL_HINT = ("install an OpenGL 4.5 driver with EGL (on Debian/Ubuntu: apt-ge
 
 
 class GLContext:
-    """One standalone moderngl context and a cache of the programs compiled in it."""
+    """One standalone moderngl context and a cache of the programs compiled in it.
+
+    `GLContext.shared()` is the process's one context: moderngl objects do not make their
+    own context current, so everything of ours lives in one context and never switches.
+    """
+
+    _shared = None
+
+    @classmethod
+    def shared(cls):
+        if os.environ.get(NO_GPU_VARIABLE):
+            cls()  # raises the same error a machine without OpenGL 4.5 gives
+        if cls._shared is None:
+            cls._shared = cls()
+        return cls._shared
 
     def __init__(self):
         if os.environ.get(NO_GPU_VARIABLE):

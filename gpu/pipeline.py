@@ -26,11 +26,11 @@ class Frame:
 
 
 class Pipeline:
-    """One GL context and the cached results of every stage."""
+    """The cached results of every stage, in the process's shared GL context."""
 
     def __init__(self, settings=None, glc=None):
         self.settings = settings or Settings()
-        self.glc = glc or GLContext()
+        self.glc = glc or GLContext.shared()
         self.vpl_sampler = VPLSampler(self.glc)
         self._mesh = None          # (geometry key, MeshBuffer)
         self._lights = {}          # light cache key -> (RSM, VPLSet)
@@ -143,4 +143,3 @@ class Pipeline:
         if self._targets is not None:
             self._targets.release()
         self.vpl_sampler.release()
-        self.glc.release()

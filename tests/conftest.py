@@ -17,9 +17,8 @@ import pytest  # noqa: E402
 
 @pytest.fixture(scope="session")
 def glc():
-    """One real OpenGL 4.5 context (llvmpipe on CI) shared by the GPU tests."""
+    """The real OpenGL 4.5 context (llvmpipe on CI) that the pipelines share too."""
     from lpv_preview.gpu.context import GLContext
-    context = GLContext()
+    context = GLContext.shared()
     print(f"\nOpenGL renderer: {context.renderer} ({context.version})")
-    yield context
-    context.release()
+    return context

@@ -30,8 +30,13 @@ LPVPreviewSettings = type("LPVPreviewSettings", (bpy.types.PropertyGroup,), {
 
 
 def settings_from_properties(properties, **overrides):
-    """A validated Settings from a scene's properties."""
+    """A validated Settings from a scene's properties.
+
+    Blender keeps float properties in single precision; they are rounded back to the 7
+    significant digits that holds, so 0.7 stays 0.7.
+    """
     values = {name: getattr(properties, name) for name in PARAMETERS}
+    values = {name: float(f"{v:.7g}") if isinstance(v, float) else v for name, v in values.items()}
     values.update(overrides)
     return Settings(**values)
 

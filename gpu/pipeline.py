@@ -11,10 +11,25 @@ from .context import GLContext
 from .errors import LPVError
 from .lpv import LightPropagationVolume, fit_grid
 from .mesh_buffer import MeshBuffer
-from .rsm import render_rsm
+from .rsm import PROJECTION_PARABOLOID, render_rsm
 from .settings import Settings
 from .shade import PASS_NAMES, FrameTargets, render_gbuffer, shade_direct, shade_indirect
 from .vpl import VPLSampler
+from .warp import STATUS_NAMES, warp_paraboloid_map
+
+
+@dataclass
+class LightMaps:
+    """One light's RSM (warped for WDPM), its VPLs and, for WDPM, the warp status."""
+
+    rsm: object
+    vpls: object
+    warp: object = None
+
+    def release(self):
+        for resource in (self.rsm, self.vpls, self.warp):
+            if resource is not None:
+                resource.release()
 
 
 @dataclass
@@ -33,31 +48,45 @@ class Pipeline:
         self.glc = glc or GLContext.shared()
         self.vpl_sampler = VPLSampler(self.glc)
         self._mesh = None          # (geometry key, MeshBuffer)
-        self._lights = {}          # light cache key -> (RSM, VPLSet)
+        self._lights = {}          # light cache key -> LightMaps
         self._lpv = None           # (key, LightPropagationVolume)
         self._targets = None
 
     def light_maps(self, scene, stats=None):
-        """Each light's (RSM, VPLs), rendered only when the light, geometry or settings changed."""
+        """Each light's LightMaps, rendered only when the light, geometry or settings changed;
+        and their cache keys."""
         stats = {} if stats is None else stats
         s = self.settings
         geometry_key = self._upload(scene, stats)
         bounds = scene.bounds()
         maps, keys = [], []
+        warp = (s.warp_alpha, s.warp_iterations, s.warp_significant_figures) if s.method == "wdpm" else None
         for light in scene.lights:
-            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light)
+            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, warp)
             if key not in self._lights:
-                with self.glc.timed(stats, "rsm_ms"):
-                    rsm = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution, bounds, s.method)
-                with self.glc.timed(stats, "vpl_ms"):
-                    vpls = self.vpl_sampler.sample(rsm, s.vpls_per_light)
-                self._lights[key] = (rsm, vpls)
+                self._lights[key] = self._render_light(light, bounds, stats)
             maps.append(self._lights[key])
             keys.append(key)
         for stale in set(self._lights) - set(keys):
-            for resource in self._lights.pop(stale):
-                resource.release()
+            self._lights.pop(stale).release()
         return maps, keys
+
+    def _render_light(self, light, bounds, stats):
+        s = self.settings
+        projection = "dpm" if s.method in ("dpm", "wdpm") else "cm"
+        with self.glc.timed(stats, "rsm_ms"):
+            rsm = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution, bounds, projection)
+        status = None
+        if s.method == "wdpm" and rsm.projection_kind == PROJECTION_PARABOLOID:
+            with self.glc.timed(stats, "warp_ms"):
+                warped, status = warp_paraboloid_map(self.glc, rsm, s.warp_alpha, s.warp_iterations,
+                                                     s.warp_significant_figures)
+            for texture in (rsm.position, rsm.normal, rsm.flux):
+                texture.release()
+            rsm = warped
+        with self.glc.timed(stats, "vpl_ms"):
+            vpls = self.vpl_sampler.sample(rsm, s.vpls_per_light)
+        return LightMaps(rsm, vpls, status)
 
     def render(self, scene, settings=None):
         """Render the scene from its camera; returns a Frame."""
@@ -80,9 +109,9 @@ class Pipeline:
                     self._lpv[1].release()
                 lpv = LightPropagationVolume(self.glc, grid)
             with self.glc.timed(stats, "inject_ms"):
-                lpv.inject([vpls for _, vpls in maps], sum(rsm.flux_bound for rsm, _ in maps))
+                lpv.inject([m.vpls for m in maps], sum(m.rsm.flux_bound for m in maps))
                 if s.occlusion:
-                    lpv.inject_geometry([rsm for rsm, _ in maps])
+                    lpv.inject_geometry([m.rsm for m in maps])
             with self.glc.timed(stats, "propagate_ms"):
                 lpv.propagate(s.propagation_iterations, s.occlusion)
             self._lpv = (lpv_key, lpv)
@@ -95,20 +124,24 @@ class Pipeline:
         with self.glc.timed(stats, "gbuffer_ms"):
             render_gbuffer(self.glc, self._mesh[1], scene.camera, targets)
         with self.glc.timed(stats, "direct_ms"):
-            for rsm, _ in maps:
-                shade_direct(self.glc, targets, rsm, s.shadow_bias)
+            for m in maps:
+                shade_direct(self.glc, targets, m.rsm, s.shadow_bias)
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, lpv, s.indirect_intensity)
         with self.glc.timed(stats, "readback_ms"):
             passes = {name: targets.read(name) for name in PASS_NAMES}
         stats["total_ms"] = (time.perf_counter() - start) * 1000.0
+        warped = [m.warp for m in maps if m.warp is not None]
+        if warped:
+            stats["warp_status"] = {name: sum(w.counts[name] for w in warped) for name in STATUS_NAMES}
         stats.update({
-            "vpl_count": int(sum(vpls.count for _, vpls in maps)),
+            "method": s.method,
+            "vpl_count": int(sum(m.vpls.count for m in maps)),
             "lights": len(scene.lights),
             "triangles": scene.triangle_count,
             "dropped_triangles": dict(scene.dropped),
             "rsm_resolution": s.rsm_resolution,
-            "rsm_faces": int(sum(rsm.face_count for rsm, _ in maps)),
+            "rsm_faces": int(sum(m.rsm.face_count for m in maps)),
             "lpv_resolution": s.lpv_resolution,
             "lpv_cell_size": grid.cell_size,
             "propagation_iterations": s.propagation_iterations,
@@ -119,9 +152,8 @@ class Pipeline:
 
     def invalidate(self):
         """Forget every cached stage result, so the next render redoes every stage."""
-        for rsm, vpls in self._lights.values():
-            rsm.release()
-            vpls.release()
+        for maps in self._lights.values():
+            maps.release()
         self._lights.clear()
         if self._lpv is not None:
             self._lpv[1].release()

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field, fields, replace
 
 from .errors import LPVError
 
-METHODS = ("cm", "dpm")
+METHODS = ("cm", "dpm", "wdpm")
 
 
 def _param(default, description, minimum=None, maximum=None, choices=None):
@@ -24,6 +24,9 @@ class Settings:
     vpls_per_light: int = _param(2048, "Virtual point lights sampled per light", 1, 65536)
     lpv_resolution: int = _param(32, "Cells along each side of the light propagation volume", 4, 128)
     propagation_iterations: int = _param(8, "Propagation steps through the volume", 1, 64)
+    warp_alpha: float = _param(0.7, "WDPM step damping per iteration while the error exceeds a texel", 0.05, 1.0)
+    warp_iterations: int = _param(16, "Most fixed-point iterations per texel of the warp", 1, 64)
+    warp_significant_figures: int = _param(2, "Significant figures of the warp's approximate-error stop", 1, 6)
     occlusion: bool = _param(True, "Block propagation with the geometry volume")
     indirect_intensity: float = _param(1.0, "Scale of the indirect light", 0.0, 100.0)
     shadow_bias: float = _param(1.5, "Shadow-map normal offset in texels", 0.0, 16.0)

@@ -65,7 +65,8 @@ def test_floor_next_to_the_red_wall_is_redder(cornell, frame):
 
 
 def test_vpls_carry_the_rsm_flux(cornell, pipeline):
-    (rsm, vpls), = pipeline.light_maps(cornell)[0]
+    (maps,), _ = pipeline.light_maps(cornell)
+    rsm, vpls = maps.rsm, maps.vpls
     rsm_flux = rsm.read(rsm.flux)[..., :3].astype(np.float64).sum(axis=(0, 1))
     vpl_flux = vpls.read()["flux"].astype(np.float64).sum(axis=0)
     print(f"\nRSM flux {rsm_flux} W, VPL flux {vpl_flux} W, {vpls.count} VPLs")
@@ -75,7 +76,8 @@ def test_vpls_carry_the_rsm_flux(cornell, pipeline):
 
 def test_rsm_flux_is_the_light_power_times_albedo(cornell, pipeline):
     """A closed-ish room: the point light's power lands on walls with albedo <= 0.73."""
-    (rsm, _), = pipeline.light_maps(cornell)[0]
+    (maps,), _ = pipeline.light_maps(cornell)
+    rsm = maps.rsm
     flux = rsm.read(rsm.flux)[..., :3].astype(np.float64).sum(axis=(0, 1))
     power = cornell.lights[0].rgb_power
     assert np.all(flux < 0.73 * power + 1e-6) and np.all(flux > 0.05 * power)
@@ -111,11 +113,12 @@ def test_a_camera_move_reuses_the_lights_and_the_volume(cornell, pipeline, frame
 
 
 def test_dual_paraboloid_vpls_carry_the_cube_map_flux(cornell, pipeline):
-    (cube, cube_vpls), = pipeline.light_maps(cornell)[0]
-    cube_flux = cube_vpls.read()["flux"].astype(np.float64).sum(axis=0)
+    (cube,), _ = pipeline.light_maps(cornell)
+    cube_flux = cube.vpls.read()["flux"].astype(np.float64).sum(axis=0)
     dpm = Pipeline(Settings(width=SIZE, height=SIZE, rsm_resolution=256, method="dpm"))
     try:
-        (rsm, vpls), = dpm.light_maps(cornell)[0]
+        (maps,), _ = dpm.light_maps(cornell)
+        rsm, vpls = maps.rsm, maps.vpls
         assert rsm.face_count == 2
         data = vpls.read()
         dpm_flux = data["flux"].astype(np.float64).sum(axis=0)

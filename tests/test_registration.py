@@ -25,7 +25,8 @@ def test_properties_mirror_the_settings():
         for name, field in PARAMETERS.items():
             assert rna[name].description == field.metadata["description"]
             if field.metadata["min"] is not None:
-                assert rna[name].hard_min == field.metadata["min"] and rna[name].hard_max == field.metadata["max"]
+                assert rna[name].hard_min == pytest.approx(field.metadata["min"], rel=1e-6)
+                assert rna[name].hard_max == pytest.approx(field.metadata["max"], rel=1e-6)
         assert settings_from_properties(properties) == Settings()
         properties.rsm_resolution = 256
         assert settings_from_properties(properties).rsm_resolution == 256

@@ -14,6 +14,7 @@ from .vpl import poisson_disk_points
 
 STATUS_NAMES = ("background", "converged", "approximate", "failed")
 MAX_ITERATIONS = 64
+APPROXIMATE_FROM = 2  # eq. 7 from the third iteration: accepting more beat checking late (docs/method.md)
 
 
 @dataclass
@@ -59,7 +60,8 @@ def warp_paraboloid_map(glc, rsm, alpha, iterations, significant_figures):
         set_uniforms(program, source_position=0, source_normal=1, source_flux=2, hemisphere_view=matrix,
                      face_origin=tuple(int(v) for v in origin), resolution=rsm.resolution, alpha=float(alpha),
                      iterations=min(int(iterations), MAX_ITERATIONS),
-                     scarborough_tolerance=scarborough_tolerance(significant_figures), restart_pattern=pattern)
+                     scarborough_tolerance=scarborough_tolerance(significant_figures),
+                     approximate_from=APPROXIMATE_FROM, restart_pattern=pattern)
         dispatch(program, rsm.resolution, rsm.resolution)
     totals = np.frombuffer(counts.read(), dtype=np.int32)
     counts.release()

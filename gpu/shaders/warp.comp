@@ -10,6 +10,7 @@
 #define STATUS_APPROXIMATE 2
 #define STATUS_FAILED 3
 #define MAX_ITERATIONS 64
+#define FAILED_FILL_TEXELS 2.0
 layout(local_size_x = 8, local_size_y = 8) in;
 uniform sampler2D source_position;
 uniform sampler2D source_normal;
@@ -25,6 +26,7 @@ uniform int resolution;
 uniform float alpha;
 uniform int iterations;
 uniform float scarborough_tolerance;  // percent: 0.5 * 10^(2 - n)
+uniform int approximate_from;         // eq. 7 is checked late: from this iteration on
 uniform vec2 restart_pattern[8];
 
 shared int local_counts[4 + MAX_ITERATIONS + 1];
@@ -54,6 +56,8 @@ void main() {
         float lambda = 1.0;
         float previous_error = -1.0;
         bool seen_geometry = false;
+        float best_error = 1e30;
+        ivec2 best = ivec2(-1);
         vec2 x = t;
         vec2 x_previous = t;
         int restarts = 0;
@@ -75,8 +79,9 @@ void main() {
             seen_geometry = true;
             vec2 e = t - map_uv(w.xyz);
             float error = length(e);
+            if (error < best_error) { best_error = error; best = texel; }
             if (error < half_texel) { status = STATUS_CONVERGED; chosen = texel; break; }
-            if (previous_error > 0.0 && k >= 2 &&
+            if (previous_error > 0.0 && k >= approximate_from &&
                 abs(error - previous_error) / error * 100.0 < scarborough_tolerance) {
                 status = STATUS_APPROXIMATE;
                 chosen = texel;
@@ -87,8 +92,13 @@ void main() {
             x = clamp(x + lambda * e, vec2(0.0), vec2(1.0));
             if (error > 2.0 * half_texel) lambda *= alpha;
         }
-        // Geometry seen but never accepted: failed, left empty rather than filled wrongly.
-        if (status == STATUS_BACKGROUND && seen_geometry) status = STATUS_FAILED;
+        // Geometry seen but never accepted: failed. Filled with the best candidate when that
+        // lies within FAILED_FILL_TEXELS (nearly converged), else left empty: a far
+        // candidate is usually geometry that belongs beside a silhouette, not here.
+        if (status == STATUS_BACKGROUND && seen_geometry) {
+            status = STATUS_FAILED;
+            chosen = best_error < FAILED_FILL_TEXELS / float(resolution) ? best : ivec2(-1);
+        }
     }
     if (inside_map) {
         ivec2 target = face_origin + local;

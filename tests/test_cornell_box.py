@@ -127,3 +127,20 @@ def test_dual_paraboloid_vpls_carry_the_cube_map_flux(cornell, pipeline):
         assert data["valid"].sum() > 0.8 * vpls.count  # Poisson points only inside the disks
     finally:
         dpm.release()
+
+
+def test_warping_brings_the_paraboloid_lpv_closer_to_the_cube_map(cornell, frame):
+    from lpv_preview.gpu.metrics import psnr
+    reference = frame.passes["indirect"]
+    quality = {}
+    for method in ("dpm", "wdpm"):
+        pipeline = Pipeline(Settings(width=SIZE, height=SIZE, rsm_resolution=256, method=method))
+        try:
+            result = pipeline.render(cornell)
+        finally:
+            pipeline.release()
+        quality[method] = psnr(result.passes["indirect"], reference)
+        assert np.all(np.isfinite(result.passes["indirect"]))
+    print(f"\nindirect PSNR against CM: DPM {quality['dpm']:.2f} dB, WDPM {quality['wdpm']:.2f} dB; "
+          f"warp status {result.stats['warp_status']}")
+    assert quality["wdpm"] > quality["dpm"]

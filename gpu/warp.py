@@ -35,6 +35,31 @@ class WarpStatus:
         self.texture.release()
 
 
+def reference_paraboloid_map(glc, cube, paraboloid):
+    """The exact DPM that every DPM variant is measured against (thesis §6): `paraboloid`'s
+    layout, each texel fetched from the cube map `cube` of the same light."""
+    gl = glc.gl
+    textures = [gl.texture(paraboloid.atlas_size, 4, dtype="f4") for _ in range(3)]
+    for texture in textures:
+        texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    program = glc.compute("reference_dpm")
+    for unit, texture in enumerate((cube.position, cube.normal, cube.flux)):
+        texture.use(location=unit)
+    for unit, texture in enumerate(textures):
+        texture.bind_to_image(unit, read=False, write=True)
+    matrices = np.zeros((6, 4, 4))
+    matrices[:cube.face_count] = cube.face_matrices
+    origins = np.zeros((6, 2), dtype=np.int32)
+    origins[:cube.face_count] = cube.face_origins
+    for matrix, origin in zip(paraboloid.face_matrices, paraboloid.face_origins):
+        set_uniforms(program, cube_position=0, cube_normal=1, cube_flux=2, hemisphere_view=matrix,
+                     face_origin=tuple(int(v) for v in origin), resolution=paraboloid.resolution,
+                     light_position=tuple(float(v) for v in paraboloid.light.position), cube_matrix=matrices,
+                     cube_origin=origins, cube_faces=cube.face_count, cube_resolution=cube.resolution)
+        dispatch(program, paraboloid.resolution, paraboloid.resolution)
+    return replace(paraboloid, position=textures[0], normal=textures[1], flux=textures[2])
+
+
 def scarborough_tolerance(significant_figures):
     """Scarborough's criterion in percent: 0.5 x 10^(2 - n) (METHOD §4, eq. 7)."""
     return 0.5 * 10.0 ** (2 - significant_figures)

@@ -91,3 +91,39 @@ def test_triangles_straddling_the_rim_are_clipped_there(glc):
         assert np.all(np.isfinite(rsm.read(rsm.flux)))
     rsm.release()
     mesh.release()
+
+
+def test_reference_dpm_keeps_the_cube_flux_and_warping_approaches_it(glc):
+    from lpv_preview.gpu.metrics import psnr
+    from lpv_preview.gpu.warp import reference_paraboloid_map, warp_paraboloid_map
+    # A room around a point light: floor, ceiling and four walls of 8 x 8 quads each.
+    corners = np.array([[x, y, z] for x in (-2, 2) for y in (-2, 2) for z in (0, 3)], dtype=np.float64)
+    quads = [(0, 2, 6, 4), (1, 5, 7, 3), (0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6)]
+    steps = np.linspace(0, 1, 9)
+    triangles = []
+    for a, b, c, d in quads:
+        point = lambda u, v: (1 - v) * ((1 - u) * corners[a] + u * corners[b]) + v * ((1 - u) * corners[d] + u * corners[c])
+        for u0, u1 in zip(steps[:-1], steps[1:]):
+            for v0, v1 in zip(steps[:-1], steps[1:]):
+                triangles += [[point(u0, v0), point(u1, v0), point(u1, v1)], [point(u0, v0), point(u1, v1), point(u0, v1)]]
+    triangles = np.array(triangles, dtype=np.float32)
+    light = Light("POINT", (0.4, -0.3, 2.0), (0, 0, -1), (0, 1, 0), (1, 1, 1), 100.0)
+    scene = Scene(triangles, np.zeros_like(triangles), np.full((len(triangles), 3), 0.6), [light],
+                  Camera.look_at((0, -1.9, 1.5), (0, 0, 1))).sanitize()
+    mesh = MeshBuffer(glc, scene)
+    cube = render_rsm(glc, mesh, light, 256, scene.bounds(), method="cm")
+    dpm = render_rsm(glc, mesh, light, 256, scene.bounds(), method="dpm")
+    reference = reference_paraboloid_map(glc, cube, dpm)
+    warped, status = warp_paraboloid_map(glc, dpm, 0.7, 16, 2)
+    total = lambda rsm: rsm.read(rsm.flux)[..., :3].astype(np.float64).sum(axis=(0, 1))
+    np.testing.assert_allclose(total(reference), total(cube), rtol=0.01)
+    valid = reference.read(reference.position)[..., 3] > 0
+    quality = {name: psnr(m.read(m.position)[..., :3], reference.read(reference.position)[..., :3], mask=valid)
+               for name, m in (("dpm", dpm), ("wdpm", warped))}
+    print(f"\nposition PSNR against the reference DPM: DPM {quality['dpm']:.2f} dB, WDPM {quality['wdpm']:.2f} dB; "
+          f"flux: cube {total(cube)}, reference {total(reference)}; warp {status.counts}")
+    assert quality["wdpm"] > quality["dpm"] + 3.0
+    for rsm in (cube, dpm, reference, warped):
+        rsm.release()
+    status.release()
+    mesh.release()

@@ -58,15 +58,18 @@ class GLContext:
             self._programs[key] = self.gl.compute_shader(load_shader(f"{name}.comp", defines))
         return self._programs[key]
 
-    def program(self, vertex, fragment, geometry=None, **defines):
-        """The program of `shaders/<vertex>.vert`, `<fragment>.frag` and optionally
-        `<geometry>.geom`, compiled once."""
-        key = (vertex, fragment, geometry, tuple(sorted(defines.items())))
+    def program(self, vertex, fragment, geometry=None, tessellation=None, **defines):
+        """The program of `shaders/<vertex>.vert`, `<fragment>.frag`, optionally
+        `<geometry>.geom` and `<tessellation>.tesc/.tese`, compiled once."""
+        key = (vertex, fragment, geometry, tessellation, tuple(sorted(defines.items())))
         if key not in self._programs:
             stages = {"vertex_shader": load_shader(f"{vertex}.vert", defines),
                       "fragment_shader": load_shader(f"{fragment}.frag", defines)}
             if geometry is not None:
                 stages["geometry_shader"] = load_shader(f"{geometry}.geom", defines)
+            if tessellation is not None:
+                stages["tess_control_shader"] = load_shader(f"{tessellation}.tesc", defines)
+                stages["tess_evaluation_shader"] = load_shader(f"{tessellation}.tese", defines)
             self._programs[key] = self.gl.program(**stages)
         return self._programs[key]
 

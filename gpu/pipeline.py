@@ -60,9 +60,13 @@ class Pipeline:
         geometry_key = self._upload(scene, stats)
         bounds = scene.bounds()
         maps, keys = [], []
-        warp = (s.warp_alpha, s.warp_iterations, s.warp_significant_figures) if s.method == "wdpm" else None
+        method_parameters = {
+            "cm": (), "dpm": (), "tdpm": (s.tessellation_unit,),
+            "wdpm": (s.warp_alpha, s.warp_iterations, s.warp_significant_figures),
+            "twdpm": (s.tessellation_unit, s.tessellated_warp_alpha, s.warp_iterations, s.warp_significant_figures),
+        }[s.method]
         for light in scene.lights:
-            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, warp)
+            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, method_parameters)
             if key not in self._lights:
                 self._lights[key] = self._render_light(light, bounds, stats)
             maps.append(self._lights[key])
@@ -73,13 +77,15 @@ class Pipeline:
 
     def _render_light(self, light, bounds, stats):
         s = self.settings
-        projection = "dpm" if s.method in ("dpm", "wdpm") else "cm"
+        projection = "cm" if s.method == "cm" else "dpm"
+        unit = s.tessellation_unit if s.method in ("tdpm", "twdpm") else None
         with self.glc.timed(stats, "rsm_ms"):
-            rsm = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution, bounds, projection)
+            rsm = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution, bounds, projection, unit)
         status = None
-        if s.method == "wdpm" and rsm.projection_kind == PROJECTION_PARABOLOID:
+        if s.method in ("wdpm", "twdpm") and rsm.projection_kind == PROJECTION_PARABOLOID:
+            alpha = s.warp_alpha if s.method == "wdpm" else s.tessellated_warp_alpha
             with self.glc.timed(stats, "warp_ms"):
-                warped, status = warp_paraboloid_map(self.glc, rsm, s.warp_alpha, s.warp_iterations,
+                warped, status = warp_paraboloid_map(self.glc, rsm, alpha, s.warp_iterations,
                                                      s.warp_significant_figures)
             for texture in (rsm.position, rsm.normal, rsm.flux):
                 texture.release()

@@ -104,8 +104,9 @@ def light_uniforms(light, position):
     }
 
 
-def render_rsm(glc, mesh, light, resolution, bounds, method="cm"):
-    """Rasterise the light's RSM faces (cube faces for "cm", hemispheres for "dpm")."""
+def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_unit=None):
+    """Rasterise the light's RSM faces: cube faces for "cm", hemispheres for "dpm",
+    tessellated hemispheres (thesis eq. 8-9, unit in map units) when a unit is given."""
     low, high = bounds
     centre = (low + high) / 2
     radius = max(float(np.linalg.norm(high - low)) / 2, 1e-6)
@@ -144,7 +145,11 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm"):
         texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
     depth = gl.depth_renderbuffer(atlas_size)
     framebuffer = gl.framebuffer(color_attachments=textures, depth_attachment=depth)
-    if kind == PROJECTION_PARABOLOID:
+    tessellated = kind == PROJECTION_PARABOLOID and tessellation_unit is not None
+    if tessellated:
+        program = glc.program("dpm", "rsm", geometry="dpm", tessellation="tdpm")
+        gl.patch_vertices = 3
+    elif kind == PROJECTION_PARABOLOID:
         program = glc.program("dpm", "rsm", geometry="dpm")
     else:
         program = glc.program("raster", "rsm")
@@ -157,8 +162,9 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm"):
         framebuffer.viewport = (int(face_origin[0]), int(face_origin[1]), resolution, resolution)
         set_uniforms(program, view_projection=matrix, hemisphere_view=matrix, near=near, far=far,
                      face_origin=tuple(float(v) for v in face_origin), resolution=float(resolution),
-                     projection_kind=kind, ortho_texel_area=ortho_texel ** 2, **uniforms)
-        mesh.vertex_array(program).render(moderngl.TRIANGLES)
+                     projection_kind=kind, ortho_texel_area=ortho_texel ** 2,
+                     tessellation_unit=float(tessellation_unit or 0.0), **uniforms)
+        mesh.vertex_array(program).render(moderngl.PATCHES if tessellated else moderngl.TRIANGLES)
     framebuffer.release()
     depth.release()
     return ReflectiveShadowMap(light, resolution, kind, np.array(faces), origins, atlas_size, *textures,

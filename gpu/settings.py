@@ -7,7 +7,7 @@ from dataclasses import dataclass, field, fields, replace
 
 from .errors import LPVError
 
-METHODS = ("cm", "dpm", "wdpm")
+METHODS = ("cm", "dpm", "wdpm", "tdpm", "twdpm")
 
 
 def _param(default, description, minimum=None, maximum=None, choices=None):
@@ -25,6 +25,8 @@ class Settings:
     lpv_resolution: int = _param(32, "Cells along each side of the light propagation volume", 4, 128)
     propagation_iterations: int = _param(8, "Propagation steps through the volume", 1, 64)
     warp_alpha: float = _param(0.7, "WDPM step damping per iteration while the error exceeds a texel", 0.05, 1.0)
+    tessellated_warp_alpha: float = _param(0.9, "TWDPM step damping per iteration (the thesis: 0.9)", 0.05, 1.0)
+    tessellation_unit: float = _param(0.1, "TDPM map length per tessellated segment (thesis eq. 8-9)", 0.005, 2.0)
     warp_iterations: int = _param(16, "Most fixed-point iterations per texel of the warp", 1, 64)
     warp_significant_figures: int = _param(2, "Significant figures of the warp's approximate-error stop", 1, 6)
     occlusion: bool = _param(True, "Block propagation with the geometry volume")

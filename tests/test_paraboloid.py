@@ -93,37 +93,63 @@ def test_triangles_straddling_the_rim_are_clipped_there(glc):
     mesh.release()
 
 
-def test_reference_dpm_keeps_the_cube_flux_and_warping_approaches_it(glc):
-    from lpv_preview.gpu.metrics import psnr
-    from lpv_preview.gpu.warp import reference_paraboloid_map, warp_paraboloid_map
-    # A room around a point light: floor, ceiling and four walls of 8 x 8 quads each.
+def room_scene(quads_per_side):
+    """A 4 x 4 x 3 m room around a point light, each of its six sides n x n quads."""
     corners = np.array([[x, y, z] for x in (-2, 2) for y in (-2, 2) for z in (0, 3)], dtype=np.float64)
-    quads = [(0, 2, 6, 4), (1, 5, 7, 3), (0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6)]
-    steps = np.linspace(0, 1, 9)
+    sides = [(0, 2, 6, 4), (1, 5, 7, 3), (0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6)]
+    steps = np.linspace(0, 1, quads_per_side + 1)
     triangles = []
-    for a, b, c, d in quads:
-        point = lambda u, v: (1 - v) * ((1 - u) * corners[a] + u * corners[b]) + v * ((1 - u) * corners[d] + u * corners[c])
+    for a, b, c, d in sides:
+        def point(u, v):
+            return (1 - v) * ((1 - u) * corners[a] + u * corners[b]) + v * ((1 - u) * corners[d] + u * corners[c])
         for u0, u1 in zip(steps[:-1], steps[1:]):
             for v0, v1 in zip(steps[:-1], steps[1:]):
                 triangles += [[point(u0, v0), point(u1, v0), point(u1, v1)], [point(u0, v0), point(u1, v1), point(u0, v1)]]
     triangles = np.array(triangles, dtype=np.float32)
     light = Light("POINT", (0.4, -0.3, 2.0), (0, 0, -1), (0, 1, 0), (1, 1, 1), 100.0)
-    scene = Scene(triangles, np.zeros_like(triangles), np.full((len(triangles), 3), 0.6), [light],
-                  Camera.look_at((0, -1.9, 1.5), (0, 0, 1))).sanitize()
+    return Scene(triangles, np.zeros_like(triangles), np.full((len(triangles), 3), 0.6), [light],
+                 Camera.look_at((0, -1.9, 1.5), (0, 0, 1))).sanitize()
+
+
+def position_quality(glc, quads_per_side, resolution=256):
+    """Position PSNR of DPM, WDPM, TDPM and TWDPM against the reference DPM, and fluxes."""
+    from lpv_preview.gpu.metrics import psnr
+    from lpv_preview.gpu.warp import reference_paraboloid_map, warp_paraboloid_map
+    scene = room_scene(quads_per_side)
+    light = scene.lights[0]
     mesh = MeshBuffer(glc, scene)
-    cube = render_rsm(glc, mesh, light, 256, scene.bounds(), method="cm")
-    dpm = render_rsm(glc, mesh, light, 256, scene.bounds(), method="dpm")
-    reference = reference_paraboloid_map(glc, cube, dpm)
-    warped, status = warp_paraboloid_map(glc, dpm, 0.7, 16, 2)
+    cube = render_rsm(glc, mesh, light, resolution, scene.bounds(), method="cm")
+    maps = {"dpm": render_rsm(glc, mesh, light, resolution, scene.bounds(), method="dpm"),
+            "tdpm": render_rsm(glc, mesh, light, resolution, scene.bounds(), method="dpm", tessellation_unit=0.1)}
+    reference = reference_paraboloid_map(glc, cube, maps["dpm"])
+    statuses = []
+    for name, source, alpha in (("wdpm", "dpm", 0.7), ("twdpm", "tdpm", 0.9)):
+        maps[name], status = warp_paraboloid_map(glc, maps[source], alpha, 16, 2)
+        statuses.append(status)
     total = lambda rsm: rsm.read(rsm.flux)[..., :3].astype(np.float64).sum(axis=(0, 1))
-    np.testing.assert_allclose(total(reference), total(cube), rtol=0.01)
     valid = reference.read(reference.position)[..., 3] > 0
-    quality = {name: psnr(m.read(m.position)[..., :3], reference.read(reference.position)[..., :3], mask=valid)
-               for name, m in (("dpm", dpm), ("wdpm", warped))}
-    print(f"\nposition PSNR against the reference DPM: DPM {quality['dpm']:.2f} dB, WDPM {quality['wdpm']:.2f} dB; "
-          f"flux: cube {total(cube)}, reference {total(reference)}; warp {status.counts}")
-    assert quality["wdpm"] > quality["dpm"] + 3.0
-    for rsm in (cube, dpm, reference, warped):
+    truth = reference.read(reference.position)[..., :3]
+    quality = {name: psnr(m.read(m.position)[..., :3], truth, mask=valid) for name, m in maps.items()}
+    fluxes = {"cube": total(cube), "reference": total(reference)}
+    for rsm in (cube, reference, *maps.values()):
         rsm.release()
-    status.release()
+    for status in statuses:
+        status.release()
     mesh.release()
+    return quality, fluxes
+
+
+def test_reference_dpm_keeps_the_cube_flux_and_warping_approaches_it(glc):
+    quality, fluxes = position_quality(glc, quads_per_side=8)
+    print(f"\nposition PSNR against the reference DPM, 8x8 quads a side: "
+          + ", ".join(f"{k} {v:.2f} dB" for k, v in quality.items()) + f"; flux {fluxes}")
+    np.testing.assert_allclose(fluxes["reference"], fluxes["cube"], rtol=0.01)
+    assert quality["wdpm"] > quality["dpm"] + 3.0
+
+
+def test_tessellation_corrects_large_triangles(glc):
+    quality, _ = position_quality(glc, quads_per_side=1)
+    print("\nposition PSNR against the reference DPM, one quad a side: "
+          + ", ".join(f"{k} {v:.2f} dB" for k, v in quality.items()))
+    assert quality["tdpm"] > quality["dpm"] + 5.0
+    assert quality["twdpm"] > quality["wdpm"] + 5.0

@@ -1,7 +1,8 @@
-"""Command line: `python -m lpv_preview demo | render FILE.blend | export SCENE`.
+"""Command line: `python -m lpv_preview demo | render FILE.blend | export SCENE | bench`.
 
 `demo` builds a built-in scene with bpy and renders it; `render` renders a user's .blend
-from its active camera; `export` saves a demo scene as .npz for machines without Blender.
+from its active camera; `export` saves a demo scene as .npz for machines without Blender;
+`bench` measures every RSM method against CM (the thesis's Table 1).
 Each writes a multi-layer EXR (combined, direct, indirect), tone-mapped PNGs of combined
 and indirect, and stats.json. Errors a user can fix print one line, no traceback.
 """
@@ -99,6 +100,47 @@ def command_export(args):
     return {"scene": args.scene, "file": args.out, "triangles": scene.triangle_count, "lights": len(scene.lights)}
 
 
+def command_bench(args):
+    """Table 1 on demo scenes (built with bpy) or exported .npz scenes (no Blender needed)."""
+    from .gpu.bench import benchmark_scene, markdown_table
+    from .gpu.context import GLContext
+    from .gpu.scene import Scene
+    scenes = []
+    for item in args.scenes.split(","):
+        if item.endswith(".npz"):
+            scenes.append((os.path.splitext(os.path.basename(item))[0], lambda item=item: Scene.load(item)))
+        else:
+            scenes.append((item, lambda item=item: built_scene(item)))
+    methods = tuple(args.methods.split(","))
+    budgets = ("equal-resolution", "equal-texel-budget") if args.budget == "both" else (args.budget,)
+    settings = settings_from(args, 960, 540)
+    results = []
+    for name, load in scenes:
+        for budget in budgets:
+            result = benchmark_scene(name, load(), settings, methods, args.frames, args.repeats, budget)
+            results.append(result)
+            print(f"bench: {name} ({budget}) done", file=sys.stderr, flush=True)
+    glc = GLContext.shared()
+    machine = f"{glc.renderer}, OpenGL {glc.version}"
+    command = "python -m lpv_preview " + " ".join(args.argv)
+    report = {"machine": machine, "command": command, "settings": vars(settings), "results": results}
+    os.makedirs(args.out, exist_ok=True)
+    with open(os.path.join(args.out, "table1.json"), "w") as handle:
+        json.dump(report, handle, indent=1, default=float)
+    with open(os.path.join(args.out, "table1.md"), "w") as handle:
+        handle.write(f"Command: `{report['command']}`\n\n" + markdown_table(results, machine))
+    return {"out": args.out, "scenes": len(scenes), "methods": list(methods), "machine": machine}
+
+
+def built_scene(name):
+    """A demo scene built with bpy and extracted (on a machine with Blender)."""
+    import bpy
+    from .addon.extract import extract_scene
+    from .demo import build
+    build(name)
+    return extract_scene(bpy.context.evaluated_depsgraph_get())
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="python -m lpv_preview", description=__doc__.split("\n\n")[0])
     commands = parser.add_subparsers(dest="command", required=True)
@@ -118,11 +160,24 @@ def build_parser():
     export.add_argument("--triangles", type=int, help="triangle count of the atrium or the city")
     export.add_argument("--out", required=True, help="the .npz file to write")
     export.set_defaults(run=command_export)
+    bench = commands.add_parser("bench", help="every RSM method against CM: time, DPM and LPV quality")
+    bench.add_argument("--scenes", default="cornell,atrium,city",
+                       help="comma-separated demo scene names and/or .npz files (default: cornell,atrium,city)")
+    bench.add_argument("--methods", default="cm,dpm,wdpm,tdpm,twdpm")
+    bench.add_argument("--budget", default="equal-resolution",
+                       choices=("equal-resolution", "equal-texel-budget", "both"))
+    bench.add_argument("--frames", type=int, default=5, help="camera-path frames for the LPV quality")
+    bench.add_argument("--repeats", type=int, default=3, help="timed full frames per method (median)")
+    bench.add_argument("--out", default="out/bench", help="folder for table1.json and table1.md")
+    add_setting_flags(bench)
+    bench.set_defaults(run=command_bench)
     return parser
 
 
 def main(argv=None):
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
+    args.argv = argv
     try:
         result = args.run(args)
     except LPVError as error:

@@ -1,0 +1,181 @@
+"""The thesis's Table 1 on our scenes: every RSM method's cost and quality against CM.
+
+For each scene and method: RSM, warp and whole-frame milliseconds (median of repeats,
+every stage redone, warm-up excluded), the DPM quality (PSNR of the method's map against
+the reference DPM sampled from the cube map, over the reference's valid texels) and the
+LPV quality (PSNR of the indirect-only image against the CM-based LPV with the same VPL
+count and grid, over a camera path), and for warped methods the share of texels
+converged / approximate / failed after 1, 4, 8 and 16 iterations (the thesis's fig. 10).
+"""
+import math
+import statistics
+
+import numpy as np
+
+from .metrics import psnr
+from .pipeline import Pipeline
+from .rsm import PROJECTION_PARABOLOID
+from .scene import Camera, Light
+from .warp import STATUS_NAMES, reference_paraboloid_map, warp_paraboloid_map
+
+PARABOLOID_METHODS = ("dpm", "wdpm", "tdpm", "twdpm")
+STATUS_ITERATIONS = (1, 4, 8, 16)
+
+
+def with_point_light(scene):
+    """The thesis measures one point light. A scene without a point light gets one at the
+    centre of its bounds, a quarter of the height below the top, of a power that gives
+    the bounds' floor about 1 W/m² (the scene's own lights are replaced)."""
+    if any(light.kind == "POINT" for light in scene.lights):
+        scene.lights = [next(light for light in scene.lights if light.kind == "POINT")]
+        return scene
+    low, high = scene.bounds()
+    position = (low + high) / 2
+    position[2] = high[2] - 0.25 * (high[2] - low[2])
+    height = position[2] - low[2]
+    power = 4 * math.pi * max(height, 1e-3) ** 2
+    scene.lights = [Light("POINT", position, (0, 0, -1), (0, 1, 0), (1, 1, 1), power, name="bench point light")]
+    return scene
+
+
+def camera_path(camera, frames, degrees=10.0):
+    """The scene camera turned about its own vertical axis from -degrees to +degrees."""
+    cameras = []
+    for angle in np.linspace(-degrees, degrees, frames) if frames > 1 else [0.0]:
+        a = math.radians(angle)
+        turn = np.array([[math.cos(a), 0, math.sin(a), 0], [0, 1, 0, 0], [-math.sin(a), 0, math.cos(a), 0], [0, 0, 0, 1]])
+        cameras.append(Camera(turn @ camera.view, camera.projection))
+    return cameras
+
+
+def timed_frames(pipeline, scene, repeats):
+    """Median stage and frame milliseconds with every stage redone (after one warm-up)."""
+    pipeline.render(scene)
+    samples = []
+    for _ in range(repeats):
+        pipeline.invalidate()
+        samples.append(pipeline.render(scene).stats)
+    keys = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms", "total_ms")
+    result = {key: statistics.median(s.get(key, 0.0) for s in samples) for key in keys}
+    result["total_ms_spread"] = [min(s["total_ms"] for s in samples), max(s["total_ms"] for s in samples)]
+    return result, samples[-1]
+
+
+def indirect_images(pipeline, scene, cameras):
+    images = []
+    for camera in cameras:
+        scene.camera = camera
+        images.append(pipeline.render(scene).passes["indirect"])
+    return images
+
+
+def warp_status_shares(glc, source_rsm, alpha, significant_figures):
+    """Share of valid-disk texels converged / approximate / failed after 1, 4, 8, 16 steps."""
+    shares = {}
+    for iterations in STATUS_ITERATIONS:
+        warped, status = warp_paraboloid_map(glc, source_rsm, alpha, iterations, significant_figures)
+        found = sum(status.counts[name] for name in STATUS_NAMES[1:])
+        shares[iterations] = {name: status.counts[name] / max(found, 1) for name in STATUS_NAMES[1:]}
+        for texture in (warped.position, warped.normal, warped.flux):
+            texture.release()
+        status.release()
+    return shares
+
+
+def benchmark_scene(name, scene, settings, methods, frames=5, repeats=3, budget="equal-resolution"):
+    """One scene's rows: a dict per method."""
+    scene = with_point_light(scene)
+    scene.sanitize()
+    base_camera = scene.camera
+    cameras = camera_path(base_camera, frames)
+    cube_settings = settings.with_changes(method="cm")
+    cube = Pipeline(cube_settings)
+    rows = {}
+    try:
+        timing, stats = timed_frames(cube, scene, repeats)
+        reference_images = indirect_images(cube, scene, cameras)
+        scene.camera = base_camera
+        cube_maps, _ = cube.light_maps(scene)
+        rows["cm"] = {"timing": timing, "rsm_faces": stats["rsm_faces"], "rsm_resolution": settings.rsm_resolution}
+        for method in methods:
+            if method == "cm":
+                continue
+            resolution = settings.rsm_resolution
+            if budget == "equal-texel-budget":  # 2 R_dpm^2 = 6 R_cm^2 for a point light
+                resolution = min(2048, int(round(settings.rsm_resolution * math.sqrt(3))))
+            pipeline = Pipeline(settings.with_changes(method=method, rsm_resolution=resolution))
+            try:
+                timing, stats = timed_frames(pipeline, scene, repeats)
+                images = indirect_images(pipeline, scene, cameras)
+                scene.camera = base_camera
+                quality = [psnr(image, reference) for image, reference in zip(images, reference_images)]
+                maps, _ = pipeline.light_maps(scene)
+                row = {"timing": timing, "rsm_faces": stats["rsm_faces"], "rsm_resolution": resolution,
+                       "lpv_psnr_mean": float(np.mean(quality)), "lpv_psnr_min": float(np.min(quality)),
+                       "lpv_psnr_frames": [float(q) for q in quality]}
+                row.update(dpm_quality(pipeline, cube_maps, maps))
+                if method in ("wdpm", "twdpm"):
+                    row["warp_status"] = stats.get("warp_status")
+                    source = pipeline.settings.with_changes(method="dpm" if method == "wdpm" else "tdpm")
+                    row["warp_status_after"] = status_after(pipeline, scene, source, method)
+                rows[method] = row
+            finally:
+                pipeline.release()
+    finally:
+        cube.release()
+    return {"scene": name, "triangles": scene.triangle_count, "lights": [light.kind for light in scene.lights],
+            "budget": budget, "frames": frames, "repeats": repeats, "methods": rows}
+
+
+def dpm_quality(pipeline, cube_maps, method_maps):
+    flux, position = [], []
+    for cube, maps in zip(cube_maps, method_maps):
+        if maps.rsm.projection_kind != PROJECTION_PARABOLOID:
+            continue
+        reference = reference_paraboloid_map(pipeline.glc, cube.rsm, maps.rsm)
+        valid = reference.read(reference.position)[..., 3] > 0
+        flux.append(psnr(maps.rsm.read(maps.rsm.flux)[..., :3], reference.read(reference.flux)[..., :3], mask=valid))
+        position.append(psnr(maps.rsm.read(maps.rsm.position)[..., :3],
+                             reference.read(reference.position)[..., :3], mask=valid))
+        for texture in (reference.position, reference.normal, reference.flux):
+            texture.release()
+    if not flux:
+        return {}
+    return {"dpm_flux_psnr": float(np.mean(flux)), "dpm_position_psnr": float(np.mean(position))}
+
+
+def status_after(pipeline, scene, source_settings, method):
+    """Fig. 10: warp status shares after 1, 4, 8, 16 iterations, from the unwarped map."""
+    source = Pipeline(source_settings, pipeline.glc)
+    try:
+        maps, _ = source.light_maps(scene)
+        s = pipeline.settings
+        alpha = s.warp_alpha if method == "wdpm" else s.tessellated_warp_alpha
+        paraboloids = [m.rsm for m in maps if m.rsm.projection_kind == PROJECTION_PARABOLOID]
+        return warp_status_shares(pipeline.glc, paraboloids[0], alpha, s.warp_significant_figures) if paraboloids else {}
+    finally:
+        source.release()
+
+
+def markdown_table(results, machine):
+    """Table 1 as markdown: one row per scene and method."""
+    lines = [f"Machine: {machine}", "",
+             "| scene | triangles | budget | method | RSM res | RSM ms | warp ms | frame ms | DPM flux PSNR | "
+             "DPM position PSNR | LPV PSNR mean | LPV PSNR min |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for result in results:
+        for method, row in result["methods"].items():
+            t = row["timing"]
+            cell = lambda key: f"{row[key]:.2f}" if key in row else "-"
+            lines.append(f"| {result['scene']} | {result['triangles']:,} | {result['budget']} | {method.upper()} | "
+                         f"{row['rsm_resolution']} | {t['rsm_ms']:.2f} | {t['warp_ms']:.2f} | {t['total_ms']:.1f} | "
+                         f"{cell('dpm_flux_psnr')} | {cell('dpm_position_psnr')} | {cell('lpv_psnr_mean')} | "
+                         f"{cell('lpv_psnr_min')} |")
+    lines += ["", "Warp status (share of texels that found geometry) after 1, 4, 8, 16 iterations:", "",
+              "| scene | method | iterations | converged | approximate | failed |", "|---|---|---|---|---|---|"]
+    for result in results:
+        for method, row in result["methods"].items():
+            for iterations, shares in row.get("warp_status_after", {}).items():
+                lines.append(f"| {result['scene']} | {method.upper()} | {iterations} | {shares['converged']:.3f} | "
+                             f"{shares['approximate']:.3f} | {shares['failed']:.3f} |")
+    return "\n".join(lines) + "\n"

@@ -76,8 +76,7 @@ def warp_status_shares(glc, source_rsm, alpha, significant_figures):
         warped, status = warp_paraboloid_map(glc, source_rsm, alpha, iterations, significant_figures)
         found = sum(status.counts[name] for name in STATUS_NAMES[1:])
         shares[iterations] = {name: status.counts[name] / max(found, 1) for name in STATUS_NAMES[1:]}
-        for texture in (warped.position, warped.normal, warped.flux):
-            texture.release()
+        warped.release()
         status.release()
     return shares
 
@@ -137,8 +136,7 @@ def dpm_quality(pipeline, cube_maps, method_maps):
         flux.append(psnr(maps.rsm.read(maps.rsm.flux)[..., :3], reference.read(reference.flux)[..., :3], mask=valid))
         position.append(psnr(maps.rsm.read(maps.rsm.position)[..., :3],
                              reference.read(reference.position)[..., :3], mask=valid))
-        for texture in (reference.position, reference.normal, reference.flux):
-            texture.release()
+        reference.release()
     if not flux:
         return {}
     return {"dpm_flux_psnr": float(np.mean(flux)), "dpm_position_psnr": float(np.mean(position))}

@@ -49,7 +49,33 @@ class GLContext:
         self.renderer = self.gl.info["GL_RENDERER"]
         self.version = self.gl.info["GL_VERSION"]
         self.is_software = "llvmpipe" in self.renderer.lower() or "softpipe" in self.renderer.lower()
+        self._nearest = moderngl.NEAREST
+        self._texture_type = moderngl.Texture
         self._programs = {}
+        self._free = {}  # (kind, size, components, dtype) -> released textures to reuse
+
+    def texture(self, size, components, dtype="f4"):
+        """A 2D texture with nearest filtering, reused from `recycle` when one of the same
+        shape is free: allocation must not land in a stage's timing or churn memory."""
+        free = self._free.get(("texture", tuple(size), components, dtype))
+        if free:
+            return free.pop()
+        texture = self.gl.texture(tuple(size), components, dtype=dtype)
+        texture.filter = (self._nearest, self._nearest)
+        return texture
+
+    def depth_renderbuffer(self, size):
+        free = self._free.get(("depth", tuple(size), 1, "f4"))
+        return free.pop() if free else self.gl.depth_renderbuffer(tuple(size))
+
+    def recycle(self, *resources):
+        """Give textures and depth renderbuffers from `texture`/`depth_renderbuffer` back."""
+        for resource in resources:
+            if isinstance(resource, self._texture_type):
+                key = ("texture", tuple(resource.size), resource.components, resource.dtype)
+            else:
+                key = ("depth", tuple(resource.size), 1, "f4")
+            self._free.setdefault(key, []).append(resource)
 
     def compute(self, name, **defines):
         """The compute shader `shaders/<name>.comp`, compiled once per set of defines."""
@@ -90,6 +116,10 @@ class GLContext:
         for program in self._programs.values():
             program.release()
         self._programs.clear()
+        for resources in self._free.values():
+            for resource in resources:
+                resource.release()
+        self._free.clear()
         self.gl.release()
 
 

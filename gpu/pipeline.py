@@ -87,8 +87,7 @@ class Pipeline:
             with self.glc.timed(stats, "warp_ms"):
                 warped, status = warp_paraboloid_map(self.glc, rsm, alpha, s.warp_iterations,
                                                      s.warp_significant_figures)
-            for texture in (rsm.position, rsm.normal, rsm.flux):
-                texture.release()
+            rsm.release()
             rsm = warped
         with self.glc.timed(stats, "vpl_ms"):
             vpls = self.vpl_sampler.sample(rsm, s.vpls_per_light)
@@ -162,8 +161,7 @@ class Pipeline:
             maps.release()
         self._lights.clear()
         if self._lpv is not None:
-            self._lpv[1].release()
-            self._lpv = None
+            self._lpv = (None, self._lpv[1])  # keep the volume's memory, forget its content
 
     def _upload(self, scene, stats):
         key = scene.geometry_key()
@@ -176,6 +174,9 @@ class Pipeline:
 
     def release(self):
         self.invalidate()
+        if self._lpv is not None:
+            self._lpv[1].release()
+            self._lpv = None
         if self._mesh is not None:
             self._mesh[1].release()
         if self._targets is not None:

@@ -24,6 +24,7 @@ ATLAS_COLUMNS = 3
 class ReflectiveShadowMap:
     """One light's RSM atlas and what the shading needs to look it up."""
 
+    glc: object
     light: object
     resolution: int
     projection_kind: int
@@ -47,8 +48,7 @@ class ReflectiveShadowMap:
         return np.frombuffer(texture.read(), dtype=np.float32).reshape(height, width, 4)
 
     def release(self):
-        for texture in (self.position, self.normal, self.flux):
-            texture.release()
+        self.glc.recycle(self.position, self.normal, self.flux)
 
 
 def light_frame(light):
@@ -140,10 +140,8 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
     origins = np.array([((f % ATLAS_COLUMNS) * resolution, (f // ATLAS_COLUMNS) * resolution)
                         for f in range(len(faces))], dtype=np.int32)
     gl = glc.gl
-    textures = [gl.texture(atlas_size, 4, dtype="f4") for _ in range(3)]
-    for texture in textures:
-        texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
-    depth = gl.depth_renderbuffer(atlas_size)
+    textures = [glc.texture(atlas_size, 4) for _ in range(3)]
+    depth = glc.depth_renderbuffer(atlas_size)
     framebuffer = gl.framebuffer(color_attachments=textures, depth_attachment=depth)
     tessellated = kind == PROJECTION_PARABOLOID and tessellation_unit is not None
     if tessellated:
@@ -166,6 +164,6 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
                      tessellation_unit=float(tessellation_unit or 0.0), **uniforms)
         mesh.vertex_array(program).render(moderngl.PATCHES if tessellated else moderngl.TRIANGLES)
     framebuffer.release()
-    depth.release()
-    return ReflectiveShadowMap(light, resolution, kind, np.array(faces), origins, atlas_size, *textures,
+    glc.recycle(depth)
+    return ReflectiveShadowMap(glc, light, resolution, kind, np.array(faces), origins, atlas_size, *textures,
                                uniforms, ortho_texel, flux_bound)

@@ -21,6 +21,7 @@ APPROXIMATE_FROM = 2  # eq. 7 from the third iteration: accepting more beat chec
 class WarpStatus:
     """Per-texel status image (status | restarted << 2 | iterations << 4) and the counts."""
 
+    glc: object
     texture: moderngl.Texture
     counts: dict              # status name -> texels
     iteration_histogram: np.ndarray  # texels that stopped after k iterations, k = 0..64
@@ -32,16 +33,13 @@ class WarpStatus:
         return raw & 3, (raw & 4) > 0, raw >> 4
 
     def release(self):
-        self.texture.release()
+        self.glc.recycle(self.texture)
 
 
 def reference_paraboloid_map(glc, cube, paraboloid):
     """The exact DPM that every DPM variant is measured against (thesis §6): `paraboloid`'s
     layout, each texel fetched from the cube map `cube` of the same light."""
-    gl = glc.gl
-    textures = [gl.texture(paraboloid.atlas_size, 4, dtype="f4") for _ in range(3)]
-    for texture in textures:
-        texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    textures = [glc.texture(paraboloid.atlas_size, 4) for _ in range(3)]
     program = glc.compute("reference_dpm")
     for unit, texture in enumerate((cube.position, cube.normal, cube.flux)):
         texture.use(location=unit)
@@ -68,10 +66,8 @@ def scarborough_tolerance(significant_figures):
 def warp_paraboloid_map(glc, rsm, alpha, iterations, significant_figures):
     """A corrected copy of a paraboloid RSM and its warp status."""
     gl = glc.gl
-    textures = [gl.texture(rsm.atlas_size, 4, dtype="f4") for _ in range(3)]
-    status = gl.texture(rsm.atlas_size, 1, dtype="i4")
-    for texture in (*textures, status):
-        texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    textures = [glc.texture(rsm.atlas_size, 4) for _ in range(3)]
+    status = glc.texture(rsm.atlas_size, 1, dtype="i4")
     counts = gl.buffer(reserve=(4 + MAX_ITERATIONS + 1) * 4)
     counts.clear()
     program = glc.compute("warp")
@@ -91,4 +87,4 @@ def warp_paraboloid_map(glc, rsm, alpha, iterations, significant_figures):
     totals = np.frombuffer(counts.read(), dtype=np.int32)
     counts.release()
     warped = replace(rsm, position=textures[0], normal=textures[1], flux=textures[2])
-    return warped, WarpStatus(status, dict(zip(STATUS_NAMES, map(int, totals[:4]))), totals[4:].copy())
+    return warped, WarpStatus(glc, status, dict(zip(STATUS_NAMES, map(int, totals[:4]))), totals[4:].copy())

@@ -101,16 +101,22 @@ class GLContext:
 
     @contextmanager
     def timed(self, stats, stage):
-        """Add the wall-clock milliseconds of the block, GPU work finished, to stats[stage].
-
-        Wall clock after finish() rather than timer queries: llvmpipe's timer queries
-        return nonsense, and the wall clock is what a user waits for.
-        """
+        """Add the block's wall-clock milliseconds, GPU work finished, to stats[stage], and
+        on drivers whose timer queries work (not llvmpipe's) its GPU milliseconds to
+        stats["gpu_" + stage]. Blocks must not nest (GL timer queries cannot)."""
+        query = None if self.is_software else self.gl.query(time=True)
         self.gl.finish()
         start = time.perf_counter()
-        yield
+        if query is None:
+            yield
+        else:
+            with query:
+                yield
         self.gl.finish()
         stats[stage] = stats.get(stage, 0.0) + (time.perf_counter() - start) * 1000.0
+        if query is not None:
+            stats["gpu_" + stage] = stats.get("gpu_" + stage, 0.0) + query.elapsed / 1e6
+            query.release()
 
     def release(self):
         for program in self._programs.values():

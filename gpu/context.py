@@ -116,7 +116,6 @@ class GLContext:
         stats[stage] = stats.get(stage, 0.0) + (time.perf_counter() - start) * 1000.0
         if query is not None:
             stats["gpu_" + stage] = stats.get("gpu_" + stage, 0.0) + query.elapsed / 1e6
-            query.release()
 
     def release(self):
         for program in self._programs.values():

@@ -10,6 +10,8 @@ from lpv_preview.gpu.mesh_buffer import MeshBuffer
 from lpv_preview.gpu.rsm import hemisphere_views, render_rsm
 from lpv_preview.gpu.scene import Camera, Light, Scene
 
+from .synthetic_scenes import room_scene
+
 PROJECT_AND_BACK = """#version 450 core
 #include "paraboloid.glsl"
 layout(local_size_x = 64) in;
@@ -91,24 +93,6 @@ def test_triangles_straddling_the_rim_are_clipped_there(glc):
         assert np.all(np.isfinite(rsm.read(rsm.flux)))
     rsm.release()
     mesh.release()
-
-
-def room_scene(quads_per_side):
-    """A 4 x 4 x 3 m room around a point light, each of its six sides n x n quads."""
-    corners = np.array([[x, y, z] for x in (-2, 2) for y in (-2, 2) for z in (0, 3)], dtype=np.float64)
-    sides = [(0, 2, 6, 4), (1, 5, 7, 3), (0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6)]
-    steps = np.linspace(0, 1, quads_per_side + 1)
-    triangles = []
-    for a, b, c, d in sides:
-        def point(u, v):
-            return (1 - v) * ((1 - u) * corners[a] + u * corners[b]) + v * ((1 - u) * corners[d] + u * corners[c])
-        for u0, u1 in zip(steps[:-1], steps[1:]):
-            for v0, v1 in zip(steps[:-1], steps[1:]):
-                triangles += [[point(u0, v0), point(u1, v0), point(u1, v1)], [point(u0, v0), point(u1, v1), point(u0, v1)]]
-    triangles = np.array(triangles, dtype=np.float32)
-    light = Light("POINT", (0.4, -0.3, 2.0), (0, 0, -1), (0, 1, 0), (1, 1, 1), 100.0)
-    return Scene(triangles, np.zeros_like(triangles), np.full((len(triangles), 3), 0.6), [light],
-                 Camera.look_at((0, -1.9, 1.5), (0, 0, 1))).sanitize()
 
 
 def position_quality(glc, quads_per_side, resolution=256):

@@ -4,6 +4,7 @@ A stage is redone only when its inputs change (ARCHITECTURE.md, "What each stage
 on"): a camera move reuses every light's RSM and VPLs and the LPV; a light change redoes
 that light's RSM and VPLs and the LPV; a geometry change redoes everything.
 """
+import math
 import time
 from dataclasses import dataclass
 
@@ -18,12 +19,28 @@ from .vpl import VPLSampler
 from .warp import STATUS_NAMES, warp_paraboloid_map
 
 
+# `auto` tessellates a light's paraboloids when this share of the texels that found
+# geometry is still failed or only approximate after WDPM (docs/method.md, "auto").
+AUTO_TESSELLATION_SHARE = 0.10
+
+
+def auto_method(light):
+    """`auto`'s first choice for a light: the cube's front face alone for a spot of
+    half-angle <= 45 degrees (one exact render), WDPM otherwise (a sun's map is
+    orthographic whatever the method)."""
+    if light.kind == "SUN" or (light.kind == "SPOT" and light.spot_size / 2 <= math.pi / 4 + 1e-9):
+        return "cm"
+    return "wdpm"
+
+
 @dataclass
 class LightMaps:
-    """One light's RSM (warped for WDPM), its VPLs and, for WDPM, the warp status."""
+    """One light's RSM (warped for WDPM), its VPLs, the method that made them and, for the
+    warped methods, the warp status."""
 
     rsm: object
     vpls: object
+    method: str
     warp: object = None
 
     def release(self):
@@ -64,7 +81,8 @@ class Pipeline:
             "cm": (), "dpm": (), "tdpm": (s.tessellation_unit,),
             "wdpm": (s.warp_alpha, s.warp_iterations, s.warp_significant_figures),
             "twdpm": (s.tessellation_unit, s.tessellated_warp_alpha, s.warp_iterations, s.warp_significant_figures),
-        }[s.method]
+        }.get(s.method, (s.tessellation_unit, s.warp_alpha, s.tessellated_warp_alpha, s.warp_iterations,
+                          s.warp_significant_figures))  # auto may use any of them
         for light in scene.lights:
             key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, method_parameters)
             if key not in self._lights:
@@ -76,14 +94,26 @@ class Pipeline:
         return maps, keys
 
     def _render_light(self, light, bounds, stats):
+        if self.settings.method != "auto":
+            return self._render_light_with(self.settings.method, light, bounds, stats)
+        maps = self._render_light_with(auto_method(light), light, bounds, stats)
+        if maps.warp is not None:
+            found = sum(maps.warp.counts[name] for name in STATUS_NAMES[1:])
+            unresolved = maps.warp.counts["failed"] + maps.warp.counts["approximate"]
+            if unresolved > AUTO_TESSELLATION_SHARE * found:
+                maps.release()
+                maps = self._render_light_with("twdpm", light, bounds, stats)
+        return maps
+
+    def _render_light_with(self, method, light, bounds, stats):
         s = self.settings
-        projection = "cm" if s.method == "cm" else "dpm"
-        unit = s.tessellation_unit if s.method in ("tdpm", "twdpm") else None
+        projection = "cm" if method == "cm" else "dpm"
+        unit = s.tessellation_unit if method in ("tdpm", "twdpm") else None
         with self.glc.timed(stats, "rsm_ms"):
             rsm = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution, bounds, projection, unit)
         status = None
-        if s.method in ("wdpm", "twdpm") and rsm.projection_kind == PROJECTION_PARABOLOID:
-            alpha = s.warp_alpha if s.method == "wdpm" else s.tessellated_warp_alpha
+        if method in ("wdpm", "twdpm") and rsm.projection_kind == PROJECTION_PARABOLOID:
+            alpha = s.warp_alpha if method == "wdpm" else s.tessellated_warp_alpha
             with self.glc.timed(stats, "warp_ms"):
                 warped, status = warp_paraboloid_map(self.glc, rsm, alpha, s.warp_iterations,
                                                      s.warp_significant_figures)
@@ -91,7 +121,7 @@ class Pipeline:
             rsm = warped
         with self.glc.timed(stats, "vpl_ms"):
             vpls = self.vpl_sampler.sample(rsm, s.vpls_per_light)
-        return LightMaps(rsm, vpls, status)
+        return LightMaps(rsm, vpls, method, status)
 
     def render(self, scene, settings=None):
         """Render the scene from its camera; returns a Frame."""
@@ -141,6 +171,7 @@ class Pipeline:
             stats["warp_status"] = {name: sum(w.counts[name] for w in warped) for name in STATUS_NAMES}
         stats.update({
             "method": s.method,
+            "light_methods": [m.method for m in maps],
             "vpl_count": int(sum(m.vpls.count for m in maps)),
             "lights": len(scene.lights),
             "triangles": scene.triangle_count,

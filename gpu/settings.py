@@ -7,7 +7,7 @@ from dataclasses import dataclass, field, fields, replace
 
 from .errors import LPVError
 
-METHODS = ("cm", "dpm", "wdpm", "tdpm", "twdpm")
+METHODS = ("cm", "dpm", "wdpm", "tdpm", "twdpm", "auto")
 
 
 def _param(default, description, minimum=None, maximum=None, choices=None):

@@ -60,3 +60,27 @@ def test_stress_case_stays_finite(case):
             figures[method] = status
         figures[method + " indirect mean"] = float(frame.passes["indirect"].mean())
     print(f"\n{case}: {figures}")
+
+
+def test_auto_picks_per_light():
+    from lpv_preview.gpu.scene import Light
+    scene = room_scene(4)
+    point = scene.lights[0]
+    narrow_spot = Light("SPOT", (0, 0, 2.5), (0, 0, -1), (0, 1, 0), (1, 1, 1), 50.0, spot_size=np.radians(60))
+    wide_spot = Light("SPOT", (0, 0, 2.5), (0, 0, -1), (0, 1, 0), (1, 1, 1), 50.0, spot_size=np.radians(120))
+    sun = Light("SUN", (0, 0, 0), (0.3, 0.2, -1), (0, 1, 0), (1, 1, 1), 2.0)
+    scene.lights = [point, narrow_spot, wide_spot, sun]
+    pipeline = Pipeline(Settings(width=32, height=32, rsm_resolution=64, vpls_per_light=128, method="auto"))
+    try:
+        frame = pipeline.render(scene)
+        maps, _ = pipeline.light_maps(scene)
+    finally:
+        pipeline.release()
+    methods = frame.stats["light_methods"]
+    print(f"\nauto chose {methods}")
+    assert methods[1] == "cm" and maps[1].rsm.face_count == 1   # one exact face for a narrow spot
+    assert methods[3] == "cm" and maps[3].rsm.face_count == 1   # the sun's orthographic map
+    for index in (0, 2):
+        assert methods[index] in ("wdpm", "twdpm")
+        assert maps[index].rsm.face_count == (2 if index == 0 else 1)
+    assert all(np.all(np.isfinite(image)) for image in frame.passes.values())

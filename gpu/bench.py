@@ -18,7 +18,6 @@ from .rsm import PROJECTION_PARABOLOID
 from .scene import Camera, Light
 from .warp import STATUS_NAMES, reference_paraboloid_map, warp_paraboloid_map
 
-PARABOLOID_METHODS = ("dpm", "wdpm", "tdpm", "twdpm")
 STATUS_ITERATIONS = (1, 4, 8, 16)
 
 

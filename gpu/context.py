@@ -134,18 +134,26 @@ def load_shader(filename, defines=None):
 
 
 def preprocess(source, defines=None):
-    """Expand `#include "x.glsl"` (from shaders/) and insert `#define`s after `#version`."""
-    lines = []
-    for line in source.splitlines():
-        if line.startswith("#include"):
-            lines.append((SHADER_DIR / line.split('"')[1]).read_text())
-        else:
-            lines.append(line)
-    text = "\n".join(lines)
+    """Expand `#include "x.glsl"` (from shaders/, recursively, each file once) and insert
+    `#define`s after `#version`."""
+    text = _expand_includes(source, set())
     if defines:
         head, _, rest = text.partition("\n")
         text = head + "\n" + "".join(f"#define {k} {v}\n" for k, v in defines.items()) + rest
     return text
+
+
+def _expand_includes(source, included):
+    lines = []
+    for line in source.splitlines():
+        if line.startswith("#include"):
+            name = line.split('"')[1]
+            if name not in included:
+                included.add(name)
+                lines.append(_expand_includes((SHADER_DIR / name).read_text(), included))
+        else:
+            lines.append(line)
+    return "\n".join(lines)
 
 
 def set_uniforms(program, **values):

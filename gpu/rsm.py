@@ -42,6 +42,16 @@ class ReflectiveShadowMap:
     def face_count(self):
         return len(self.face_matrices)
 
+    def lookup_uniforms(self):
+        """The uniforms of shaders/rsm_lookup.glsl for this map (faces padded to six)."""
+        matrices = np.zeros((6, 4, 4))
+        matrices[:self.face_count] = self.face_matrices
+        origins = np.zeros((6, 2), dtype=np.int32)
+        origins[:self.face_count] = self.face_origins
+        return {"lookup_matrix": matrices, "lookup_origin": origins, "lookup_faces": self.face_count,
+                "lookup_resolution": self.resolution,
+                "lookup_paraboloid": self.projection_kind == PROJECTION_PARABOLOID}
+
     def read(self, texture):
         """An atlas texture as a (height, width, 4) float32 array (GL's bottom row first)."""
         width, height = self.atlas_size

@@ -3,7 +3,6 @@ import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms
-from .rsm import PROJECTION_PARABOLOID
 
 PASS_NAMES = ("combined", "direct", "indirect")
 
@@ -57,13 +56,7 @@ def shade_direct(glc, targets, rsm, shadow_bias):
     for unit, texture in enumerate((targets.position, targets.normal, targets.albedo, rsm.position)):
         texture.use(location=unit)
     targets.direct.bind_to_image(0, read=True, write=True)
-    matrices = np.zeros((6, 4, 4))
-    matrices[:rsm.face_count] = rsm.face_matrices
-    origins = np.zeros((6, 2), dtype=np.int32)
-    origins[:rsm.face_count] = rsm.face_origins
-    set_uniforms(program, g_position=0, g_normal=1, g_albedo=2, rsm_position=3, face_matrix=matrices,
-                 paraboloid=rsm.projection_kind == PROJECTION_PARABOLOID,
-                 face_origin=origins, face_count=rsm.face_count, resolution=rsm.resolution,
+    set_uniforms(program, g_position=0, g_normal=1, g_albedo=2, rsm_position=3, **rsm.lookup_uniforms(),
                  texel_angle=2.0 / rsm.resolution, ortho_texel=rsm.ortho_texel, shadow_bias=shadow_bias,
                  **rsm.light_uniforms)
     dispatch(program, *targets.size)

@@ -45,15 +45,10 @@ def reference_paraboloid_map(glc, cube, paraboloid):
         texture.use(location=unit)
     for unit, texture in enumerate(textures):
         texture.bind_to_image(unit, read=False, write=True)
-    matrices = np.zeros((6, 4, 4))
-    matrices[:cube.face_count] = cube.face_matrices
-    origins = np.zeros((6, 2), dtype=np.int32)
-    origins[:cube.face_count] = cube.face_origins
     for matrix, origin in zip(paraboloid.face_matrices, paraboloid.face_origins):
         set_uniforms(program, cube_position=0, cube_normal=1, cube_flux=2, hemisphere_view=matrix,
                      face_origin=tuple(int(v) for v in origin), resolution=paraboloid.resolution,
-                     light_position=tuple(float(v) for v in paraboloid.light.position), cube_matrix=matrices,
-                     cube_origin=origins, cube_faces=cube.face_count, cube_resolution=cube.resolution)
+                     light_position=tuple(float(v) for v in paraboloid.light.position), **cube.lookup_uniforms())
         dispatch(program, paraboloid.resolution, paraboloid.resolution)
     return replace(paraboloid, position=textures[0], normal=textures[1], flux=textures[2])
 

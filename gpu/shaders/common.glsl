@@ -9,6 +9,11 @@ vec4 sh_basis(vec3 w) {
     return vec4(SH_C0, -SH_C1 * w.y, SH_C1 * w.z, -SH_C1 * w.x);
 }
 
+// Solid angle of a cube-face texel at face coordinates uv in [-1, 1]^2 (METHOD §2).
+float cube_texel_solid_angle(vec2 uv, float resolution) {
+    return 4.0 / (resolution * resolution) / pow(1.0 + dot(uv, uv), 1.5);
+}
+
 // SH projection of the clamped cosine max(0, n.w): peak 1, integral pi.
 vec4 cos_lobe(vec3 n) {
     return vec4(LOBE_C0, -LOBE_C1 * n.y, LOBE_C1 * n.z, -LOBE_C1 * n.x);

@@ -34,7 +34,7 @@ void main() {
         vec2 uv = (gl_FragCoord.xy - face_origin) / resolution * 2.0 - 1.0;
         float solid_angle = projection_kind == PROJECTION_PARABOLOID
             ? paraboloid_texel_solid_angle(uv, resolution)
-            : 4.0 / (resolution * resolution) / pow(1.0 + dot(uv, uv), 1.5);
+            : cube_texel_solid_angle(uv, resolution);
         power = light_intensity(w) * solid_angle;
         area = dist * dist * solid_angle / cos_receiver;
     }

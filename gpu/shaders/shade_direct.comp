@@ -3,18 +3,13 @@
 // normal offset), added into the direct image.
 #include "common.glsl"
 #include "light.glsl"
-#include "paraboloid.glsl"
+#include "rsm_lookup.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 uniform sampler2D g_position;
 uniform sampler2D g_normal;
 uniform sampler2D g_albedo;
 uniform sampler2D rsm_position;
 layout(rgba32f, binding = 0) uniform image2D direct;
-uniform mat4 face_matrix[6];   // view-projection, or world-to-hemisphere for paraboloids
-uniform bool paraboloid;
-uniform ivec2 face_origin[6];
-uniform int face_count;
-uniform int resolution;
 uniform float texel_angle;   // 2 / resolution: a texel's width per unit distance
 uniform float ortho_texel;   // sun: a texel's width in world units
 uniform float shadow_bias;   // normal offset in texels
@@ -24,30 +19,18 @@ float visibility(vec3 p) {
     float dist;
     light_ray(p, w, dist);
     float texel_world = light_kind == LIGHT_SUN ? ortho_texel : dist * texel_angle;
-    for (int f = 0; f < face_count; ++f) {
-        vec2 ndc;
-        if (paraboloid) {
-            vec3 h = (face_matrix[f] * vec4(p, 1.0)).xyz;
-            if (h.z < 0.0) continue;
-            ndc = paraboloid_project(h);
-        } else {
-            vec4 clip = face_matrix[f] * vec4(p, 1.0);
-            if (clip.w <= 0.0) continue;
-            ndc = clip.xy / clip.w;
-            if (any(greaterThan(abs(ndc), vec2(1.0)))) continue;
+    int face;
+    ivec2 centre;
+    if (!rsm_face_texel(p, face, centre)) return 1.0;
+    float lit = 0.0;
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            ivec2 t = clamp(centre + ivec2(dx, dy), ivec2(0), ivec2(lookup_resolution - 1));
+            float stored = texelFetch(rsm_position, lookup_origin[face] + t, 0).w;
+            lit += (stored <= 0.0 || dist <= stored + 0.5 * texel_world) ? 1.0 : 0.0;
         }
-        ivec2 centre = ivec2(floor((ndc * 0.5 + 0.5) * float(resolution)));
-        float lit = 0.0;
-        for (int dy = -1; dy <= 1; ++dy) {
-            for (int dx = -1; dx <= 1; ++dx) {
-                ivec2 t = clamp(centre + ivec2(dx, dy), ivec2(0), ivec2(resolution - 1));
-                float stored = texelFetch(rsm_position, face_origin[f] + t, 0).w;
-                lit += (stored <= 0.0 || dist <= stored + 0.5 * texel_world) ? 1.0 : 0.0;
-            }
-        }
-        return lit / 9.0;
     }
-    return 1.0;
+    return lit / 9.0;
 }
 
 void main() {

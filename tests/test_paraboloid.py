@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 
 from lpv_preview.gpu import paraboloid
-from lpv_preview.gpu.context import dispatch, preprocess
 from lpv_preview.gpu.mesh_buffer import MeshBuffer
 from lpv_preview.gpu.rsm import hemisphere_views, render_rsm
 from lpv_preview.gpu.scene import Camera, Light, Scene
 
+from .glsl import evaluate
 from .synthetic_scenes import room_scene
 
 PROJECT_AND_BACK = """#version 450 core
@@ -42,13 +42,7 @@ def test_projection_round_trip_in_glsl_matches_float64(glc):
     count = 4096
     points = rng.normal(size=(count, 3)) * rng.uniform(1e-3, 1e4, size=(count, 1))
     points[:, 2] = np.abs(points[:, 2])  # the front hemisphere
-    program = glc.gl.compute_shader(preprocess(PROJECT_AND_BACK))
-    source = glc.gl.buffer(np.hstack([points, np.zeros((count, 1))]).astype(np.float32).tobytes())
-    results = glc.gl.buffer(reserve=count * 2 * 16)
-    source.bind_to_storage_buffer(0)
-    results.bind_to_storage_buffer(1)
-    dispatch(program, count, local=(64,))
-    out = np.frombuffer(results.read(), dtype=np.float32).reshape(2, count, 4).astype(np.float64)
+    out = evaluate(glc, PROJECT_AND_BACK, points, 2)
     expected_st = paraboloid.project(points.astype(np.float32).astype(np.float64))
     unit = points / np.linalg.norm(points, axis=1, keepdims=True)
     st_error = np.abs(out[1, :, :2] - expected_st).max()
@@ -56,8 +50,6 @@ def test_projection_round_trip_in_glsl_matches_float64(glc):
     print(f"\nGLSL vs float64: (s, t) max error {st_error:.2e}, direction round trip max error {round_trip:.2e}")
     assert st_error < 1e-6 and round_trip < 1e-5
     np.testing.assert_allclose(paraboloid.direction(paraboloid.project(points)), unit, atol=1e-12)
-    for resource in (program, source, results):
-        resource.release()
 
 
 def test_points_straight_behind_stay_finite():

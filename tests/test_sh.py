@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from lpv_preview.gpu import lpv
-from lpv_preview.gpu.context import dispatch, preprocess
+
+from .glsl import evaluate
 
 EVALUATE_SH = """#version 450 core
 #include "common.glsl"
@@ -14,8 +15,8 @@ layout(std430, binding = 0) readonly buffer Directions { vec4 directions[]; };
 layout(std430, binding = 1) writeonly buffer Results { vec4 results[]; };
 void main() {
     uint i = gl_GlobalInvocationID.x;
-    results[2 * i] = sh_basis(directions[i].xyz);
-    results[2 * i + 1] = cos_lobe(directions[i].xyz);
+    results[i] = sh_basis(directions[i].xyz);
+    results[i + gl_NumWorkGroups.x * 64u] = cos_lobe(directions[i].xyz);
 }
 """
 
@@ -80,16 +81,8 @@ def test_face_solid_angles():
 
 def test_glsl_basis_and_lobe_match_numpy(glc):
     dirs = random_directions(256, seed=11)
-    program = glc.gl.compute_shader(preprocess(EVALUATE_SH))
-    directions = glc.gl.buffer(np.hstack([dirs, np.zeros((256, 1))]).astype(np.float32).tobytes())
-    results = glc.gl.buffer(reserve=256 * 2 * 16)
-    directions.bind_to_storage_buffer(0)
-    results.bind_to_storage_buffer(1)
-    dispatch(program, 256, local=(64,))
-    out = np.frombuffer(results.read(), dtype=np.float32).reshape(256, 2, 4).astype(np.float64)
-    error_basis = np.abs(out[:, 0] - lpv.sh_basis(dirs)).max()
-    error_lobe = np.abs(out[:, 1] - lpv.cos_lobe(dirs)).max()
+    basis, lobe = evaluate(glc, EVALUATE_SH, dirs, 2)
+    error_basis = np.abs(basis - lpv.sh_basis(dirs)).max()
+    error_lobe = np.abs(lobe - lpv.cos_lobe(dirs)).max()
     print(f"GLSL vs float64: basis {error_basis:.2e}, lobe {error_lobe:.2e}")
     assert error_basis < 1e-6 and error_lobe < 1e-6
-    for resource in (program, directions, results):
-        resource.release()

@@ -5,7 +5,9 @@
 reads DIR/NAME.npz (made with `python -m lpv_preview export`), renders once to warm up
 (shader compilation, Poisson cells), then five full frames (every stage redone) and five
 camera-only frames (RSM, VPLs and LPV reused), and prints the medians and the last full
-frame's per-stage milliseconds as JSON lines. The stand-in for `bench` until it exists.
+frame's per-stage milliseconds as JSON lines: the whole-frame cost with readback at the
+default settings, the figures of docs/benchmarks.md's first table. `python -m
+lpv_preview bench` measures the RSM methods against each other instead.
 """
 import json
 import statistics

@@ -92,10 +92,10 @@ def _walls(walls, steps):
         slab_y = side * (inner_face + OUTER_Y) / 2
         for storey in STOREYS:
             walls.prism(rectangle_footprint((0, slab_y), length, OUTER_Y - inner_face), storey.slab_bottom,
-                        storey.slab_top, steps(16), 1)
+                        storey.slab_top, steps(16), 1, cap_steps=(steps(16), steps(2)))
         parapet_y = side * (inner_face + 0.15)
         walls.prism(rectangle_footprint((0, parapet_y), length, 0.3), top_of_galleries, TOP, steps(16), steps(2),
-                    faces=("sides", "top"))
+                    faces=("sides", "top"), cap_steps=(steps(16), 1))
 
 
 def _arcade(columns, arches, storey, side, steps):

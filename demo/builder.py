@@ -61,10 +61,12 @@ class MeshBuilder:
         origin, edge_u, edge_v = (np.asarray(x, dtype=np.float64) for x in (origin, edge_u, edge_v))
         self.surface(nu, nv, lambda u, v: origin + u[..., None] * edge_u + v[..., None] * edge_v, material)
 
-    def prism(self, footprint, bottom, top, nu=1, nv=1, material=0, faces=("sides", "top", "bottom")):
+    def prism(self, footprint, bottom, top, nu=1, nv=1, material=0, faces=("sides", "top", "bottom"),
+              cap_steps=(1, 1)):
         """A vertical prism over a convex quadrilateral footprint (xy corners), faces outward.
 
-        Each side is an nu x nv grid (nv along the height); `faces` picks what is built.
+        Each side is an nu x nv grid (nv along the height), top and bottom are cap_steps
+        grids (along the footprint's first and second edge); `faces` picks what is built.
         """
         footprint = np.asarray(footprint, dtype=np.float64).reshape(4, 2)
         if _signed_area(footprint) < 0:
@@ -75,9 +77,9 @@ class MeshBuilder:
             for start, end in zip(corners, np.roll(corners, -1, axis=0)):
                 self.parallelogram(start, end - start, height, nu, nv, material)
         if "top" in faces:
-            self.surface(1, 1, _bilinear(*(corners + height)), material)
+            self.surface(*cap_steps, _bilinear(*(corners + height)), material)
         if "bottom" in faces:
-            self.surface(1, 1, _bilinear(*corners[::-1]), material)
+            self.surface(*cap_steps, _bilinear(*corners[::-1]), material)
 
     def to_object(self, name, materials, collection):
         """Create the mesh and its object, with `materials` in its slots, in `collection`."""

@@ -6,7 +6,12 @@ the reference DPM sampled from the cube map, over the reference's valid texels) 
 LPV quality (PSNR of the indirect-only image against the CM-based LPV with the same VPL
 count and grid, over a camera path), and for warped methods the share of texels
 converged / approximate / failed after 1, 4, 8 and 16 iterations (the thesis's fig. 10).
+
+Beside them, the sampling reference: the LPV PSNR of CM against CM with the light's frame
+turned 45° about its axis (the same map quality, the VPLs elsewhere). A method near it
+differs from CM about as much as CM's own VPL pattern makes it differ from itself.
 """
+import dataclasses
 import math
 import statistics
 
@@ -45,6 +50,26 @@ def camera_path(camera, frames, degrees=10.0):
         turn = np.array([[math.cos(a), 0, math.sin(a), 0], [0, 1, 0, 0], [-math.sin(a), 0, math.cos(a), 0], [0, 0, 0, 1]])
         cameras.append(Camera(turn @ camera.view, camera.projection))
     return cameras
+
+
+def turned_about_its_axis(light, degrees=45.0):
+    """The light with its frame (its up vector) turned about its direction."""
+    a, d, up = math.radians(degrees), light.direction, light.up
+    turned = up * math.cos(a) + np.cross(d, up) * math.sin(a) + d * np.dot(d, up) * (1 - math.cos(a))
+    return dataclasses.replace(light, up=turned)
+
+
+def sampling_reference(settings, scene, cameras, reference_images):
+    """LPV PSNR of CM against CM with every light's frame turned 45°: per frame."""
+    lights = scene.lights
+    scene.lights = [turned_about_its_axis(light) for light in lights]
+    turned = Pipeline(settings.with_changes(method="cm"))
+    try:
+        images = indirect_images(turned, scene, cameras)
+    finally:
+        scene.lights = lights
+        turned.release()
+    return [psnr(image, reference) for image, reference in zip(images, reference_images)]
 
 
 WARM_UP_FRAMES = 5
@@ -102,6 +127,8 @@ def benchmark_scene(name, scene, settings, methods, frames=5, repeats=3, budget=
         scene.camera = base_camera
         cube_maps, _ = cube.light_maps(scene)
         rows["cm"] = {"timing": timing, "rsm_faces": stats["rsm_faces"], "rsm_resolution": settings.rsm_resolution}
+        sampling = sampling_reference(settings, scene, cameras, reference_images)
+        scene.camera = base_camera
         for method in methods:
             if method == "cm":
                 continue
@@ -129,7 +156,10 @@ def benchmark_scene(name, scene, settings, methods, frames=5, repeats=3, budget=
     finally:
         cube.release()
     return {"scene": name, "triangles": scene.triangle_count, "lights": [light.kind for light in scene.lights],
-            "budget": budget, "frames": frames, "repeats": repeats, "methods": rows}
+            "budget": budget, "frames": frames, "repeats": repeats, "methods": rows,
+            "sampling_reference": {"lpv_psnr_mean": float(np.mean(sampling)),
+                                   "lpv_psnr_min": float(np.min(sampling)),
+                                   "lpv_psnr_frames": [float(q) for q in sampling]}}
 
 
 def dpm_quality(pipeline, cube_maps, method_maps):
@@ -178,6 +208,10 @@ def markdown_table(results, machine):
                          f"{row['rsm_resolution']} | {rsm_ms:.2f} | {warp_ms:.2f} | {t['total_ms']:.1f} | "
                          f"{cell('dpm_flux_psnr')} | {cell('dpm_position_psnr')} | {cell('lpv_psnr_mean')} | "
                          f"{cell('lpv_psnr_min')} |")
+        sampling = result["sampling_reference"]
+        lines.append(f"| {result['scene']} | {result['triangles']:,} | {result['budget']} | CM turned 45° (sampling "
+                     f"reference) | {result['methods']['cm']['rsm_resolution']} | - | - | - | - | - | "
+                     f"{sampling['lpv_psnr_mean']:.2f} | {sampling['lpv_psnr_min']:.2f} |")
     lines += ["", "Warp status (share of texels that found geometry) after 1, 4, 8, 16 iterations:", "",
               "| scene | method | iterations | converged | approximate | failed |", "|---|---|---|---|---|---|"]
     for result in results:

@@ -28,5 +28,9 @@ def test_tiny_bench_writes_table_one(tmp_path):
         assert sorted(map(int, shares)) == [1, 4, 8, 16]
         for share in shares.values():
             assert sum(share.values()) == pytest.approx(1.0)
+    reference = result["sampling_reference"]
+    assert len(reference["lpv_psnr_frames"]) == 2 and 10 < reference["lpv_psnr_min"] <= reference["lpv_psnr_mean"]
+    assert math.isfinite(reference["lpv_psnr_mean"])
     table = (out / "table1.md").read_text()
     assert "| cornell | 900 | equal-resolution | WDPM |" in table and "python -m lpv_preview bench" in table
+    assert "| cornell | 900 | equal-resolution | CM turned 45° (sampling reference) |" in table

@@ -1,6 +1,13 @@
 """The scene's triangles on the GPU, shared by every raster pass (RSM faces, G-buffer)."""
 import numpy as np
 
+from .context import dispatch, set_uniforms
+
+# The two DrawElementsIndirect commands (count, instances, first index, base vertex, base
+# instance) of split_at_rim, in this order.
+FRONT, CROSSING = 0, 1
+RIM_COMMAND_BYTES = 2 * 5 * 4
+
 
 class MeshBuffer:
     """One interleaved vertex buffer (position, normal, albedo) and its vertex arrays."""
@@ -10,17 +17,44 @@ class MeshBuffer:
         albedo = np.repeat(scene.albedo[:, None, :], 3, axis=1)
         interleaved = np.concatenate([scene.triangles, scene.normals, albedo], axis=2).astype(np.float32)
         self.glc = glc
+        self.triangle_count = count
         self.vertex_count = count * 3
         self.buffer = glc.gl.buffer(interleaved.tobytes())
         self._arrays = {}
+        self._rim_lists = {}
 
-    def vertex_array(self, program):
-        if program not in self._arrays:
-            self._arrays[program] = self.glc.gl.vertex_array(
-                program, [(self.buffer, "3f 3f 3f", "in_position", "in_normal", "in_albedo")])
-        return self._arrays[program]
+    def vertex_array(self, program, indices=None):
+        if (program, indices) not in self._arrays:
+            self._arrays[program, indices] = self.glc.gl.vertex_array(
+                program, [(self.buffer, "3f 3f 3f", "in_position", "in_normal", "in_albedo")],
+                index_buffer=indices, index_element_size=4)
+        return self._arrays[program, indices]
+
+    def split_at_rim(self, hemisphere_view, hemisphere):
+        """Sort the triangles by a paraboloid hemisphere's rim plane on the GPU
+        (shaders/rim_split.comp): returns the index buffers of those wholly in front and of
+        those crossing it, and their indirect draw commands (FRONT, CROSSING). Triangles
+        wholly behind are in neither, so each hemisphere draws only its own. Each
+        hemisphere (0 or 1) has its own lists: drawing one never waits on sorting the other."""
+        gl = self.glc.gl
+        if hemisphere not in self._rim_lists:
+            size = max(self.vertex_count, 1) * 4
+            self._rim_lists[hemisphere] = (gl.buffer(reserve=size), gl.buffer(reserve=size),
+                                           gl.buffer(reserve=RIM_COMMAND_BYTES))
+        front, crossing, commands = self._rim_lists[hemisphere]
+        for binding, buffer in enumerate((self.buffer, commands, front, crossing)):
+            buffer.bind_to_storage_buffer(binding)
+        program = self.glc.compute("rim_split")
+        set_uniforms(program, hemisphere_view=hemisphere_view, triangle_count=self.triangle_count, reset=True)
+        dispatch(program, 10, local=(64, 1, 1))
+        set_uniforms(program, reset=False)
+        dispatch(program, self.triangle_count, local=(64, 1, 1))
+        return front, crossing, commands
 
     def release(self):
         for array in self._arrays.values():
             array.release()
+        for buffers in self._rim_lists.values():
+            for buffer in buffers:
+                buffer.release()
         self.buffer.release()

@@ -13,6 +13,7 @@ import moderngl
 import numpy as np
 
 from .context import set_uniforms
+from .mesh_buffer import CROSSING, FRONT
 from .scene import look_at_view, perspective
 
 LIGHT_KIND_INDEX = {"POINT": 0, "SPOT": 1, "AREA": 2, "SUN": 3}
@@ -155,24 +156,31 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
     framebuffer = gl.framebuffer(color_attachments=textures, depth_attachment=depth)
     tessellated = kind == PROJECTION_PARABOLOID and tessellation_unit is not None
     if tessellated:
-        program = glc.program("dpm", "rsm", geometry="dpm", tessellation="tdpm")
+        programs = [glc.program("pass_through", "rsm", geometry="dpm", tessellation="tdpm")] * 2
         gl.patch_vertices = 3
-    elif kind == PROJECTION_PARABOLOID:
-        program = glc.program("dpm", "rsm", geometry="dpm")
+    elif kind == PROJECTION_PARABOLOID:  # in front: project per vertex; crossing the rim: clip first
+        programs = [glc.program("dpm", "rsm"), glc.program("pass_through", "rsm", geometry="dpm")]
     else:
-        program = glc.program("raster", "rsm")
+        programs = [glc.program("raster", "rsm")]
     uniforms = light_uniforms(light, origin)
     framebuffer.use()
     framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
-    for matrix, face_origin in zip(faces, origins):
+    mode = moderngl.PATCHES if tessellated else moderngl.TRIANGLES
+    for face, (matrix, face_origin) in enumerate(zip(faces, origins)):
         framebuffer.viewport = (int(face_origin[0]), int(face_origin[1]), resolution, resolution)
-        set_uniforms(program, view_projection=matrix, hemisphere_view=matrix, near=near, far=far,
-                     face_origin=tuple(float(v) for v in face_origin), resolution=float(resolution),
-                     projection_kind=kind, ortho_texel_area=ortho_texel ** 2,
-                     tessellation_unit=float(tessellation_unit or 0.0), **uniforms)
-        mesh.vertex_array(program).render(moderngl.PATCHES if tessellated else moderngl.TRIANGLES)
+        for program in programs:
+            set_uniforms(program, view_projection=matrix, hemisphere_view=matrix, near=near, far=far,
+                         face_origin=tuple(float(v) for v in face_origin), resolution=float(resolution),
+                         projection_kind=kind, ortho_texel_area=ortho_texel ** 2,
+                         tessellation_unit=float(tessellation_unit or 0.0), **uniforms)
+        if kind == PROJECTION_PARABOLOID:
+            front, crossing, commands = mesh.split_at_rim(matrix, face)
+            for program, indices, command in zip(programs, (front, crossing), (FRONT, CROSSING)):
+                mesh.vertex_array(program, indices).render_indirect(commands, mode, count=1, first=command)
+        else:
+            mesh.vertex_array(programs[0]).render(mode)
     framebuffer.release()
     glc.recycle(depth)
     return ReflectiveShadowMap(glc, light, resolution, kind, np.array(faces), origins, atlas_size, *textures,

@@ -22,7 +22,8 @@ def test_tiny_bench_writes_table_one(tmp_path):
         row = result["methods"][method]
         for key in ("lpv_psnr_mean", "lpv_psnr_min", "dpm_flux_psnr", "dpm_position_psnr"):
             assert math.isfinite(row[key]) and row[key] > 10, (method, key, row[key])
-        assert row["timing"]["rsm_ms"] > 0
+        assert row["timing"]["rsm_ms"] > 0 and row["timing"]["rsm_throughput_ms"] > 0
+        assert (row["timing"]["warp_throughput_ms"] > 0) == (method in ("wdpm", "twdpm"))
     for method in ("wdpm", "twdpm"):
         shares = result["methods"][method]["warp_status_after"]
         assert sorted(map(int, shares)) == [1, 4, 8, 16]

@@ -28,9 +28,7 @@ void keep(vec3 p, vec3 n, vec3 a) {
 }
 
 void emit(int i) {
-    vec3 p = (hemisphere_view * vec4(kept_position[i], 1.0)).xyz;
-    float depth = clamp((length(p) - near) / (far - near), 0.0, 1.0);
-    gl_Position = vec4(paraboloid_project(p), depth * 2.0 - 1.0, 1.0);
+    gl_Position = paraboloid_clip_position((hemisphere_view * vec4(kept_position[i], 1.0)).xyz, near, far);
     world_position = kept_position[i];
     world_normal = kept_normal[i];
     surface_albedo = kept_albedo[i];

@@ -1,14 +1,23 @@
 #version 450 core
-// Pass-through for the paraboloid geometry shader, which clips and projects.
+// Dual paraboloid rasterisation (thesis eq. 3) per vertex, for triangles wholly in front
+// of the rim (rim_split.comp sorts them out; the ones crossing it go through dpm.geom).
+// With w = 1 the rasterizer interpolates linearly between projected vertices, like
+// dpm.geom's output: that is the distortion WDPM corrects.
+#include "paraboloid.glsl"
 in vec3 in_position;
 in vec3 in_normal;
 in vec3 in_albedo;
-out vec3 world_position_v;
-out vec3 world_normal_v;
-out vec3 surface_albedo_v;
+uniform mat4 hemisphere_view;  // world to hemisphere space (+z the hemisphere's axis)
+uniform float near;
+uniform float far;
+out vec3 world_position;
+out vec3 world_normal;
+out vec3 surface_albedo;
 
 void main() {
-    world_position_v = in_position;
-    world_normal_v = in_normal;
-    surface_albedo_v = in_albedo;
+    vec3 p = (hemisphere_view * vec4(in_position, 1.0)).xyz;
+    gl_Position = paraboloid_clip_position(p, near, far);
+    world_position = in_position;
+    world_normal = in_normal;
+    surface_albedo = in_albedo;
 }

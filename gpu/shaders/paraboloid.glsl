@@ -16,3 +16,11 @@ float paraboloid_texel_solid_angle(vec2 st, float resolution) {
     float r2 = dot(st, st);
     return 4.0 * 4.0 / (resolution * resolution) / ((1.0 + r2) * (1.0 + r2));
 }
+
+// Clip-space position of hemisphere-space point p (z >= 0) in a paraboloid map: eq. 3
+// then the light distance in [near, far] as depth. w = 1, so the rasterizer interpolates
+// linearly between projected vertices.
+vec4 paraboloid_clip_position(vec3 p, float near, float far) {
+    float depth = clamp((length(p) - near) / (far - near), 0.0, 1.0);
+    return vec4(paraboloid_project(p), depth * 2.0 - 1.0, 1.0);
+}

@@ -87,6 +87,28 @@ def test_triangles_straddling_the_rim_are_clipped_there(glc):
     mesh.release()
 
 
+def test_each_hemisphere_draws_its_own_triangles_and_clips_only_those_crossing_the_rim(glc):
+    # Light at the origin looking down -z: the front hemisphere is z < 0, the rear z > 0.
+    below = [[-1.0, -1.0, -2.0], [1.0, -1.0, -2.0], [0.0, 1.0, -2.0]]
+    above = [[-1.0, -1.0, 2.0], [1.0, -1.0, 2.0], [0.0, 1.0, 2.0]]
+    crossing = [[-1.0, 2.0, -1.5], [1.0, 2.0, -1.5], [0.0, 2.0, 1.5]]
+    triangles = np.array([below, below, above, crossing], dtype=np.float32)
+    light = Light("POINT", (0, 0, 0), (0, 0, -1), (0, 1, 0), (1, 1, 1), 100.0)
+    scene = Scene(triangles, np.zeros_like(triangles), np.full((4, 3), 0.5), [light],
+                  Camera.look_at((0, -5, 0), (0, 0, 0))).sanitize()
+    mesh = MeshBuffer(glc, scene)
+    front_view, rear_view = hemisphere_views(light, light.position)
+    for hemisphere, (view, expected_front) in enumerate(((front_view, [0, 1]), (rear_view, [2]))):
+        for _ in range(2):  # sorting again starts the lists afresh
+            front, crossing_list, commands = mesh.split_at_rim(view, hemisphere)
+        command = np.frombuffer(commands.read(), dtype=np.uint32).reshape(2, 5)
+        assert command[:, 1].tolist() == [1, 1]  # one instance each
+        front_triangles = sorted(np.frombuffer(front.read(), dtype=np.uint32)[:command[0, 0]:3] // 3)
+        crossing_triangles = np.frombuffer(crossing_list.read(), dtype=np.uint32)[:command[1, 0]:3] // 3
+        assert front_triangles == expected_front and crossing_triangles.tolist() == [3]
+    mesh.release()
+
+
 def position_quality(glc, quads_per_side, resolution=256):
     """Position PSNR of DPM, WDPM, TDPM and TWDPM against the reference DPM, and fluxes."""
     from lpv_preview.gpu.metrics import psnr

@@ -1,7 +1,7 @@
 """Everything that touches bpy: scene extraction, properties, the Cycles reference."""
-from . import properties
+from . import engine, properties
 
-MODULES = (properties,)
+MODULES = (properties, engine)
 
 
 def register_addon():

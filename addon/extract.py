@@ -40,18 +40,34 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     disabled in renders when the depsgraph is a render one.
     Raises LPVError when nothing with triangles or no light is visible.
     """
+    geometry, lights = _walk(depsgraph, view3d, geometry=True, lights=True)
+    return Scene(*geometry, lights, extract_camera(depsgraph, resolution)).sanitize()
+
+
+def extract_geometry(depsgraph, view3d=None):
+    """(triangles, normals, albedo) of everything visible, in world space (unsanitized)."""
+    return _walk(depsgraph, view3d, geometry=True, lights=False)[0]
+
+
+def extract_lights(depsgraph, view3d=None):
+    """The visible lights."""
+    return _walk(depsgraph, view3d, geometry=False, lights=True)[1]
+
+
+def _walk(depsgraph, view3d, geometry, lights):
+    """One pass over the depsgraph's instances reading what is asked for."""
     materials = MaterialAlbedo()
     meshes = {}
     batches = {}
-    lights = []
+    found_lights = []
     for instance in depsgraph.object_instances:
         obj = instance.object
         if not instance.show_self or not _visible_in_view3d(instance, view3d):
             continue
-        matrix = np.array(instance.matrix_world, dtype=np.float64)
         if obj.type == "LIGHT":
-            lights.append(_light(obj, matrix))
-        elif obj.type in MESH_LIKE_TYPES:
+            if lights:
+                found_lights.append(_light(obj, np.array(instance.matrix_world, dtype=np.float64)))
+        elif geometry and obj.type in MESH_LIKE_TYPES:
             key = _mesh_key(obj)
             if key not in meshes:
                 meshes[key] = LocalMesh.read(obj)
@@ -59,7 +75,7 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
             if mesh.triangle_count:
                 palette = materials.palette(obj, mesh.material_count)
                 batch = batches.setdefault(key, ([], []))
-                batch[0].append(matrix)
+                batch[0].append(np.array(instance.matrix_world, dtype=np.float64))
                 batch[1].append(palette)
     total = sum(len(matrices) * meshes[key].triangle_count for key, (matrices, _) in batches.items())
     triangles = np.empty((total, 3, 3), dtype=np.float32)
@@ -71,8 +87,7 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
         meshes[key].write_world(np.stack(matrices), np.stack(palettes),
                                 triangles[start:end], normals[start:end], albedo[start:end])
         start = end
-    camera = _camera(depsgraph, resolution)
-    return Scene(triangles, normals, albedo, lights, camera).sanitize()
+    return (triangles, normals, albedo), found_lights
 
 
 def _visible_in_view3d(instance, view3d):
@@ -334,7 +349,7 @@ def _light(obj, matrix):
                  name=obj.name, **spot)
 
 
-def _camera(depsgraph, resolution):
+def extract_camera(depsgraph, resolution=None):
     """The scene camera's view and projection (None without a scene camera)."""
     scene = depsgraph.scene_eval
     camera = scene.camera

@@ -123,8 +123,9 @@ class Pipeline:
             vpls = self.vpl_sampler.sample(rsm, s.vpls_per_light)
         return LightMaps(rsm, vpls, method, status)
 
-    def render(self, scene, settings=None):
-        """Render the scene from its camera; returns a Frame."""
+    def render(self, scene, settings=None, passes=PASS_NAMES):
+        """Render the scene from its camera; returns a Frame with the `passes` asked for
+        (read back from the GPU: a viewport that shows one pass reads only that one)."""
         if settings is not None:
             self.settings = settings
         s = self.settings
@@ -164,7 +165,7 @@ class Pipeline:
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, lpv, s.indirect_intensity)
         with self.glc.timed(stats, "readback_ms"):
-            passes = {name: targets.read(name) for name in PASS_NAMES}
+            images = {name: targets.read(name) for name in passes}
         stats["total_ms"] = (time.perf_counter() - start) * 1000.0
         warped = [m.warp for m in maps if m.warp is not None]
         if warped:
@@ -184,7 +185,7 @@ class Pipeline:
             "image_size": [s.width, s.height],
             "renderer": self.glc.renderer,
         })
-        return Frame(passes, stats)
+        return Frame(images, stats)
 
     def invalidate(self):
         """Forget every cached stage result, so the next render redoes every stage."""

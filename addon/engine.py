@@ -1,0 +1,157 @@
+"""The "LPV Preview" render engine: F12 and batch renders, and the viewport.
+
+`render()` extracts the evaluated scene, runs the pipeline in our own GL context and
+writes Combined and our passes into the RenderResult (so they reach multi-layer EXRs and
+the compositor). The viewport keeps one `ViewportSession` per 3D view: `view_update`
+notes which parts of the scene changed, `view_draw` re-extracts just those, renders from
+the view's matrices and draws the image with Blender's `gpu` module. Errors a user can
+fix are reported in one line, never as a traceback.
+"""
+import time
+
+import bpy
+import numpy as np
+
+from ..gpu.errors import LPVError
+from ..gpu.scene import Camera
+from .extract import extract_scene, render_resolution
+from .properties import settings_from_properties
+from .sync import EVERYTHING, SceneSync, changed_parts, record_updates
+
+ENGINE_ID = "LPV_PREVIEW"
+
+RESULT_PASSES = (("Direct", "direct"), ("Indirect", "indirect"))
+"""Our colour passes beside Combined: the Blender pass name, and the pipeline's."""
+
+
+def result_pixels(image, alpha=None):
+    """A (height, width, c) top-row-first image as a RenderPass rect: bottom row first,
+    one row per pixel, with an alpha channel appended when given."""
+    rows = image[::-1].reshape(-1, image.shape[-1])
+    if alpha is not None:
+        rows = np.concatenate([rows, np.full((len(rows), 1), alpha, dtype=rows.dtype)], axis=1)
+    return np.ascontiguousarray(rows, dtype=np.float32)
+
+
+def viewport_camera(region_data):
+    """The 3D view's own camera (view and window matrices, OpenGL conventions)."""
+    return Camera(np.array(region_data.view_matrix, dtype=np.float64),
+                  np.array(region_data.window_matrix, dtype=np.float64))
+
+
+class ViewportSession:
+    """A viewport's pipeline and scene: what changed since the last draw decides what
+    is extracted again; the pipeline's caches decide which stages run again."""
+
+    def __init__(self):
+        from ..gpu.pipeline import Pipeline
+        self.pipeline = Pipeline()
+        self.sync = SceneSync()
+        self.pending = set(EVERYTHING)
+        self.stats = {}
+
+    def note_updates(self, updates):
+        self.pending |= changed_parts(updates)
+
+    def frame(self, depsgraph, camera, size, view3d=None):
+        """Render the current scene from `camera` at `size` (width, height)."""
+        start = time.perf_counter()
+        scene = self.sync.scene(depsgraph, self.pending, camera, view3d)
+        self.pending = set()
+        extract_ms = (time.perf_counter() - start) * 1000.0
+        settings = settings_from_properties(depsgraph.scene_eval.lpv_preview, width=size[0], height=size[1])
+        frame = self.pipeline.render(scene, settings, passes=("combined",))
+        frame.stats["extract_ms"] = extract_ms
+        frame.stats["extracted"] = list(self.sync.extracted)
+        self.stats = frame.stats
+        return frame
+
+    def release(self):
+        self.pipeline.release()
+
+
+class LPVPreviewEngine(bpy.types.RenderEngine):
+    bl_idname = ENGINE_ID
+    bl_label = "LPV Preview"
+    bl_use_preview = False
+    bl_use_postprocess = True
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.session = None
+
+    def __del__(self):
+        session = getattr(self, "session", None)
+        if session is not None:
+            session.release()
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+        for name, _ in RESULT_PASSES:
+            self.register_pass(scene, renderlayer, name, 3, "RGB", "COLOR")
+
+    def render(self, depsgraph):
+        """F12 and batch: the whole frame at the render resolution."""
+        from ..gpu.pipeline import Pipeline
+        scene = depsgraph.scene_eval
+        width, height = render_resolution(scene)
+        pipeline = None
+        try:
+            self.update_stats("", "LPV Preview: reading the scene")
+            settings = settings_from_properties(scene.lpv_preview, width=width, height=height)
+            lpv_scene = extract_scene(depsgraph)
+            if lpv_scene.camera is None:
+                raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
+            self.update_progress(0.2)
+            self.update_stats("", "LPV Preview: rendering")
+            pipeline = Pipeline(settings)
+            frame = pipeline.render(lpv_scene)
+        except LPVError as error:
+            self.report({"ERROR"}, str(error))
+            return
+        finally:
+            if pipeline is not None:
+                pipeline.release()
+        self.update_progress(0.9)
+        for name, _ in RESULT_PASSES:
+            self.add_pass(name, 3, "RGB")
+        result = self.begin_result(0, 0, width, height)
+        layer = result.layers[0]
+        layer.passes["Combined"].rect = result_pixels(frame.passes["combined"], alpha=1.0)
+        for name, source in RESULT_PASSES:
+            layer.passes[name].rect = result_pixels(frame.passes[source])
+        self.end_result(result)
+        self.update_progress(1.0)
+        self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms, {frame.stats['vpl_count']} VPLs")
+
+    def view_update(self, context, depsgraph):
+        if self.session is None:
+            try:
+                self.session = ViewportSession()
+            except LPVError as error:
+                self.report({"ERROR"}, str(error))
+                return
+        self.session.note_updates(record_updates(depsgraph))
+
+    def view_draw(self, context, depsgraph):
+        if self.session is None:
+            return
+        region = context.region
+        size = (region.width, region.height)
+        camera = viewport_camera(context.region_data)
+        try:
+            frame = self.session.frame(depsgraph, camera, size, context.space_data)
+        except LPVError as error:
+            self.report({"ERROR"}, str(error))
+            return
+        from .viewport_draw import draw_image
+        draw_image(self, depsgraph.scene, result_pixels(frame.passes["combined"], alpha=1.0), size)
+        self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms")
+
+
+def register():
+    bpy.utils.register_class(LPVPreviewEngine)
+
+
+def unregister():
+    bpy.utils.unregister_class(LPVPreviewEngine)

@@ -1,0 +1,98 @@
+"""Keep the viewport's Scene in step with Blender's edits, re-reading only what changed.
+
+A depsgraph update names the data blocks it touched. `changed_parts` sorts them into the
+three parts the pipeline's caches depend on (ARCHITECTURE.md, "What each stage depends
+on"): the camera, the lights, the geometry (triangles and albedo). `SceneSync` then
+re-extracts just those parts, so a camera move costs no extraction and keeps every
+cached light map and the LPV; the pipeline's content keys decide the rest.
+"""
+from dataclasses import dataclass, replace
+
+from ..gpu.errors import LPVError
+from ..gpu.scene import Scene
+from .extract import MESH_LIKE_TYPES, extract_geometry, extract_lights
+
+CAMERA, LIGHTS, GEOMETRY = "camera", "lights", "geometry"
+EVERYTHING = frozenset((CAMERA, LIGHTS, GEOMETRY))
+
+GEOMETRY_DATA = {"MESH", "MATERIAL", "NODETREE", "IMAGE", "CURVE", "METABALL", "TEXT", "CURVES",
+                 "POINTCLOUD", "VOLUME"}
+"""Data blocks whose edits change triangles or albedo (`ID.id_type`)."""
+
+EVERYTHING_DATA = {"COLLECTION", "SCENE"}
+"""Edits that may show or hide anything: visibility, instancing, the active camera."""
+
+INSTANCER_TYPES = MESH_LIKE_TYPES | {"EMPTY", "CURVE", "FONT", "CURVES", "POINTCLOUD", "VOLUME"}
+"""Object types whose own edits move triangles (their own or their instances')."""
+
+
+@dataclass(frozen=True)
+class RecordedUpdate:
+    """What one `DepsgraphUpdate` said, kept as plain values (the update itself is only
+    valid inside the handler or `view_update` call that received it)."""
+
+    id_type: str          # ID.id_type: "OBJECT", "MESH", "MATERIAL", ...
+    object_type: str      # Object.type for objects, else ""
+    geometry: bool        # is_updated_geometry
+    transform: bool       # is_updated_transform
+    shading: bool         # is_updated_shading
+
+    @classmethod
+    def record(cls, update):
+        data = update.id
+        return cls(data.id_type, data.type if data.id_type == "OBJECT" else "", update.is_updated_geometry,
+                   update.is_updated_transform, update.is_updated_shading)
+
+
+def record_updates(depsgraph):
+    return [RecordedUpdate.record(update) for update in depsgraph.updates]
+
+
+def changed_parts(updates):
+    """The parts of the scene (CAMERA, LIGHTS, GEOMETRY) that `updates` may have changed."""
+    parts = set()
+    for update in updates:
+        if update.id_type == "OBJECT":
+            if update.object_type == "LIGHT":
+                parts.add(LIGHTS)
+            elif update.object_type == "CAMERA":
+                parts.add(CAMERA)
+            elif update.object_type in INSTANCER_TYPES and (update.geometry or update.transform or update.shading):
+                parts.add(GEOMETRY)
+        elif update.id_type == "LIGHT":
+            parts.add(LIGHTS)
+        elif update.id_type == "CAMERA":
+            parts.add(CAMERA)
+        elif update.id_type in GEOMETRY_DATA:
+            parts.add(GEOMETRY)
+        elif update.id_type in EVERYTHING_DATA and (update.geometry or update.transform):
+            parts.update(EVERYTHING)
+    return frozenset(parts)
+
+
+class SceneSync:
+    """The sanitized Scene a viewport shows, re-extracted part by part."""
+
+    def __init__(self):
+        self._scene = None
+        self.extracted = ()  # the parts the last `scene` call read from Blender
+
+    def scene(self, depsgraph, parts, camera, view3d=None):
+        """The current Scene with `camera`; re-reads the `parts` that changed (all of them
+        the first time). Keeps the sanitized geometry and its content key otherwise."""
+        first = self._scene is None
+        if first or GEOMETRY in parts:
+            keep_lights = not first and LIGHTS not in parts
+            lights = self._scene.lights if keep_lights else extract_lights(depsgraph, view3d)
+            self._scene = Scene(*extract_geometry(depsgraph, view3d), lights, camera).sanitize()
+            self.extracted = (GEOMETRY,) if keep_lights else (GEOMETRY, LIGHTS)
+        elif LIGHTS in parts:
+            lights = extract_lights(depsgraph, view3d)
+            if not lights:
+                raise LPVError("The scene has no lights; add a point, spot, area or sun light.")
+            self._scene = replace(self._scene, lights=lights, camera=camera)
+            self.extracted = (LIGHTS,)
+        else:
+            self._scene = replace(self._scene, camera=camera)
+            self.extracted = ()
+        return self._scene

@@ -1,0 +1,106 @@
+"""The viewport's update logic: real depsgraph updates, recorded from real edits, decide
+what is extracted again, and the pipeline reruns exactly the stages ARCHITECTURE.md lists."""
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+import lpv_preview  # noqa: E402
+from lpv_preview import demo  # noqa: E402
+from lpv_preview.addon.engine import ViewportSession  # noqa: E402
+from lpv_preview.addon.extract import extract_camera  # noqa: E402
+from lpv_preview.addon.sync import CAMERA, EVERYTHING, GEOMETRY, LIGHTS, changed_parts, record_updates  # noqa: E402
+
+LIGHT_STAGES = ("rsm_ms", "vpl_ms")
+LPV_STAGES = ("inject_ms", "propagate_ms")
+CAMERA_STAGES = ("gbuffer_ms", "direct_ms", "indirect_ms")
+
+
+def recorded_updates(edit):
+    """The updates Blender's depsgraph reports for `edit`, as our records."""
+    records = []
+
+    def handler(scene, depsgraph):
+        records.extend(record_updates(depsgraph))
+
+    bpy.context.view_layer.update()
+    bpy.app.handlers.depsgraph_update_post.append(handler)
+    try:
+        edit()
+        bpy.context.view_layer.update()
+    finally:
+        bpy.app.handlers.depsgraph_update_post.remove(handler)
+    return records
+
+
+@pytest.fixture(scope="module")
+def cornell_scene():
+    """The Cornell box with the add-on registered and small settings."""
+    scene = demo.build("cornell")
+    lpv_preview.register()
+    settings = scene.lpv_preview
+    settings.rsm_resolution, settings.vpls_per_light, settings.lpv_resolution = 64, 256, 16
+    yield scene
+    lpv_preview.unregister()
+
+
+@pytest.fixture(scope="module")
+def session(cornell_scene):
+    session = ViewportSession()
+    yield session
+    session.release()
+
+
+def frame(session):
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    return session.frame(depsgraph, extract_camera(depsgraph, (48, 48)), (48, 48))
+
+
+def move_camera():
+    bpy.context.scene.camera.location.x += 0.05
+
+
+def move_light():
+    next(o for o in bpy.context.scene.objects if o.type == "LIGHT").location.x += 0.05
+
+
+def edit_mesh():
+    mesh = next(o for o in bpy.context.scene.objects if o.type == "MESH").data
+    mesh.vertices[0].co.z += 0.01
+    mesh.update()
+
+
+def edit_material():
+    material = next(m for m in bpy.data.materials if m.users and m.node_tree)
+    principled = next(n for n in material.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
+    colour = principled.inputs["Base Color"].default_value
+    colour[0] = 0.5 * colour[0] + 0.1
+
+
+@pytest.mark.parametrize("edit, parts, extracted, reruns, reused", [
+    (move_camera, {CAMERA}, [], CAMERA_STAGES, LIGHT_STAGES + LPV_STAGES),
+    (move_light, {LIGHTS}, [LIGHTS], LIGHT_STAGES + LPV_STAGES + CAMERA_STAGES, ()),
+    (edit_mesh, {GEOMETRY}, [GEOMETRY], LIGHT_STAGES + LPV_STAGES + CAMERA_STAGES, ()),
+    (edit_material, {GEOMETRY}, [GEOMETRY], LIGHT_STAGES + LPV_STAGES + CAMERA_STAGES, ()),
+], ids=["camera", "light", "mesh", "material"])
+def test_an_edit_reruns_exactly_the_stages_that_depend_on_it(session, edit, parts, extracted, reruns, reused):
+    first = frame(session)  # settle: whatever was pending is done
+    assert set(first.stats) >= set(CAMERA_STAGES)
+    records = recorded_updates(edit)
+    assert changed_parts(records) == parts, records
+    session.note_updates(records)
+    after = frame(session)
+    assert after.stats["extracted"] == extracted
+    assert all(stage in after.stats for stage in reruns), after.stats
+    assert not any(stage in after.stats for stage in reused), after.stats
+
+
+def test_the_first_frame_reads_everything_and_an_idle_redraw_nothing(cornell_scene):
+    session = ViewportSession()
+    try:
+        assert session.pending == set(EVERYTHING)
+        assert frame(session).stats["extracted"] == [GEOMETRY, LIGHTS]
+        again = frame(session)
+        assert again.stats["extracted"] == []
+        assert not any(stage in again.stats for stage in LIGHT_STAGES + LPV_STAGES)
+    finally:
+        session.release()

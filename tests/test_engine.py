@@ -1,0 +1,85 @@
+"""The LPV Preview render engine through real bpy: F12 renders, errors, the user's scene."""
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+oiio = pytest.importorskip("OpenImageIO")
+
+import lpv_preview  # noqa: E402
+from lpv_preview import demo  # noqa: E402
+from lpv_preview.addon.engine import ENGINE_ID  # noqa: E402
+
+
+def rna_values(struct):
+    """Every readable, non-pointer RNA property of `struct`, as plain values."""
+    values = {}
+    for prop in struct.bl_rna.properties:
+        if prop.identifier == "rna_type" or prop.type in {"POINTER", "COLLECTION"}:
+            continue
+        value = getattr(struct, prop.identifier, None)
+        values[prop.identifier] = tuple(value) if hasattr(value, "__len__") and not isinstance(value, str) else value
+    return values
+
+
+def scene_snapshot(scene):
+    """What a render must leave as it found it: render and output settings, view layer
+    passes, objects, their transforms and data, materials."""
+    return {
+        "render": rna_values(scene.render),
+        "image": rna_values(scene.render.image_settings),
+        "view_layers": [rna_values(layer) for layer in scene.view_layers],
+        "objects": sorted((o.name, o.type, tuple(o.location), tuple(o.rotation_euler), tuple(o.scale),
+                           o.data.name if o.data else "", o.hide_render, o.hide_viewport) for o in scene.objects),
+        "lights": sorted((light.name, light.energy, tuple(light.color)) for light in bpy.data.lights),
+        "materials": sorted(m.name for m in bpy.data.materials),
+        "camera": scene.camera.name,
+        "frame": scene.frame_current,
+    }
+
+
+@pytest.fixture(scope="module")
+def cornell():
+    scene = demo.build("cornell")
+    lpv_preview.register()
+    scene.render.engine = ENGINE_ID
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 48, 40, 100
+    settings = scene.lpv_preview
+    settings.rsm_resolution, settings.vpls_per_light, settings.lpv_resolution = 64, 256, 16
+    yield scene
+    lpv_preview.unregister()
+
+
+def test_f12_render_leaves_the_scene_untouched(cornell):
+    before = scene_snapshot(cornell)
+    bpy.ops.render.render()
+    assert scene_snapshot(cornell) == before
+
+
+def test_a_render_without_a_gpu_fails_with_one_clear_message(tmp_path):
+    script = tmp_path / "render.py"
+    script.write_text(textwrap.dedent(f"""
+        import bpy, lpv_preview
+        from lpv_preview import demo
+        scene = demo.build("cornell")
+        lpv_preview.register()
+        scene.render.engine = "{ENGINE_ID}"
+        scene.render.resolution_x = scene.render.resolution_y = 16
+        try:
+            bpy.ops.render.render()
+        except RuntimeError as error:
+            print("REPORTED:", str(error).strip())
+    """))
+    environment = {**os.environ, "LPV_PREVIEW_NO_GPU": "1"}
+    result = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=environment,
+                            timeout=300)
+    output = result.stdout + result.stderr
+    reported = [line for line in output.splitlines() if line.startswith("REPORTED:")]
+    assert reported == ["REPORTED: Error: No OpenGL 4.5 context is available (LPV_PREVIEW_NO_GPU is set); unset "
+                        "it, or install an OpenGL 4.5 driver with EGL (on Debian/Ubuntu: apt-get install libegl1 "
+                        "libgl1-mesa-dri) or a GPU driver."], output
+    assert "Traceback" not in output

@@ -36,10 +36,41 @@ def test_render_a_saved_blend_file(tmp_path):
     assert read_exr(str(out / "passes.exr"))["combined"].shape == (64, 64, 3)
 
 
+def test_an_animation_renders_one_exr_a_frame_and_resumes(tmp_path, capsys):
+    from lpv_preview.demo import build
+    scene = build("cornell")
+    light = next(o for o in scene.objects if o.type == "LIGHT")
+    for frame, x in ((1, -0.3), (3, 0.3)):  # the light slides across the ceiling
+        light.location.x = x
+        light.keyframe_insert("location", index=0, frame=frame)
+    blend = tmp_path / "animated.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+    out = tmp_path / "frames"
+    argv = ["render", str(blend), "--frames", "1-3", "--out", str(out), *SMALL]
+
+    def run(*extra):
+        assert main([*argv, *extra]) == 0
+        captured = capsys.readouterr()  # Blender's own log lines come before our JSON
+        return json.loads(captured.out[captured.out.index("{\n"):]), captured.err
+
+    stats, progress = run()
+    assert sorted(os.listdir(out)) == ["frame_0001.exr", "frame_0002.exr", "frame_0003.exr"]
+    assert (stats["rendered"], stats["skipped"]) == (3, 0) and "3/3" in progress
+    images = [read_exr(str(out / f"frame_000{f}.exr"))["direct"] for f in (1, 2, 3)]
+    left, right = (image[:, :32].mean() - image[:, 32:].mean() for image in (images[0], images[2]))
+    assert left > 0 > right  # the light moved from left to right
+    assert run()[0]["rendered"] == 0  # everything there: nothing to do
+    os.remove(out / "frame_0002.exr")
+    stats, _ = run()
+    assert (stats["rendered"], stats["skipped"]) == (1, 2)
+    assert run("--overwrite")[0]["rendered"] == 3
+
+
 @pytest.mark.parametrize("argv, words", [
     (["render", "/nonexistent/scene.blend"], "There is no file"),
     (["demo", "--rsm-resolution", "5"], "rsm_resolution"),
     (["demo", "--out", "/proc/forbidden", *SMALL], "Cannot"),
+    (["render", __file__, "--frames", "1-x"], "--frames"),
 ])
 def test_errors_print_one_line(argv, words, capsys):
     assert main(argv) == 2

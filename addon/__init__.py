@@ -1,7 +1,7 @@
 """Everything that touches bpy: scene extraction, properties, the Cycles reference."""
-from . import engine, properties
+from . import engine, properties, ui
 
-MODULES = (properties, engine)
+MODULES = (properties, engine, ui)
 
 
 def register_addon():

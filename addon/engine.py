@@ -23,6 +23,18 @@ ENGINE_ID = "LPV_PREVIEW"
 RESULT_PASSES = (("Direct", "direct"), ("Indirect", "indirect"))
 """Our colour passes beside Combined: the Blender pass name, and the pipeline's."""
 
+_last_stats = {}
+
+
+def last_stats():
+    """The statistics of the last frame rendered (F12 or viewport), for the panels."""
+    return _last_stats
+
+
+def _remember(stats):
+    _last_stats.clear()
+    _last_stats.update(stats)
+
 
 def result_pixels(image, alpha=None):
     """A (height, width, c) top-row-first image as a RenderPass rect: bottom row first,
@@ -48,7 +60,6 @@ class ViewportSession:
         self.pipeline = Pipeline()
         self.sync = SceneSync()
         self.pending = set(EVERYTHING)
-        self.stats = {}
 
     def note_updates(self, updates):
         self.pending |= changed_parts(updates)
@@ -63,7 +74,7 @@ class ViewportSession:
         frame = self.pipeline.render(scene, settings, passes=("combined",))
         frame.stats["extract_ms"] = extract_ms
         frame.stats["extracted"] = list(self.sync.extracted)
-        self.stats = frame.stats
+        _remember(frame.stats)
         return frame
 
     def release(self):
@@ -112,6 +123,7 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         finally:
             if pipeline is not None:
                 pipeline.release()
+        _remember(frame.stats)
         self.update_progress(0.9)
         for name, _ in RESULT_PASSES:
             self.add_pass(name, 3, "RGB")
@@ -149,9 +161,26 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms")
 
 
+SKIPPED_PANELS = {"VIEWLAYER_PT_filter", "VIEWLAYER_PT_layer_passes", "RENDER_PT_eevee_performance",
+                  "RENDER_PT_freestyle"}
+"""Built-in panels for Blender's own engines that mean nothing to ours."""
+
+
+def shared_panels():
+    """Blender's built-in panels (light, material, camera, output...) that list its own
+    render engine: LPV Preview joins them, as Blender's RenderEngine example does."""
+    return [panel for panel in bpy.types.Panel.__subclasses__()
+            if "BLENDER_RENDER" in getattr(panel, "COMPAT_ENGINES", ()) and panel.__name__ not in SKIPPED_PANELS]
+
+
 def register():
     bpy.utils.register_class(LPVPreviewEngine)
+    for panel in shared_panels():
+        panel.COMPAT_ENGINES.add(ENGINE_ID)
 
 
 def unregister():
+    for panel in shared_panels():
+        panel.COMPAT_ENGINES.discard(ENGINE_ID)
     bpy.utils.unregister_class(LPVPreviewEngine)
+    _last_stats.clear()

@@ -4,17 +4,37 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 import lpv_preview  # noqa: E402
+from lpv_preview.addon import engine, ui  # noqa: E402
 from lpv_preview.addon.properties import settings_from_properties  # noqa: E402
 from lpv_preview.gpu.settings import PARAMETERS, Settings  # noqa: E402
 
 
+def registered_state():
+    """What the add-on can leave in Blender: classes, scene properties, engines listed in
+    built-in panels, handlers and timers."""
+    panels = [cls.__name__ for cls in ui.CLASSES if cls.is_registered]
+    shared = [p.__name__ for p in engine.shared_panels() if engine.ENGINE_ID in p.COMPAT_ENGINES]
+    handlers = {name: len(getattr(bpy.app.handlers, name)) for name in dir(bpy.app.handlers)
+                if isinstance(getattr(bpy.app.handlers, name), list)}
+    return {"scene property": hasattr(bpy.types.Scene, "lpv_preview"), "engine": engine.LPVPreviewEngine.is_registered,
+            "panels": sorted(panels), "shared panels": len(shared) > 0, "handlers": handlers}
+
+
 def test_register_unregister_three_times_leaves_nothing_behind():
+    before = registered_state()
+    assert not before["scene property"] and not before["engine"] and not before["panels"]
     for _ in range(3):
         lpv_preview.register()
-        assert hasattr(bpy.types.Scene, "lpv_preview")
+        during = registered_state()
+        assert during["scene property"] and during["engine"] and during["shared panels"]
+        assert len(during["panels"]) == len(ui.CLASSES)
         lpv_preview.unregister()
-        assert not hasattr(bpy.types.Scene, "lpv_preview")
+        assert registered_state() == before
         assert not hasattr(bpy.types, "LPVPreviewSettings")
+
+
+def test_every_setting_has_its_place_in_the_panels():
+    assert ui.check_groups()
 
 
 def test_properties_mirror_the_settings():

@@ -1,0 +1,134 @@
+"""Panels: the pipeline's settings in the Render properties (when LPV Preview is the
+engine) and in a "LPV Preview" tab of the 3D view's sidebar, with the last frame's
+statistics. Which setting goes in which group is checked against gpu/settings.py."""
+import bpy
+
+from ..gpu.settings import PARAMETERS
+from .engine import ENGINE_ID, last_stats
+
+SETTING_GROUPS = {
+    "Method": ("method", "rsm_resolution", "vpls_per_light"),
+    "Light Propagation": ("lpv_resolution", "propagation_iterations", "occlusion", "indirect_intensity",
+                          "shadow_bias"),
+    "Warping": ("warp_alpha", "warp_iterations", "warp_significant_figures"),
+    "Tessellation": ("tessellation_unit", "tessellated_warp_alpha"),
+}
+FROM_BLENDER = ("width", "height")
+"""Settings Blender supplies: the render resolution, or the viewport's size."""
+
+STAGES = (("extract_ms", "Extract"), ("rsm_ms", "RSM"), ("warp_ms", "Warp"), ("vpl_ms", "VPLs"),
+          ("inject_ms", "Inject"), ("propagate_ms", "Propagate"), ("gbuffer_ms", "G-buffer"),
+          ("direct_ms", "Direct"), ("indirect_ms", "Indirect"), ("readback_ms", "Readback"), ("total_ms", "Total"))
+
+
+def draw_settings(layout, properties, group):
+    layout.use_property_split = True
+    layout.use_property_decorate = False
+    for name in SETTING_GROUPS[group]:
+        layout.prop(properties, name)
+
+
+def draw_statistics(layout, stats):
+    if not stats:
+        layout.label(text="Render a frame to see its statistics")
+        return
+    column = layout.column(align=True)
+    for key, label in STAGES:
+        if key in stats:
+            row = column.row()
+            row.label(text=label)
+            row.label(text=f"{stats[key]:.1f} ms")
+    column.separator()
+    column.label(text=f"{stats.get('vpl_count', 0):,} VPLs, {stats.get('triangles', 0):,} triangles")
+    methods = stats.get("light_methods")
+    if methods:
+        column.label(text="Methods: " + ", ".join(m.upper() for m in methods))
+    status = stats.get("warp_status")
+    if status:
+        found = max(1, status["converged"] + status["approximate"] + status["failed"])
+        column.label(text="Warp: " + ", ".join(f"{name} {status[name] / found:.1%}"
+                                                for name in ("converged", "approximate", "failed")))
+
+
+class LPVPreviewPanel:
+    """Shown only while LPV Preview is the render engine."""
+
+    COMPAT_ENGINES = {ENGINE_ID}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+
+class RenderPropertiesPanel(LPVPreviewPanel):
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+
+
+class GroupPanel(RenderPropertiesPanel):
+    """A sub-panel of one group of settings."""
+
+    group = ""
+    bl_parent_id = "RENDER_PT_lpv_preview"
+
+    def draw(self, context):
+        draw_settings(self.layout, context.scene.lpv_preview, self.group)
+
+
+class RENDER_PT_lpv_preview(RenderPropertiesPanel, bpy.types.Panel):
+    bl_label = "LPV Preview"
+
+    def draw(self, context):
+        draw_settings(self.layout, context.scene.lpv_preview, "Method")
+
+
+GROUP_PANELS = tuple(
+    type(f"RENDER_PT_lpv_preview_{group.lower().replace(' ', '_')}", (GroupPanel, bpy.types.Panel),
+         {"bl_label": group, "group": group})
+    for group in list(SETTING_GROUPS)[1:])
+
+
+class RENDER_PT_lpv_preview_statistics(RenderPropertiesPanel, bpy.types.Panel):
+    bl_label = "Statistics"
+    bl_parent_id = "RENDER_PT_lpv_preview"
+
+    def draw(self, context):
+        draw_statistics(self.layout, last_stats())
+
+
+class VIEW3D_PT_lpv_preview(LPVPreviewPanel, bpy.types.Panel):
+    """The sidebar tab: every group and the statistics in one place."""
+
+    bl_label = "LPV Preview"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "LPV Preview"
+
+    def draw(self, context):
+        for group in SETTING_GROUPS:
+            box = self.layout.box()
+            box.label(text=group)
+            draw_settings(box, context.scene.lpv_preview, group)
+        box = self.layout.box()
+        box.label(text="Statistics")
+        draw_statistics(box, last_stats())
+
+
+CLASSES = (RENDER_PT_lpv_preview, *GROUP_PANELS, RENDER_PT_lpv_preview_statistics, VIEW3D_PT_lpv_preview)
+
+
+def check_groups():
+    """Every setting of gpu/settings.py is in exactly one group or comes from Blender."""
+    grouped = [name for names in SETTING_GROUPS.values() for name in names] + list(FROM_BLENDER)
+    return sorted(grouped) == sorted(PARAMETERS) and len(grouped) == len(set(grouped))
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

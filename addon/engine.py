@@ -1,8 +1,9 @@
 """The "LPV Preview" render engine: F12 and batch renders, and the viewport.
 
 `render()` extracts the evaluated scene, runs the pipeline in our own GL context and
-writes Combined and our passes into the RenderResult (so they reach multi-layer EXRs and
-the compositor). The viewport keeps one `ViewportSession` per 3D view: `view_update`
+writes Combined and our passes (registered in `update_render_passes`) into the
+RenderResult, so they reach the compositor and multi-layer EXRs. Blender 5.0 writes a
+multi-layer EXR as one part per pass: a reader must walk every part. The viewport keeps one `ViewportSession` per 3D view: `view_update`
 notes which parts of the scene changed, `view_draw` re-extracts just those, renders from
 the view's matrices and draws the image with Blender's `gpu` module. Errors a user can
 fix are reported in one line, never as a traceback.
@@ -125,13 +126,12 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
                 pipeline.release()
         _remember(frame.stats)
         self.update_progress(0.9)
-        for name, _ in RESULT_PASSES:
-            self.add_pass(name, 3, "RGB")
         result = self.begin_result(0, 0, width, height)
         layer = result.layers[0]
-        layer.passes["Combined"].rect = result_pixels(frame.passes["combined"], alpha=1.0)
+        # foreach_set of a flat array: ~300 times faster than assigning `rect` a 2-D array.
+        layer.passes["Combined"].rect.foreach_set(result_pixels(frame.passes["combined"], alpha=1.0).ravel())
         for name, source in RESULT_PASSES:
-            layer.passes[name].rect = result_pixels(frame.passes[source])
+            layer.passes[name].rect.foreach_set(result_pixels(frame.passes[source]).ravel())
         self.end_result(result)
         self.update_progress(1.0)
         self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms, {frame.stats['vpl_count']} VPLs")

@@ -13,6 +13,9 @@ oiio = pytest.importorskip("OpenImageIO")
 import lpv_preview  # noqa: E402
 from lpv_preview import demo  # noqa: E402
 from lpv_preview.addon.engine import ENGINE_ID  # noqa: E402
+from lpv_preview.addon.extract import extract_scene  # noqa: E402
+from lpv_preview.addon.properties import settings_from_properties  # noqa: E402
+from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 
 
 def rna_values(struct):
@@ -83,3 +86,47 @@ def test_a_render_without_a_gpu_fails_with_one_clear_message(tmp_path):
                         "it, or install an OpenGL 4.5 driver with EGL (on Debian/Ubuntu: apt-get install libegl1 "
                         "libgl1-mesa-dri) or a GPU driver."], output
     assert "Traceback" not in output
+
+
+def exr_parts(path):
+    """{channel name: (height, width) array} over every part of a multi-part EXR."""
+    image = oiio.ImageInput.open(str(path))
+    channels, part = {}, 0
+    while image.seek_subimage(part, 0):
+        pixels = image.read_image(part, 0, 0, image.spec().nchannels, "float")
+        for index, name in enumerate(image.spec().channelnames):
+            channels[name] = pixels[..., index]
+        part += 1
+    image.close()
+    return channels
+
+
+def test_f12_render_writes_our_passes_into_a_multilayer_exr(cornell, tmp_path):
+    image = cornell.render.image_settings
+    saved = image.media_type, image.file_format, image.color_depth, cornell.render.filepath
+    image.media_type, image.file_format, image.color_depth = "MULTI_LAYER_IMAGE", "OPEN_EXR_MULTILAYER", "32"
+    cornell.render.filepath = str(tmp_path / "f12.exr")
+    try:
+        bpy.ops.render.render(write_still=True)
+    finally:
+        image.media_type, image.file_format, image.color_depth, cornell.render.filepath = saved
+    channels = exr_parts(tmp_path / "f12.exr")
+    expected = {f"ViewLayer.{name}.{c}" for name in ("Combined", "Direct", "Indirect") for c in "RGB"}
+    assert expected | {"ViewLayer.Combined.A"} <= set(channels), sorted(channels)
+    for name, values in channels.items():
+        assert values.shape == (40, 48) and np.all(np.isfinite(values)), name
+    direct = np.stack([channels[f"ViewLayer.Direct.{c}"] for c in "RGB"], axis=-1)
+    indirect = np.stack([channels[f"ViewLayer.Indirect.{c}"] for c in "RGB"], axis=-1)
+    combined = np.stack([channels[f"ViewLayer.Combined.{c}"] for c in "RGB"], axis=-1)
+    assert direct.mean() > 0 and indirect.mean() > 0
+    np.testing.assert_allclose(combined, direct + indirect, rtol=1e-4, atol=1e-6)
+    # The same frame rendered by the pipeline alone (top row first, like OpenImageIO's read).
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    settings = settings_from_properties(cornell.lpv_preview, width=48, height=40)
+    pipeline = Pipeline(settings)
+    try:
+        alone = pipeline.render(extract_scene(depsgraph)).passes
+    finally:
+        pipeline.release()
+    np.testing.assert_allclose(direct, alone["direct"], rtol=1e-4, atol=1e-6)
+    np.testing.assert_allclose(indirect, alone["indirect"], rtol=1e-4, atol=1e-6)

@@ -17,6 +17,8 @@ from lpv_preview.addon.extract import extract_scene  # noqa: E402
 from lpv_preview.addon.properties import settings_from_properties  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 
+from .exr import exr_parts  # noqa: E402
+
 
 def rna_values(struct):
     """Every readable, non-pointer RNA property of `struct`, as plain values."""
@@ -87,18 +89,6 @@ def test_a_render_without_a_gpu_fails_with_one_clear_message(tmp_path):
                         "libgl1-mesa-dri) or a GPU driver."], output
     assert "Traceback" not in output
 
-
-def exr_parts(path):
-    """{channel name: (height, width) array} over every part of a multi-part EXR."""
-    image = oiio.ImageInput.open(str(path))
-    channels, part = {}, 0
-    while image.seek_subimage(part, 0):
-        pixels = image.read_image(part, 0, 0, image.spec().nchannels, "float")
-        for index, name in enumerate(image.spec().channelnames):
-            channels[name] = pixels[..., index]
-        part += 1
-    image.close()
-    return channels
 
 
 def test_f12_render_writes_our_passes_into_a_multilayer_exr(cornell, tmp_path):

@@ -90,7 +90,6 @@ def test_a_render_without_a_gpu_fails_with_one_clear_message(tmp_path):
     assert "Traceback" not in output
 
 
-
 def test_f12_render_writes_our_passes_into_a_multilayer_exr(cornell, tmp_path):
     image = cornell.render.image_settings
     saved = image.media_type, image.file_format, image.color_depth, cornell.render.filepath

@@ -139,7 +139,7 @@ def position_quality(glc, quads_per_side, resolution=256):
 
 def test_reference_dpm_keeps_the_cube_flux_and_warping_approaches_it(glc):
     quality, fluxes = position_quality(glc, quads_per_side=8)
-    print(f"\nposition PSNR against the reference DPM, 8x8 quads a side: "
+    print("\nposition PSNR against the reference DPM, 8x8 quads a side: "
           + ", ".join(f"{k} {v:.2f} dB" for k, v in quality.items()) + f"; flux {fluxes}")
     np.testing.assert_allclose(fluxes["reference"], fluxes["cube"], rtol=0.01)
     assert quality["wdpm"] > quality["dpm"] + 3.0

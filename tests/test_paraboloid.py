@@ -12,19 +12,6 @@ from lpv_preview.gpu.scene import Camera, Light, Scene
 from .glsl import evaluate
 from .synthetic_scenes import room_scene
 
-PROJECT_AND_BACK = """#version 450 core
-#include "paraboloid.glsl"
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Points { vec4 points[]; };
-layout(std430, binding = 1) writeonly buffer Results { vec4 results[]; };
-void main() {
-    uint i = gl_GlobalInvocationID.x;
-    vec2 st = paraboloid_project(points[i].xyz);
-    results[i] = vec4(paraboloid_direction(st), 0.0);
-    results[i + gl_NumWorkGroups.x * 64u] = vec4(st, 0.0, 0.0);
-}
-"""
-
 
 def test_solid_angles_cover_the_hemisphere():
     resolution = 1024
@@ -42,7 +29,8 @@ def test_projection_round_trip_in_glsl_matches_float64(glc):
     count = 4096
     points = rng.normal(size=(count, 3)) * rng.uniform(1e-3, 1e4, size=(count, 1))
     points[:, 2] = np.abs(points[:, 2])  # the front hemisphere
-    out = evaluate(glc, PROJECT_AND_BACK, points, 2)
+    out = evaluate(glc, "paraboloid.glsl", ["vec4(paraboloid_direction(paraboloid_project(x.xyz)), 0.0)",
+                                            "vec4(paraboloid_project(x.xyz), 0.0, 0.0)"], points)
     expected_st = paraboloid.project(points.astype(np.float32).astype(np.float64))
     unit = points / np.linalg.norm(points, axis=1, keepdims=True)
     st_error = np.abs(out[1, :, :2] - expected_st).max()

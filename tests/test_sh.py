@@ -8,18 +8,6 @@ from lpv_preview.gpu import lpv
 
 from .glsl import evaluate
 
-EVALUATE_SH = """#version 450 core
-#include "common.glsl"
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Directions { vec4 directions[]; };
-layout(std430, binding = 1) writeonly buffer Results { vec4 results[]; };
-void main() {
-    uint i = gl_GlobalInvocationID.x;
-    results[i] = sh_basis(directions[i].xyz);
-    results[i + gl_NumWorkGroups.x * 64u] = cos_lobe(directions[i].xyz);
-}
-"""
-
 
 def sphere_quadrature(n_theta=400, n_phi=800):
     """Gauss-Legendre in cos(theta) times a uniform rule in phi: directions and weights."""
@@ -81,7 +69,7 @@ def test_face_solid_angles():
 
 def test_glsl_basis_and_lobe_match_numpy(glc):
     dirs = random_directions(256, seed=11)
-    basis, lobe = evaluate(glc, EVALUATE_SH, dirs, 2)
+    basis, lobe = evaluate(glc, "common.glsl", ["sh_basis(x.xyz)", "cos_lobe(x.xyz)"], dirs)
     error_basis = np.abs(basis - lpv.sh_basis(dirs)).max()
     error_lobe = np.abs(lobe - lpv.cos_lobe(dirs)).max()
     print(f"GLSL vs float64: basis {error_basis:.2e}, lobe {error_lobe:.2e}")

@@ -399,18 +399,14 @@ def test_broken_triangles_are_dropped_and_counted(broken):
     np.testing.assert_allclose(broken.triangles[0], [(0, 0, 0), (1, 0, 0), (0, 1, 0)])
 
 
-def test_scene_without_meshes_is_a_clear_error():
+@pytest.mark.parametrize("build, message", [
+    (lambda: light_object("Light", "POINT", (0, 0, 3), energy=10), "no renderable triangles"),
+    (lambda: unit_quad("Lonely"), "no lights"),
+], ids=["without meshes", "without lights"])
+def test_an_incomplete_scene_is_a_clear_error(build, message):
     reset_blender()
-    light_object("Light", "POINT", (0, 0, 3), energy=10)
-    with pytest.raises(LPVError, match="no renderable triangles") as error:
-        extract_scene(bpy.context.evaluated_depsgraph_get())
-    assert str(error.value).endswith(".")
-
-
-def test_scene_without_lights_is_a_clear_error():
-    reset_blender()
-    unit_quad("Lonely")
-    with pytest.raises(LPVError, match="no lights") as error:
+    build()
+    with pytest.raises(LPVError, match=message) as error:
         extract_scene(bpy.context.evaluated_depsgraph_get())
     assert str(error.value).endswith(".")
 

@@ -15,11 +15,11 @@ from contextlib import contextmanager
 
 import bpy
 import numpy as np
-import OpenImageIO as oiio
 
 import addon_utils  # on the path only once bpy is imported
 
 from ..gpu.errors import LPVError
+from ..gpu.image_io import read_exr_channels
 
 ColourPass = namedtuple("ColourPass", "view_layer_flag exr_layer")
 
@@ -244,25 +244,14 @@ def _render_to_file(scene, exr_path):
 
 def _read_exr_passes(exr_path, view_layer_name, wanted_layers):
     """{pass name: (H, W, 3) float32} from the multilayer EXR, top row first."""
-    reader = oiio.ImageInput.open(exr_path)
-    if reader is None:
-        raise LPVError(f"Cannot read the Cycles reference image '{exr_path}': {oiio.geterror()}.")
-    channel_places = {}  # channel name -> (sub-image, channel index)
-    subimage = 0
-    while reader.seek_subimage(subimage, 0):
-        for index, channel in enumerate(reader.spec().channelnames):
-            channel_places[channel] = (subimage, index)
-        subimage += 1
-    reader.close()
-
+    channels = read_exr_channels(exr_path)
     prefix = f"{view_layer_name}."
     images = {}
     for name, layer in wanted_layers.items():
-        places = [channel_places.get(f"{prefix}{layer}.{c}") for c in "RGB"]
-        if None in places or len({s for s, _ in places}) != 1:
-            present = sorted({c[len(prefix):].rsplit(".", 1)[0] for c in channel_places if c.startswith(prefix)})
+        names = [f"{prefix}{layer}.{c}" for c in "RGB"]
+        if not all(channel in channels for channel in names):
+            present = sorted({c[len(prefix):].rsplit(".", 1)[0] for c in channels if c.startswith(prefix)})
             raise LPVError(f"The Cycles render has no '{name}' pass with R, G and B channels; "
                            f"it has {', '.join(present)}.")
-        pixels = oiio.ImageBuf(exr_path, places[0][0], 0).get_pixels(oiio.FLOAT)
-        images[name] = np.ascontiguousarray(pixels[..., [index for _, index in places]], dtype=np.float32)
+        images[name] = np.stack([channels[channel] for channel in names], axis=2)
     return images

@@ -40,22 +40,31 @@ def write_exr(path, passes):
     output.close()
 
 
-def read_exr(path):
-    """Passes of an EXR written by write_exr (or any EXR with '<layer>.R/G/B' channels)."""
+def read_exr_channels(path):
+    """{channel name: (height, width) float32, top row first} over every part of an EXR
+    (Blender 5.0 writes a multi-layer EXR as one part per pass)."""
     import OpenImageIO as oiio
-    image = oiio.ImageInput.open(path)
+    image = oiio.ImageInput.open(str(path))
     if image is None:
         raise LPVError(f"Cannot read '{path}' ({oiio.geterror()}); check the path.")
-    names = image.spec().channelnames
-    pixels = image.read_image("float")
+    channels, part = {}, 0
+    while image.seek_subimage(part, 0):
+        spec = image.spec()
+        pixels = image.read_image(part, 0, 0, spec.nchannels, "float")
+        for index, name in enumerate(spec.channelnames):
+            channels[name] = np.ascontiguousarray(pixels[..., index], dtype=np.float32)
+        part += 1
     image.close()
-    passes = {}
-    for index, name in enumerate(names):
-        layer, _, channel = name.rpartition(".")
-        if channel in CHANNELS:
-            passes.setdefault(layer, {})[channel] = pixels[:, :, index]
-    return {layer: np.stack([c[k] for k in CHANNELS], axis=2) for layer, c in passes.items()
-            if all(k in c for k in CHANNELS)}
+    return channels
+
+
+def read_exr(path):
+    """{layer: (height, width, 3)} of every layer with '<layer>.R/G/B' channels in an EXR
+    (one written by write_exr, or Blender's multi-part ones)."""
+    channels = read_exr_channels(path)
+    layers = {name.rpartition(".")[0] for name in channels}
+    return {layer: np.stack([channels[f"{layer}.{c}"] for c in CHANNELS], axis=2) for layer in layers
+            if all(f"{layer}.{c}" in channels for c in CHANNELS)}
 
 
 def tone_map(image, key=0.18):

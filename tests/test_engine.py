@@ -8,16 +8,14 @@ import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
-oiio = pytest.importorskip("OpenImageIO")
 
 import lpv_preview  # noqa: E402
 from lpv_preview import demo  # noqa: E402
 from lpv_preview.addon.engine import ENGINE_ID  # noqa: E402
 from lpv_preview.addon.extract import extract_scene  # noqa: E402
 from lpv_preview.addon.properties import settings_from_properties  # noqa: E402
+from lpv_preview.gpu.image_io import read_exr_channels  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
-
-from .exr import exr_parts  # noqa: E402
 
 
 def rna_values(struct):
@@ -99,7 +97,7 @@ def test_f12_render_writes_our_passes_into_a_multilayer_exr(cornell, tmp_path):
         bpy.ops.render.render(write_still=True)
     finally:
         image.media_type, image.file_format, image.color_depth, cornell.render.filepath = saved
-    channels = exr_parts(tmp_path / "f12.exr")
+    channels = read_exr_channels(tmp_path / "f12.exr")
     expected = {f"ViewLayer.{name}.{c}" for name in ("Combined", "Direct", "Indirect") for c in "RGB"}
     assert expected | {"ViewLayer.Combined.A"} <= set(channels), sorted(channels)
     for name, values in channels.items():

@@ -12,11 +12,9 @@ import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
-oiio = pytest.importorskip("OpenImageIO")
 
 from lpv_preview import demo  # noqa: E402
-
-from .exr import exr_parts  # noqa: E402
+from lpv_preview.gpu.image_io import read_exr_channels  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -83,7 +81,7 @@ def test_the_installed_extension_renders_f12_with_our_passes(extension_zip, tmp_
     assert report["engine_module"].startswith(str(user))
     installed_wheels = user / "extensions" / ".local" / "lib" / "python3.11" / "site-packages"
     assert (installed_wheels / "moderngl").is_dir() and (installed_wheels / "glcontext").is_dir()
-    channels = exr_parts(exr)
+    channels = read_exr_channels(exr)
     for name in ("Combined", "Direct", "Indirect"):
         for c in "RGB":
             values = channels[f"ViewLayer.{name}.{c}"]

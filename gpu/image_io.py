@@ -8,6 +8,7 @@ import os
 import numpy as np
 
 from .errors import LPVError
+from .metrics import LUMINANCE_WEIGHTS
 
 CHANNELS = ("R", "G", "B")
 
@@ -73,7 +74,7 @@ def tone_map(image, key=0.18):
     The exposure maps the log-average luminance of the lit pixels to `key`.
     """
     image = np.maximum(np.asarray(image, dtype=np.float64), 0.0)
-    luminance = image @ np.array([0.2126, 0.7152, 0.0722])
+    luminance = image @ LUMINANCE_WEIGHTS
     lit = luminance[luminance > 1e-9]
     average = np.exp(np.mean(np.log(lit))) if lit.size else 1.0
     scaled = image * (key / average)

@@ -21,7 +21,7 @@ import numpy as np
 
 from .mesh_buffer import MeshBuffer
 from .metrics import psnr
-from .pipeline import Pipeline
+from .pipeline import Pipeline, map_recipe
 from .rsm import PROJECTION_PARABOLOID, render_rsm
 from .scene import Camera, Light
 from .warp import STATUS_NAMES, reference_paraboloid_map, warp_paraboloid_map
@@ -111,36 +111,40 @@ def throughput_ms(glc, work, runs=THROUGHPUT_RUNS):
     return (time.perf_counter() - start) * 1000.0 / runs
 
 
-def map_throughput(glc, scene, settings, method):
-    """RSM and warp milliseconds of one method for all the scene's lights."""
+def map_measurements(glc, scene, settings, method):
+    """RSM and warp milliseconds of one method for all the scene's lights and, for a
+    warped method, fig. 10's status shares of its first paraboloid map (from the unwarped
+    map, rendered once for both)."""
+    recipe = map_recipe(settings, method)
     mesh = MeshBuffer(glc, scene)
     bounds = scene.bounds()
-    projection = "cm" if method == "cm" else "dpm"
-    unit = settings.tessellation_unit if method in ("tdpm", "twdpm") else None
-    alpha = settings.warp_alpha if method == "wdpm" else settings.tessellated_warp_alpha
-    result = {"rsm_throughput_ms": 0.0, "warp_throughput_ms": 0.0}
+    timing = {"rsm_throughput_ms": 0.0, "warp_throughput_ms": 0.0}
+    shares = None
     try:
         for light in scene.lights:
             def render():
-                return render_rsm(glc, mesh, light, settings.rsm_resolution, bounds, projection, unit)
+                return render_rsm(glc, mesh, light, settings.rsm_resolution, bounds, recipe.projection,
+                                  recipe.tessellation_unit)
 
-            result["rsm_throughput_ms"] += throughput_ms(glc, lambda: render().release())
-            if method not in ("wdpm", "twdpm"):
+            timing["rsm_throughput_ms"] += throughput_ms(glc, lambda: render().release())
+            if recipe.warp_alpha is None:
                 continue
             rsm = render()
 
             def warp():
-                warped, status = warp_paraboloid_map(glc, rsm, alpha, settings.warp_iterations,
+                warped, status = warp_paraboloid_map(glc, rsm, recipe.warp_alpha, settings.warp_iterations,
                                                      settings.warp_significant_figures)
                 warped.release()
                 status.release()
 
             if rsm.projection_kind == PROJECTION_PARABOLOID:
-                result["warp_throughput_ms"] += throughput_ms(glc, warp)
+                timing["warp_throughput_ms"] += throughput_ms(glc, warp)
+                if shares is None:
+                    shares = warp_status_shares(glc, rsm, recipe.warp_alpha, settings.warp_significant_figures)
             rsm.release()
     finally:
         mesh.release()
-    return result
+    return timing, shares
 
 
 def indirect_images(pipeline, scene, cameras):
@@ -177,7 +181,7 @@ def benchmark_scene(name, scene, settings, methods, frames=5, repeats=3, budget=
         reference_images = indirect_images(cube, scene, cameras)
         scene.camera = base_camera
         cube_maps, _ = cube.light_maps(scene)
-        timing.update(map_throughput(cube.glc, scene, cube_settings, "cm"))
+        timing.update(map_measurements(cube.glc, scene, cube_settings, "cm")[0])
         rows["cm"] = {"timing": timing, "rsm_faces": stats["rsm_faces"], "rsm_resolution": settings.rsm_resolution}
         sampling = sampling_reference(settings, scene, cameras, reference_images)
         scene.camera = base_camera
@@ -190,7 +194,8 @@ def benchmark_scene(name, scene, settings, methods, frames=5, repeats=3, budget=
             pipeline = Pipeline(settings.with_changes(method=method, rsm_resolution=resolution))
             try:
                 timing, stats = timed_frames(pipeline, scene, repeats)
-                timing.update(map_throughput(pipeline.glc, scene, pipeline.settings, method))
+                map_timing, shares = map_measurements(pipeline.glc, scene, pipeline.settings, method)
+                timing.update(map_timing)
                 images = indirect_images(pipeline, scene, cameras)
                 scene.camera = base_camera
                 quality = [psnr(image, reference) for image, reference in zip(images, reference_images)]
@@ -201,8 +206,7 @@ def benchmark_scene(name, scene, settings, methods, frames=5, repeats=3, budget=
                 row.update(dpm_quality(pipeline, cube_maps, maps))
                 if method in ("wdpm", "twdpm"):
                     row["warp_status"] = stats.get("warp_status")
-                    source = pipeline.settings.with_changes(method="dpm" if method == "wdpm" else "tdpm")
-                    row["warp_status_after"] = status_after(pipeline, scene, source, method)
+                    row["warp_status_after"] = shares or {}
                 rows[method] = row
             finally:
                 pipeline.release()
@@ -229,19 +233,6 @@ def dpm_quality(pipeline, cube_maps, method_maps):
     if not flux:
         return {}
     return {"dpm_flux_psnr": float(np.mean(flux)), "dpm_position_psnr": float(np.mean(position))}
-
-
-def status_after(pipeline, scene, source_settings, method):
-    """Fig. 10: warp status shares after 1, 4, 8, 16 iterations, from the unwarped map."""
-    source = Pipeline(source_settings, pipeline.glc)
-    try:
-        maps, _ = source.light_maps(scene)
-        s = pipeline.settings
-        alpha = s.warp_alpha if method == "wdpm" else s.tessellated_warp_alpha
-        paraboloids = [m.rsm for m in maps if m.rsm.projection_kind == PROJECTION_PARABOLOID]
-        return warp_status_shares(pipeline.glc, paraboloids[0], alpha, s.warp_significant_figures) if paraboloids else {}
-    finally:
-        source.release()
 
 
 def markdown_table(results, machine):

@@ -24,6 +24,25 @@ from .warp import STATUS_NAMES, warp_paraboloid_map
 AUTO_TESSELLATION_SHARE = 0.10
 
 
+AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
+
+
+@dataclass(frozen=True)
+class MapRecipe:
+    """How a method makes a light's map: the projection rendered ("cm" or "dpm"), the
+    TDPM tessellation unit (None: not tessellated) and the warp's alpha (None: no warp)."""
+
+    projection: str
+    tessellation_unit: float = None
+    warp_alpha: float = None
+
+
+def map_recipe(settings, method):
+    return MapRecipe("cm" if method == "cm" else "dpm",
+                     settings.tessellation_unit if method in ("tdpm", "twdpm") else None,
+                     {"wdpm": settings.warp_alpha, "twdpm": settings.tessellated_warp_alpha}.get(method))
+
+
 def auto_method(light):
     """`auto`'s first choice for a light: the cube's front face alone for a spot of
     half-angle <= 45 degrees (one exact render), WDPM otherwise (a sun's map is
@@ -77,14 +96,11 @@ class Pipeline:
         geometry_key = self._upload(scene, stats)
         bounds = scene.bounds()
         maps, keys = [], []
-        method_parameters = {
-            "cm": (), "dpm": (), "tdpm": (s.tessellation_unit,),
-            "wdpm": (s.warp_alpha, s.warp_iterations, s.warp_significant_figures),
-            "twdpm": (s.tessellation_unit, s.tessellated_warp_alpha, s.warp_iterations, s.warp_significant_figures),
-        }.get(s.method, (s.tessellation_unit, s.warp_alpha, s.tessellated_warp_alpha, s.warp_iterations,
-                          s.warp_significant_figures))  # auto may use any of them
+        recipes = tuple(map_recipe(s, m) for m in (AUTO_METHODS if s.method == "auto" else (s.method,)))
+        if any(recipe.warp_alpha is not None for recipe in recipes):
+            recipes += (s.warp_iterations, s.warp_significant_figures)
         for light in scene.lights:
-            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, method_parameters)
+            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes)
             if key not in self._lights:
                 self._lights[key] = self._render_light(light, bounds, stats)
             maps.append(self._lights[key])
@@ -107,15 +123,14 @@ class Pipeline:
 
     def _render_light_with(self, method, light, bounds, stats):
         s = self.settings
-        projection = "cm" if method == "cm" else "dpm"
-        unit = s.tessellation_unit if method in ("tdpm", "twdpm") else None
+        recipe = map_recipe(s, method)
         with self.glc.timed(stats, "rsm_ms"):
-            rsm = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution, bounds, projection, unit)
+            rsm = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution, bounds, recipe.projection,
+                             recipe.tessellation_unit)
         status = None
-        if method in ("wdpm", "twdpm") and rsm.projection_kind == PROJECTION_PARABOLOID:
-            alpha = s.warp_alpha if method == "wdpm" else s.tessellated_warp_alpha
+        if recipe.warp_alpha is not None and rsm.projection_kind == PROJECTION_PARABOLOID:
             with self.glc.timed(stats, "warp_ms"):
-                warped, status = warp_paraboloid_map(self.glc, rsm, alpha, s.warp_iterations,
+                warped, status = warp_paraboloid_map(self.glc, rsm, recipe.warp_alpha, s.warp_iterations,
                                                      s.warp_significant_figures)
             rsm.release()
             rsm = warped

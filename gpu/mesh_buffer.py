@@ -32,24 +32,26 @@ class MeshBuffer:
 
     def split_at_rim(self, hemisphere_view, hemisphere):
         """Sort the triangles by a paraboloid hemisphere's rim plane on the GPU
-        (shaders/rim_split.comp): returns the index buffers of those wholly in front and of
-        those crossing it, and their indirect draw commands (FRONT, CROSSING). Triangles
-        wholly behind are in neither, so each hemisphere draws only its own. Each
-        hemisphere (0 or 1) has its own lists: drawing one never waits on sorting the other."""
+        (shaders/rim_split.comp): returns one index buffer holding the triangles wholly in
+        front and those crossing it, and the indirect draw commands (FRONT, CROSSING) that
+        draw each list. Triangles wholly behind are in neither, so each hemisphere draws
+        only its own. Each hemisphere (0 or 1) has its own buffers: drawing one never
+        waits on sorting the other."""
         gl = self.glc.gl
+        capacity = self.vertex_count
         if hemisphere not in self._rim_lists:
-            size = max(self.vertex_count, 1) * 4
-            self._rim_lists[hemisphere] = (gl.buffer(reserve=size), gl.buffer(reserve=size),
+            self._rim_lists[hemisphere] = (gl.buffer(reserve=max(2 * capacity, 1) * 4),
                                            gl.buffer(reserve=RIM_COMMAND_BYTES))
-        front, crossing, commands = self._rim_lists[hemisphere]
-        for binding, buffer in enumerate((self.buffer, commands, front, crossing)):
+        lists, commands = self._rim_lists[hemisphere]
+        for binding, buffer in enumerate((self.buffer, commands, lists)):
             buffer.bind_to_storage_buffer(binding)
         program = self.glc.compute("rim_split")
-        set_uniforms(program, hemisphere_view=hemisphere_view, triangle_count=self.triangle_count, reset=True)
+        set_uniforms(program, hemisphere_view=hemisphere_view, triangle_count=self.triangle_count,
+                     capacity=capacity, reset=True)
         dispatch(program, 10, local=(64, 1, 1))
         set_uniforms(program, reset=False)
         dispatch(program, self.triangle_count, local=(64, 1, 1))
-        return front, crossing, commands
+        return lists, commands
 
     def release(self):
         for array in self._arrays.values():

@@ -176,9 +176,9 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
                          projection_kind=kind, ortho_texel_area=ortho_texel ** 2,
                          tessellation_unit=float(tessellation_unit or 0.0), **uniforms)
         if kind == PROJECTION_PARABOLOID:
-            front, crossing, commands = mesh.split_at_rim(matrix, face)
-            for program, indices, command in zip(programs, (front, crossing), (FRONT, CROSSING)):
-                mesh.vertex_array(program, indices).render_indirect(commands, mode, count=1, first=command)
+            lists, commands = mesh.split_at_rim(matrix, face)
+            for program, command in zip(programs, (FRONT, CROSSING)):
+                mesh.vertex_array(program, lists).render_indirect(commands, mode, count=1, first=command)
         else:
             mesh.vertex_array(programs[0]).render(mode)
     framebuffer.release()

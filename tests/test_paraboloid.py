@@ -88,11 +88,13 @@ def test_each_hemisphere_draws_its_own_triangles_and_clips_only_those_crossing_t
     front_view, rear_view = hemisphere_views(light, light.position)
     for hemisphere, (view, expected_front) in enumerate(((front_view, [0, 1]), (rear_view, [2]))):
         for _ in range(2):  # sorting again starts the lists afresh
-            front, crossing_list, commands = mesh.split_at_rim(view, hemisphere)
+            lists, commands = mesh.split_at_rim(view, hemisphere)
         command = np.frombuffer(commands.read(), dtype=np.uint32).reshape(2, 5)
         assert command[:, 1].tolist() == [1, 1]  # one instance each
-        front_triangles = sorted(np.frombuffer(front.read(), dtype=np.uint32)[:command[0, 0]:3] // 3)
-        crossing_triangles = np.frombuffer(crossing_list.read(), dtype=np.uint32)[:command[1, 0]:3] // 3
+        indices = np.frombuffer(lists.read(), dtype=np.uint32)
+        listed = [indices[first:first + count:3] // 3 for count, _, first, _, _ in command]
+        front_triangles = sorted(listed[0])
+        crossing_triangles = listed[1]
         assert front_triangles == expected_front and crossing_triangles.tolist() == [3]
     mesh.release()
 

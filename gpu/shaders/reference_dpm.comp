@@ -4,6 +4,7 @@
 // solid angle to the paraboloid texel's.
 #include "common.glsl"
 #include "rsm_lookup.glsl"
+#include "rsm_texel.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 uniform sampler2D cube_position;
 uniform sampler2D cube_normal;
@@ -29,12 +30,8 @@ void main() {
             vec2 centre = (vec2(texel) + 0.5) / float(lookup_resolution) * 2.0 - 1.0;
             float ratio = paraboloid_texel_solid_angle(st, float(resolution)) /
                           cube_texel_solid_angle(centre, float(lookup_resolution));
-            texel += lookup_origin[face];
-            position = texelFetch(cube_position, texel, 0);
-            normal = texelFetch(cube_normal, texel, 0);
-            flux = texelFetch(cube_flux, texel, 0);
-            normal.w *= ratio;
-            flux.rgb *= ratio;
+            copy_rsm_texel(cube_position, cube_normal, cube_flux, texel + lookup_origin[face], ratio,
+                           position, normal, flux);
         }
     }
     ivec2 target = face_origin + local;

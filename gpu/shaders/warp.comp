@@ -5,6 +5,7 @@
 // exceeds a texel (eq. 5); stop at half a texel (eq. 6) or when the error stops changing
 // (eq. 7, Scarborough); restart inside the box of the last two steps on background.
 #include "paraboloid.glsl"
+#include "rsm_texel.glsl"
 #define STATUS_BACKGROUND 0
 #define STATUS_CONVERGED 1
 #define STATUS_APPROXIMATE 2
@@ -108,11 +109,7 @@ void main() {
             vec2 source_st = (vec2(chosen - face_origin) + 0.5) / float(resolution) * 2.0 - 1.0;
             float ratio = paraboloid_texel_solid_angle(t * 2.0 - 1.0, float(resolution)) /
                           paraboloid_texel_solid_angle(source_st, float(resolution));
-            position = texelFetch(source_position, chosen, 0);
-            normal = texelFetch(source_normal, chosen, 0);
-            flux = texelFetch(source_flux, chosen, 0);
-            normal.w *= ratio;   // surfel area
-            flux.rgb *= ratio;
+            copy_rsm_texel(source_position, source_normal, source_flux, chosen, ratio, position, normal, flux);
         }
         imageStore(target_position, target, position);
         imageStore(target_normal, target, normal);

@@ -40,22 +40,14 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     disabled in renders when the depsgraph is a render one.
     Raises LPVError when nothing with triangles or no light is visible.
     """
-    geometry, lights = _walk(depsgraph, view3d, geometry=True, lights=True)
+    geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
     return Scene(*geometry, lights, extract_camera(depsgraph, resolution)).sanitize()
 
 
-def extract_geometry(depsgraph, view3d=None):
-    """(triangles, normals, albedo) of everything visible, in world space (unsanitized)."""
-    return _walk(depsgraph, view3d, geometry=True, lights=False)[0]
-
-
-def extract_lights(depsgraph, view3d=None):
-    """The visible lights."""
-    return _walk(depsgraph, view3d, geometry=False, lights=True)[1]
-
-
-def _walk(depsgraph, view3d, geometry, lights):
-    """One pass over the depsgraph's instances reading what is asked for."""
+def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
+    """One pass over the depsgraph's instances reading what is asked for: the world-space
+    (triangles, normals, albedo) of everything visible (unsanitized; empty arrays when not
+    asked) and the visible lights (empty when not asked)."""
     materials = MaterialAlbedo()
     meshes = {}
     batches = {}

@@ -8,9 +8,8 @@ cached light map and the LPV; the pipeline's content keys decide the rest.
 """
 from dataclasses import dataclass, replace
 
-from ..gpu.errors import LPVError
 from ..gpu.scene import Scene
-from .extract import MESH_LIKE_TYPES, extract_geometry, extract_lights
+from .extract import MESH_LIKE_TYPES, extract_parts
 
 CAMERA, LIGHTS, GEOMETRY = "camera", "lights", "geometry"
 EVERYTHING = frozenset((CAMERA, LIGHTS, GEOMETRY))
@@ -81,18 +80,17 @@ class SceneSync:
         """The current Scene with `camera`; re-reads the `parts` that changed (all of them
         the first time). Keeps the sanitized geometry and its content key otherwise."""
         first = self._scene is None
-        if first or GEOMETRY in parts:
-            keep_lights = not first and LIGHTS not in parts
-            lights = self._scene.lights if keep_lights else extract_lights(depsgraph, view3d)
-            self._scene = Scene(*extract_geometry(depsgraph, view3d), lights, camera).sanitize()
-            self.extracted = (GEOMETRY,) if keep_lights else (GEOMETRY, LIGHTS)
-        elif LIGHTS in parts:
-            lights = extract_lights(depsgraph, view3d)
-            if not lights:
-                raise LPVError("The scene has no lights; add a point, spot, area or sun light.")
-            self._scene = replace(self._scene, lights=lights, camera=camera)
-            self.extracted = (LIGHTS,)
-        else:
+        read_geometry, read_lights = first or GEOMETRY in parts, first or LIGHTS in parts
+        self.extracted = tuple(part for part, read in ((GEOMETRY, read_geometry), (LIGHTS, read_lights)) if read)
+        if not self.extracted:
             self._scene = replace(self._scene, camera=camera)
-            self.extracted = ()
+            return self._scene
+        geometry, lights = extract_parts(depsgraph, view3d, read_geometry, read_lights)
+        if not read_lights:
+            lights = self._scene.lights
+        if read_geometry:
+            self._scene = Scene(*geometry, lights, camera).sanitize()
+        else:
+            self._scene = replace(self._scene, lights=lights, camera=camera)
+            self._scene.require_lights()
         return self._scene

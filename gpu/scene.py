@@ -190,10 +190,13 @@ class Scene:
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
         if self.triangle_count == 0:
             raise LPVError("The scene has no renderable triangles; add a visible mesh object.")
-        if not self.lights:
-            raise LPVError("The scene has no lights; add a point, spot, area or sun light.")
+        self.require_lights()
         self.sanitized = True
         return self
+
+    def require_lights(self):
+        if not self.lights:
+            raise LPVError("The scene has no lights; add a point, spot, area or sun light.")
 
     def geometry_key(self):
         """A content key of the triangles, normals and albedo (kept once sanitized: a

@@ -49,8 +49,6 @@ class GLContext:
         self.renderer = self.gl.info["GL_RENDERER"]
         self.version = self.gl.info["GL_VERSION"]
         self.is_software = "llvmpipe" in self.renderer.lower() or "softpipe" in self.renderer.lower()
-        self._nearest = moderngl.NEAREST
-        self._texture_type = moderngl.Texture
         self._programs = {}
         self._free = {}  # (kind, size, components, dtype) -> released textures to reuse
 
@@ -61,7 +59,7 @@ class GLContext:
         if free:
             return free.pop()
         texture = self.gl.texture(tuple(size), components, dtype=dtype)
-        texture.filter = (self._nearest, self._nearest)
+        texture.filter = (self.gl.NEAREST, self.gl.NEAREST)
         return texture
 
     def depth_renderbuffer(self, size):
@@ -71,7 +69,7 @@ class GLContext:
     def recycle(self, *resources):
         """Give textures and depth renderbuffers from `texture`/`depth_renderbuffer` back."""
         for resource in resources:
-            if isinstance(resource, self._texture_type):
+            if hasattr(resource, "filter"):  # a texture; depth renderbuffers have no filtering
                 key = ("texture", tuple(resource.size), resource.components, resource.dtype)
             else:
                 key = ("depth", tuple(resource.size), 1, "f4")

@@ -61,22 +61,35 @@ class ViewportSession:
         self.pipeline = Pipeline()
         self.sync = SceneSync()
         self.pending = set(EVERYTHING)
+        self._shown = None  # (what the last drawn frame depends on, that frame)
 
     def note_updates(self, updates):
         self.pending |= changed_parts(updates)
 
-    def frame(self, depsgraph, camera, size, view3d=None):
-        """Render the current scene from `camera` at `size` (width, height)."""
+    def frame(self, depsgraph, camera, size, view3d=None, settings=None):
+        """Render the current scene from `camera` at `size` (width, height), with the
+        scene's settings unless given."""
         start = time.perf_counter()
         scene = self.sync.scene(depsgraph, self.pending, camera, view3d)
         self.pending = set()
         extract_ms = (time.perf_counter() - start) * 1000.0
-        settings = settings_from_properties(depsgraph.scene_eval.lpv_preview, width=size[0], height=size[1])
+        if settings is None:
+            settings = settings_from_properties(depsgraph.scene_eval.lpv_preview, width=size[0], height=size[1])
         frame = self.pipeline.render(scene, settings, passes=("combined",))
         frame.stats["extract_ms"] = extract_ms
         frame.stats["extracted"] = list(self.sync.extracted)
         _remember(frame.stats)
         return frame
+
+    def frame_to_draw(self, depsgraph, camera, size, view3d=None):
+        """The frame for a redraw: the last one again when no edit is pending and the
+        view, its size and the settings are unchanged (Blender redraws the viewport for
+        many reasons that change nothing we show), else a new one."""
+        settings = settings_from_properties(depsgraph.scene_eval.lpv_preview, width=size[0], height=size[1])
+        depends_on = (camera.key(), settings)
+        if self.pending or self._shown is None or self._shown[0] != depends_on:
+            self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings))
+        return self._shown[1]
 
     def release(self):
         self.pipeline.release()
@@ -152,7 +165,7 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         size = (region.width, region.height)
         camera = viewport_camera(context.region_data)
         try:
-            frame = self.session.frame(depsgraph, camera, size, context.space_data)
+            frame = self.session.frame_to_draw(depsgraph, camera, size, context.space_data)
         except LPVError as error:
             self.report({"ERROR"}, str(error))
             return

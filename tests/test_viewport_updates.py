@@ -104,3 +104,20 @@ def test_the_first_frame_reads_everything_and_an_idle_redraw_nothing(cornell_sce
         assert not any(stage in again.stats for stage in LIGHT_STAGES + LPV_STAGES)
     finally:
         session.release()
+
+
+def test_a_redraw_with_nothing_changed_shows_the_last_frame_again(cornell_scene):
+    session = ViewportSession()
+    try:
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        camera = extract_camera(depsgraph, (48, 48))
+        first = session.frame_to_draw(depsgraph, camera, (48, 48))
+        assert session.frame_to_draw(depsgraph, camera, (48, 48)) is first
+        assert session.frame_to_draw(depsgraph, camera, (40, 48)) is not first  # the region was resized
+        records = recorded_updates(move_camera)
+        session.note_updates(records)
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        moved = session.frame_to_draw(depsgraph, extract_camera(depsgraph, (48, 48)), (48, 48))
+        assert moved is not first and all(stage in moved.stats for stage in CAMERA_STAGES)
+    finally:
+        session.release()

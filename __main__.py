@@ -39,6 +39,12 @@ def settings_from(args, width, height):
     return Settings(**given)
 
 
+def settings_for_blend(bpy_scene, args):
+    """The flags' settings, the image size from the .blend's render resolution unless given."""
+    from .addon.extract import render_resolution
+    return settings_from(args, *render_resolution(bpy_scene))
+
+
 def write_outputs(frame, out_dir, extra_stats):
     """combined/direct/indirect EXR, PNGs of combined and indirect, stats.json."""
     from .gpu.image_io import write_exr, write_png
@@ -54,12 +60,11 @@ def write_outputs(frame, out_dir, extra_stats):
 def render_bpy_scene(bpy_scene, args, extra_stats):
     """Extract the evaluated scene, render it and write the outputs."""
     import bpy
-    from .addon.extract import extract_scene, render_resolution
+    from .addon.extract import extract_scene
     from .gpu.pipeline import Pipeline
     start = time.perf_counter()
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    width, height = render_resolution(bpy_scene)
-    settings = settings_from(args, width, height)
+    settings = settings_for_blend(bpy_scene, args)
     scene = extract_scene(depsgraph, resolution=(settings.width, settings.height))
     extract_ms = (time.perf_counter() - start) * 1000
     pipeline = Pipeline(settings)
@@ -122,11 +127,10 @@ def render_animation(bpy_scene, frames, args):
     when complete, so an interrupted frame is never taken for a finished one.
     """
     import bpy
-    from .addon.extract import extract_scene, render_resolution
+    from .addon.extract import extract_scene
     from .gpu.image_io import write_exr
     from .gpu.pipeline import Pipeline
-    width, height = render_resolution(bpy_scene)
-    settings = settings_from(args, width, height)
+    settings = settings_for_blend(bpy_scene, args)
     todo = [f for f in frames if args.overwrite or not os.path.exists(frame_path(args.out, f))]
     skipped = len(frames) - len(todo)
     pipeline = Pipeline(settings)

@@ -52,14 +52,38 @@ def viewport_camera(region_data):
                   np.array(region_data.window_matrix, dtype=np.float64))
 
 
+class DisplayRows:
+    """Where a viewport frame's combined image lands: one float32 buffer of the view's
+    size that the pipeline reads into directly (Pipeline.render's `display_into`).
+    Here a numpy array; viewport_draw.ViewportImage makes it Blender's GPU buffer, so the
+    image goes from our GL context to Blender's texture with one copy."""
+
+    def __init__(self):
+        self.size = None
+        self.rows = None
+        self.fresh = False  # rows hold a frame not yet drawn
+
+    def allocate(self, count):
+        return np.empty(count, dtype=np.float32)
+
+    def target(self, size):
+        """The buffer the next frame of `size` (width, height) goes into."""
+        if self.size != size:
+            self.rows = self.allocate(size[0] * size[1] * 4)
+            self.size = size
+        self.fresh = True
+        return self.rows
+
+
 class ViewportSession:
     """A viewport's pipeline and scene: what changed since the last draw decides what
     is extracted again; the pipeline's caches decide which stages run again."""
 
-    def __init__(self):
+    def __init__(self, display=None):
         from ..gpu.pipeline import Pipeline
         self.pipeline = Pipeline()
         self.sync = SceneSync()
+        self.display = display or DisplayRows()
         self.pending = set(EVERYTHING)
         self._shown = None  # (what the last drawn frame depends on, that frame)
 
@@ -75,7 +99,7 @@ class ViewportSession:
         extract_ms = (time.perf_counter() - start) * 1000.0
         if settings is None:
             settings = settings_from_properties(depsgraph.scene_eval.lpv_preview, width=size[0], height=size[1])
-        frame = self.pipeline.render(scene, settings, passes=("combined",))
+        frame = self.pipeline.render(scene, settings, passes=(), display_into=self.display.target(size))
         frame.stats["extract_ms"] = extract_ms
         frame.stats["extracted"] = list(self.sync.extracted)
         _remember(frame.stats)
@@ -151,8 +175,9 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
 
     def view_update(self, context, depsgraph):
         if self.session is None:
+            from .viewport_draw import ViewportImage
             try:
-                self.session = ViewportSession()
+                self.session = ViewportSession(ViewportImage())
             except LPVError as error:
                 self.report({"ERROR"}, str(error))
                 return
@@ -169,8 +194,7 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         except LPVError as error:
             self.report({"ERROR"}, str(error))
             return
-        from .viewport_draw import draw_image
-        draw_image(self, depsgraph.scene, result_pixels(frame.passes["combined"], alpha=1.0), size)
+        self.session.display.draw(self, depsgraph.scene)
         self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms")
 
 

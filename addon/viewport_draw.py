@@ -1,20 +1,38 @@
 """Drawing a rendered frame into the 3D view with Blender's `gpu` module.
 
-Imported only inside `view_draw`: in background mode Blender has no drawing functions,
-and everything that decides what to draw is computed (and tested) elsewhere.
+Imported only by the viewport: in background mode Blender has no drawing functions, and
+everything that decides what to draw is computed (and tested) elsewhere.
 """
 import gpu
+import numpy as np
 from gpu_extras.presets import draw_texture_2d
 
+from .engine import DisplayRows
 
-def draw_image(engine, scene, rows, size):
-    """Draw `rows` (bottom row first, RGBA float32) over the whole region, through the
-    scene's view transform like every render engine's viewport image."""
-    width, height = size
-    pixels = gpu.types.Buffer("FLOAT", rows.size, rows.ravel())
-    texture = gpu.types.GPUTexture((width, height), format="RGBA16F", data=pixels)
-    gpu.state.blend_set("ALPHA_PREMULT")
-    engine.bind_display_space_shader(scene)
-    draw_texture_2d(texture, (0, 0), width, height)
-    engine.unbind_display_space_shader()
-    gpu.state.blend_set("NONE")
+
+class ViewportImage(DisplayRows):
+    """The frame's rows in a Blender GPU buffer (the pipeline reads into it through the
+    buffer protocol) and the texture made from them, once per new frame: a redraw with
+    nothing new draws the same texture again."""
+
+    def __init__(self):
+        super().__init__()
+        self.buffer = None
+        self.texture = None
+
+    def allocate(self, count):
+        # Blender 5.0 makes textures from FLOAT buffers only.
+        self.buffer = gpu.types.Buffer("FLOAT", count)
+        return np.asarray(self.buffer)
+
+    def draw(self, engine, scene):
+        """Draw the last frame over the whole region, through the scene's view transform
+        like every render engine's viewport image."""
+        if self.fresh or self.texture is None:
+            self.texture = gpu.types.GPUTexture(self.size, format="RGBA16F", data=self.buffer)
+            self.fresh = False
+        gpu.state.blend_set("ALPHA_PREMULT")
+        engine.bind_display_space_shader(scene)
+        draw_texture_2d(self.texture, (0, 0), *self.size)
+        engine.unbind_display_space_shader()
+        gpu.state.blend_set("NONE")

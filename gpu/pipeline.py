@@ -70,10 +70,13 @@ class LightMaps:
 
 @dataclass
 class Frame:
-    """The passes (name -> (height, width, 3) float32 linear, top row first) and statistics."""
+    """The passes (name -> (height, width, 3) float32 linear, top row first), statistics,
+    and the combined image as a viewport draws it ((height, width, 4), bottom row first,
+    in the caller's buffer; None unless asked for)."""
 
     passes: dict
     stats: dict
+    display: object = None
 
 
 class Pipeline:
@@ -138,9 +141,11 @@ class Pipeline:
             vpls = self.vpl_sampler.sample(rsm, s.vpls_per_light)
         return LightMaps(rsm, vpls, method, status)
 
-    def render(self, scene, settings=None, passes=PASS_NAMES):
+    def render(self, scene, settings=None, passes=PASS_NAMES, display_into=None):
         """Render the scene from its camera; returns a Frame with the `passes` asked for
-        (read back from the GPU: a viewport that shows one pass reads only that one)."""
+        (read back from the GPU), and with `display_into` (a writable buffer of width x
+        height x 4 float32) the combined image read into it as RGBA rows, bottom row first:
+        what a viewport draws, read with no copy on the way."""
         if settings is not None:
             self.settings = settings
         s = self.settings
@@ -176,11 +181,12 @@ class Pipeline:
             render_gbuffer(self.glc, self._mesh[1], scene.camera, targets)
         with self.glc.timed(stats, "direct_ms"):
             for m in maps:
-                shade_direct(self.glc, targets, m.rsm, s.shadow_bias)
+                shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
         with self.glc.timed(stats, "indirect_ms"):
-            shade_indirect(self.glc, targets, lpv, s.indirect_intensity)
+            shade_indirect(self.glc, targets, scene.camera, lpv, s.indirect_intensity, display_into is not None)
         with self.glc.timed(stats, "readback_ms"):
             images = {name: targets.read(name) for name in passes}
+            display = None if display_into is None else targets.read_display_into(display_into)
         stats["total_ms"] = (time.perf_counter() - start) * 1000.0
         warped = [m.warp for m in maps if m.warp is not None]
         if warped:
@@ -200,7 +206,7 @@ class Pipeline:
             "image_size": [s.width, s.height],
             "renderer": self.glc.renderer,
         })
-        return Frame(images, stats)
+        return Frame(images, stats, display)
 
     def invalidate(self):
         """Forget every cached stage result, so the next render redoes every stage."""

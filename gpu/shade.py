@@ -8,18 +8,31 @@ PASS_NAMES = ("combined", "direct", "indirect")
 
 
 class FrameTargets:
-    """The camera's G-buffer and the output images of one resolution."""
+    """The camera's G-buffer and the output images of one resolution.
+
+    The G-buffer is a depth texture and one packed RGBA32UI texel per pixel (normal and
+    albedo, shaders/gbuffer.glsl), 20 bytes a pixel where position, normal and albedo as
+    float images took 52: on the H100, whose raster units are few, writing them was most
+    of a camera move (docs/benchmarks.md).
+    """
 
     def __init__(self, gl, width, height):
+        self.gl = gl
         self.size = (width, height)
-        self.position, self.normal, self.albedo, self.direct, self.indirect, self.combined = (
-            gl.texture(self.size, 4, dtype="f4") for _ in range(6))
-        for texture in (self.position, self.normal, self.albedo):
+        self.direct, self.indirect, self.combined = (gl.texture(self.size, 4, dtype="f4") for _ in range(3))
+        self.surface = gl.texture(self.size, 4, dtype="u4")
+        self.depth = gl.depth_texture(self.size)
+        for texture in (self.surface, self.depth):
             texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self.depth = gl.depth_renderbuffer(self.size)
-        self.framebuffer = gl.framebuffer(color_attachments=[self.position, self.normal, self.albedo],
-                                          depth_attachment=self.depth)
+        self.depth.compare_func = ""
+        self.framebuffer = gl.framebuffer(color_attachments=[self.surface], depth_attachment=self.depth)
         self.direct_framebuffer = gl.framebuffer(color_attachments=[self.direct])
+        self.display = None  # the composite as RGBA rows, made on a viewport's first request
+
+    def display_buffer(self):
+        if self.display is None:
+            self.display = self.gl.buffer(reserve=self.size[0] * self.size[1] * 16)
+        return self.display
 
     def read(self, name):
         """An output image as (height, width, 3) float32, top row first."""
@@ -27,12 +40,31 @@ class FrameTargets:
         image = np.frombuffer(getattr(self, name).read(), dtype=np.float32).reshape(height, width, 4)
         return np.ascontiguousarray(image[::-1, :, :3])
 
+    def read_display_into(self, out):
+        """The composite as shade_indirect wrote it into the display buffer (RGBA float32,
+        bottom row first: the layout Blender's textures take) into `out`, a writable
+        buffer of width x height x 4 floats; returns it as (height, width, 4)."""
+        self.display.read_into(out)
+        width, height = self.size
+        return np.frombuffer(out, dtype=np.float32).reshape(height, width, 4)
+
     def release(self):
         self.framebuffer.release()
         self.direct_framebuffer.release()
-        self.depth.release()
-        for texture in (self.position, self.normal, self.albedo, self.direct, self.indirect, self.combined):
-            texture.release()
+        for resource in (self.depth, self.surface, self.direct, self.indirect, self.combined, self.display):
+            if resource is not None:
+                resource.release()
+
+
+def gbuffer_uniforms(camera):
+    """The uniforms of shaders/gbuffer.glsl (texture units 0 and 1)."""
+    inverse = np.linalg.inv(camera.projection.astype(np.float64) @ camera.view.astype(np.float64))
+    return {"g_depth": 0, "g_surface": 1, "inverse_view_projection": inverse}
+
+
+def bind_gbuffer(targets):
+    targets.depth.use(location=0)
+    targets.surface.use(location=1)
 
 
 def render_gbuffer(glc, mesh, camera, targets):
@@ -41,7 +73,7 @@ def render_gbuffer(glc, mesh, camera, targets):
     program = glc.program("raster", "gbuffer")
     targets.framebuffer.use()
     targets.framebuffer.viewport = (0, 0, *targets.size)
-    targets.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+    targets.framebuffer.clear(depth=1.0)
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
     set_uniforms(program, view_projection=camera.projection @ camera.view,
@@ -50,27 +82,31 @@ def render_gbuffer(glc, mesh, camera, targets):
     targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
 
 
-def shade_direct(glc, targets, rsm, shadow_bias):
+def shade_direct(glc, targets, camera, rsm, shadow_bias):
     """Add one light's shadowed Lambert term into the direct image."""
     program = glc.compute("shade_direct")
-    for unit, texture in enumerate((targets.position, targets.normal, targets.albedo, rsm.position)):
-        texture.use(location=unit)
+    bind_gbuffer(targets)
+    rsm.position.use(location=2)
     targets.direct.bind_to_image(0, read=True, write=True)
-    set_uniforms(program, g_position=0, g_normal=1, g_albedo=2, rsm_position=3, **rsm.lookup_uniforms(),
+    set_uniforms(program, **gbuffer_uniforms(camera), rsm_position=2, **rsm.lookup_uniforms(),
                  texel_angle=2.0 / rsm.resolution, ortho_texel=rsm.ortho_texel, shadow_bias=shadow_bias,
                  **rsm.light_uniforms)
     dispatch(program, *targets.size)
 
 
-def shade_indirect(glc, targets, lpv, intensity):
-    """Look the LPV up at every pixel and write the indirect and combined images."""
+def shade_indirect(glc, targets, camera, lpv, intensity, display=False):
+    """Look the LPV up at every pixel and write the indirect and combined images, and with
+    `display` the combined one into the display buffer too."""
     program = glc.compute("shade_indirect")
-    for unit, texture in enumerate((targets.position, targets.normal, targets.albedo, *lpv.sums)):
+    bind_gbuffer(targets)
+    for unit, texture in enumerate(lpv.sums, start=2):
         texture.use(location=unit)
     targets.direct.bind_to_image(0, read=True, write=False)
     targets.indirect.bind_to_image(1, read=False, write=True)
     targets.combined.bind_to_image(2, read=False, write=True)
+    if display:
+        targets.display_buffer().bind_to_storage_buffer(0)
     grid = lpv.grid
-    set_uniforms(program, g_position=0, g_normal=1, g_albedo=2, lpv_r=3, lpv_g=4, lpv_b=5,
+    set_uniforms(program, **gbuffer_uniforms(camera), lpv_r=2, lpv_g=3, lpv_b=4, write_display=display,
                  grid_origin=grid.origin, cell_size=grid.cell_size, grid_size=grid.size, intensity=intensity)
     dispatch(program, *targets.size)

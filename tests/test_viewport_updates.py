@@ -1,5 +1,6 @@
 """The viewport's update logic: real depsgraph updates, recorded from real edits, decide
 what is extracted again, and the pipeline reruns exactly the stages ARCHITECTURE.md lists."""
+import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
@@ -121,3 +122,15 @@ def test_a_redraw_with_nothing_changed_shows_the_last_frame_again(cornell_scene)
         assert moved is not first and all(stage in moved.stats for stage in CAMERA_STAGES)
     finally:
         session.release()
+
+
+def test_the_viewport_reads_the_combined_image_bottom_row_first_into_its_own_buffer(session):
+    drawn = frame(session)
+    assert np.shares_memory(drawn.display, session.display.rows)
+    assert drawn.display.shape == (48, 48, 4) and session.display.fresh
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    alone = session.pipeline.render(session.sync.scene(depsgraph, set(), extract_camera(depsgraph, (48, 48))),
+                                    passes=("combined",)).passes["combined"]
+    assert alone.mean() > 0
+    np.testing.assert_array_equal(drawn.display[::-1, :, :3], alone)
+    np.testing.assert_array_equal(drawn.display[..., 3], 1.0)

@@ -4,10 +4,8 @@
 #include "common.glsl"
 #include "light.glsl"
 #include "rsm_lookup.glsl"
+#include "gbuffer.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
-uniform sampler2D g_position;
-uniform sampler2D g_normal;
-uniform sampler2D g_albedo;
 uniform sampler2D rsm_position;
 layout(rgba32f, binding = 0) uniform image2D direct;
 uniform float texel_angle;   // 2 / resolution: a texel's width per unit distance
@@ -36,19 +34,17 @@ float visibility(vec3 p) {
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, imageSize(direct)))) return;
-    vec4 p = texelFetch(g_position, pixel, 0);
-    if (p.w <= 0.0) return;
-    vec3 n = texelFetch(g_normal, pixel, 0).xyz;
-    vec3 albedo = texelFetch(g_albedo, pixel, 0).rgb;
+    vec3 p, n, albedo;
+    if (!gbuffer_surface(pixel, p, n, albedo)) return;
     vec3 w;
     float dist;
-    light_ray(p.xyz, w, dist);
+    light_ray(p, w, dist);
     float cos_theta = dot(n, -w);
     if (cos_theta <= 0.0) return;
     vec3 irradiance = light_kind == LIGHT_SUN ? light_peak * cos_theta
                                               : light_intensity(w) * cos_theta / (dist * dist);
     float texel_world = light_kind == LIGHT_SUN ? ortho_texel : dist * texel_angle;
-    float v = visibility(p.xyz + n * shadow_bias * texel_world);
+    float v = visibility(p + n * shadow_bias * texel_world);
     vec4 previous = imageLoad(direct, pixel);
     imageStore(direct, pixel, previous + vec4(albedo / PI * irradiance * v, 0.0));
 }

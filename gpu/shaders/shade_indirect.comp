@@ -1,16 +1,18 @@
 #version 450 core
-// Indirect light from the LPV (cosine convolution, METHOD §7) and the composite.
+// Indirect light from the LPV (cosine convolution, METHOD §7) and the composite; when
+// asked, the composite also as RGBA rows, bottom row first, in a buffer (a viewport reads
+// a buffer back several times faster than a texture).
 #include "common.glsl"
+#include "gbuffer.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
-uniform sampler2D g_position;
-uniform sampler2D g_normal;
-uniform sampler2D g_albedo;
 uniform sampler3D lpv_r;
 uniform sampler3D lpv_g;
 uniform sampler3D lpv_b;
 layout(rgba32f, binding = 0) uniform readonly image2D direct;
 layout(rgba32f, binding = 1) uniform writeonly image2D indirect;
 layout(rgba32f, binding = 2) uniform writeonly image2D combined;
+layout(std430, binding = 0) writeonly buffer Display { vec4 display_rows[]; };
+uniform bool write_display;
 uniform vec3 grid_origin;
 uniform float cell_size;
 uniform int grid_size;
@@ -19,13 +21,11 @@ uniform float intensity;
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, imageSize(indirect)))) return;
-    vec4 p = texelFetch(g_position, pixel, 0);
     vec4 direct_light = imageLoad(direct, pixel);
     vec3 light = vec3(0.0);
-    if (p.w > 0.0) {
-        vec3 n = texelFetch(g_normal, pixel, 0).xyz;
-        vec3 albedo = texelFetch(g_albedo, pixel, 0).rgb;
-        vec3 uvw = (p.xyz + 0.5 * cell_size * n - grid_origin) / (cell_size * float(grid_size));
+    vec3 p, n, albedo;
+    if (gbuffer_surface(pixel, p, n, albedo)) {
+        vec3 uvw = (p + 0.5 * cell_size * n - grid_origin) / (cell_size * float(grid_size));
         vec4 lobe = cos_lobe(-n);
         // Intensity per cell to irradiance: divide by the cell's face area.
         vec3 irradiance = max(vec3(dot(texture(lpv_r, uvw), lobe), dot(texture(lpv_g, uvw), lobe),
@@ -33,5 +33,7 @@ void main() {
         light = albedo / PI * irradiance * intensity;
     }
     imageStore(indirect, pixel, vec4(light, 1.0));
-    imageStore(combined, pixel, vec4(direct_light.rgb + light, 1.0));
+    vec4 composite = vec4(direct_light.rgb + light, 1.0);
+    imageStore(combined, pixel, composite);
+    if (write_display) display_rows[pixel.y * imageSize(combined).x + pixel.x] = composite;
 }

@@ -1,0 +1,35 @@
+// The camera G-buffer of shaders/gbuffer.frag: a depth texture and one packed surface
+// texel per pixel (octahedral normal, albedo); positions are rebuilt from the depth.
+uniform sampler2D g_depth;
+uniform usampler2D g_surface;
+uniform mat4 inverse_view_projection;
+
+vec2 octahedral_encode(vec3 n) {
+    n /= abs(n.x) + abs(n.y) + abs(n.z);
+    vec2 e = n.xy;
+    if (n.z < 0.0) e = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    return e;
+}
+
+vec3 octahedral_decode(vec2 e) {
+    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+    if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    return normalize(n);
+}
+
+uvec4 gbuffer_pack(vec3 normal, vec3 albedo) {
+    return uvec4(packSnorm2x16(octahedral_encode(normal)), packHalf2x16(albedo.rg), packHalf2x16(vec2(albedo.b, 0.0)), 0u);
+}
+
+// The surface the camera sees at `pixel`; false where it sees nothing.
+bool gbuffer_surface(ivec2 pixel, out vec3 position, out vec3 normal, out vec3 albedo) {
+    float depth = texelFetch(g_depth, pixel, 0).r;
+    if (depth >= 1.0) return false;
+    vec2 ndc = (vec2(pixel) + 0.5) / vec2(textureSize(g_depth, 0)) * 2.0 - 1.0;
+    vec4 world = inverse_view_projection * vec4(ndc, depth * 2.0 - 1.0, 1.0);
+    position = world.xyz / world.w;
+    uvec4 surface = texelFetch(g_surface, pixel, 0);
+    normal = octahedral_decode(unpackSnorm2x16(surface.x));
+    albedo = vec3(unpackHalf2x16(surface.y), unpackHalf2x16(surface.z).x);
+    return true;
+}

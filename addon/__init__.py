@@ -1,7 +1,8 @@
-"""Everything that touches bpy: scene extraction, properties, the Cycles reference."""
-from . import engine, properties, ui
+"""Everything that touches bpy: scene extraction, properties, the engine, its overlays and
+panels, the Cycles reference."""
+from . import engine, overlay, properties, ui
 
-MODULES = (properties, engine, ui)
+MODULES = (properties, engine, overlay, ui)
 
 
 def register_addon():

@@ -15,14 +15,18 @@ import numpy as np
 
 from ..gpu.errors import LPVError
 from ..gpu.scene import Camera
+from . import overlay
 from .extract import extract_scene, render_resolution
-from .properties import settings_from_properties
+from .properties import display_settings_from_properties, settings_from_properties
 from .sync import EVERYTHING, SceneSync, changed_parts, record_updates
 
 ENGINE_ID = "LPV_PREVIEW"
 
 RESULT_PASSES = (("Direct", "direct"), ("Indirect", "indirect"))
 """Our colour passes beside Combined: the Blender pass name, and the pipeline's."""
+
+DEBUG_RESULT_PASSES = (("VPL Splats", "vpl_splats"), ("Warp Status", "warp_status"))
+"""The debug passes written when the scene's `debug_passes` is on (gpu/debug_views.py)."""
 
 _last_stats = {}
 
@@ -84,6 +88,7 @@ class ViewportSession:
         self.pipeline = Pipeline()
         self.sync = SceneSync()
         self.display = display or DisplayRows()
+        self.overlays = overlay.OverlayData()
         self.pending = set(EVERYTHING)
         self._shown = None  # (what the last drawn frame depends on, that frame)
 
@@ -98,7 +103,7 @@ class ViewportSession:
         self.pending = set()
         extract_ms = (time.perf_counter() - start) * 1000.0
         if settings is None:
-            settings = settings_from_properties(depsgraph.scene_eval.lpv_preview, width=size[0], height=size[1])
+            settings = settings_from_properties(depsgraph.scene.lpv_preview, width=size[0], height=size[1])
         frame = self.pipeline.render(scene, settings, passes=(), display_into=self.display.target(size))
         frame.stats["extract_ms"] = extract_ms
         frame.stats["extracted"] = list(self.sync.extracted)
@@ -109,10 +114,11 @@ class ViewportSession:
         """The frame for a redraw: the last one again when no edit is pending and the
         view, its size and the settings are unchanged (Blender redraws the viewport for
         many reasons that change nothing we show), else a new one."""
-        settings = settings_from_properties(depsgraph.scene_eval.lpv_preview, width=size[0], height=size[1])
+        settings = settings_from_properties(depsgraph.scene.lpv_preview, width=size[0], height=size[1])
         depends_on = (camera.key(), settings)
         if self.pending or self._shown is None or self._shown[0] != depends_on:
             self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings))
+        self.overlays.update(self.pipeline, display_settings_from_properties(depsgraph.scene.lpv_preview))
         return self._shown[1]
 
     def release(self):
@@ -128,15 +134,23 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self.session = None
+        self.region = None  # the 3D view region whose overlays this engine's session feeds
 
     def __del__(self):
         session = getattr(self, "session", None)
         if session is not None:
+            overlay.show(self.region, None)
             session.release()
+
+    @staticmethod
+    def result_passes(scene):
+        """(Blender pass name, pipeline pass name) beside Combined for a render of `scene`."""
+        debug = scene is not None and display_settings_from_properties(scene.lpv_preview).debug_passes
+        return RESULT_PASSES + (DEBUG_RESULT_PASSES if debug else ())
 
     def update_render_passes(self, scene=None, renderlayer=None):
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
-        for name, _ in RESULT_PASSES:
+        for name, _ in self.result_passes(scene):
             self.register_pass(scene, renderlayer, name, 3, "RGB", "COLOR")
 
     def render(self, depsgraph):
@@ -148,13 +162,16 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         try:
             self.update_stats("", "LPV Preview: reading the scene")
             settings = settings_from_properties(scene.lpv_preview, width=width, height=height)
+            display = display_settings_from_properties(scene.lpv_preview)
+            result_passes = self.result_passes(scene)
             lpv_scene = extract_scene(depsgraph)
             if lpv_scene.camera is None:
                 raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
             self.update_progress(0.2)
             self.update_stats("", "LPV Preview: rendering")
             pipeline = Pipeline(settings)
-            frame = pipeline.render(lpv_scene)
+            frame = pipeline.render(lpv_scene, passes=("combined", *(source for _, source in result_passes)),
+                                    display_settings=display)
         except LPVError as error:
             self.report({"ERROR"}, str(error))
             return
@@ -167,7 +184,7 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         layer = result.layers[0]
         # foreach_set of a flat array: ~300 times faster than assigning `rect` a 2-D array.
         layer.passes["Combined"].rect.foreach_set(result_pixels(frame.passes["combined"], alpha=1.0).ravel())
-        for name, source in RESULT_PASSES:
+        for name, source in result_passes:
             layer.passes[name].rect.foreach_set(result_pixels(frame.passes[source]).ravel())
         self.end_result(result)
         self.update_progress(1.0)
@@ -188,6 +205,7 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
             return
         region = context.region
         size = (region.width, region.height)
+        self.region = region.as_pointer()
         camera = viewport_camera(context.region_data)
         try:
             frame = self.session.frame_to_draw(depsgraph, camera, size, context.space_data)
@@ -195,6 +213,7 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
             self.report({"ERROR"}, str(error))
             return
         self.session.display.draw(self, depsgraph.scene)
+        overlay.show(self.region, self.session.overlays)
         self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms")
 
 

@@ -1,17 +1,27 @@
-"""The pipeline's settings as Blender properties, generated from gpu/settings.py.
+"""The pipeline's and the overlays' settings as Blender properties, generated from
+gpu/settings.py.
 
 One property per parameter, with the same default, range and description, stored on the
 scene as `scene.lpv_preview`.
 """
 import bpy
 
-from ..gpu.settings import PARAMETERS, Settings
+from ..gpu.settings import DISPLAY_PARAMETERS, PARAMETERS, DisplaySettings, Settings
+
+
+def redraw_views(properties, context):
+    """A setting changed: every 3D view draws again, and its engine reads the settings
+    anew (from the original scene: Python property edits may not reach the evaluated one)."""
+    screen = getattr(context, "screen", None)
+    for area in screen.areas if screen is not None else ():
+        if area.type == "VIEW_3D":
+            area.tag_redraw()
 
 
 def _property(name, field):
     meta = field.metadata
     label = name.replace("_", " ").capitalize()
-    common = {"name": label, "description": meta["description"], "default": field.default}
+    common = {"name": label, "description": meta["description"], "default": field.default, "update": redraw_views}
     if meta["choices"] is not None:
         items = [(choice, choice.upper(), "") for choice in meta["choices"]]
         return bpy.props.EnumProperty(items=items, **common)
@@ -24,21 +34,27 @@ def _property(name, field):
 
 
 LPVPreviewSettings = type("LPVPreviewSettings", (bpy.types.PropertyGroup,), {
-    "__annotations__": {name: _property(name, field) for name, field in PARAMETERS.items()},
+    "__annotations__": {name: _property(name, field)
+                        for name, field in (*PARAMETERS.items(), *DISPLAY_PARAMETERS.items())},
     "__doc__": "LPV Preview settings of a scene (generated from gpu/settings.py)",
 })
 
 
-def settings_from_properties(properties, **overrides):
-    """A validated Settings from a scene's properties.
+def _values(properties, names):
+    """Blender keeps float properties in single precision; they are rounded back to the 7
+    significant digits that holds, so 0.7 stays 0.7."""
+    values = {name: getattr(properties, name) for name in names}
+    return {name: float(f"{v:.7g}") if isinstance(v, float) else v for name, v in values.items()}
 
-    Blender keeps float properties in single precision; they are rounded back to the 7
-    significant digits that holds, so 0.7 stays 0.7.
-    """
-    values = {name: getattr(properties, name) for name in PARAMETERS}
-    values = {name: float(f"{v:.7g}") if isinstance(v, float) else v for name, v in values.items()}
-    values.update(overrides)
-    return Settings(**values)
+
+def settings_from_properties(properties, **overrides):
+    """A validated Settings from a scene's properties."""
+    return Settings(**{**_values(properties, PARAMETERS), **overrides})
+
+
+def display_settings_from_properties(properties):
+    """A validated DisplaySettings (overlays, debug passes) from a scene's properties."""
+    return DisplaySettings(**_values(properties, DISPLAY_PARAMETERS))
 
 
 def register():

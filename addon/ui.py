@@ -3,7 +3,7 @@ engine) and in a "LPV Preview" tab of the 3D view's sidebar, with the last frame
 statistics. Which setting goes in which group is checked against gpu/settings.py."""
 import bpy
 
-from ..gpu.settings import PARAMETERS
+from ..gpu.settings import DISPLAY_PARAMETERS, PARAMETERS
 from .engine import ENGINE_ID, last_stats
 
 SETTING_GROUPS = {
@@ -12,20 +12,28 @@ SETTING_GROUPS = {
                           "shadow_bias"),
     "Warping": ("warp_alpha", "warp_iterations", "warp_significant_figures"),
     "Tessellation": ("tessellation_unit", "tessellated_warp_alpha"),
+    "Overlays": ("show_vpls", "vpl_point_size", "show_lpv_slice", "lpv_slice_axis", "lpv_slice_position",
+                 "show_warp_status"),
+    "Passes": ("debug_passes",),
 }
+ENABLED_BY = {"lpv_slice_axis": "show_lpv_slice", "lpv_slice_position": "show_lpv_slice"}
+"""Settings that matter only while another is on: drawn inactive while it is off."""
 FROM_BLENDER = ("width", "height")
 """Settings Blender supplies: the render resolution, or the viewport's size."""
 
 STAGES = (("extract_ms", "Extract"), ("rsm_ms", "RSM"), ("warp_ms", "Warp"), ("vpl_ms", "VPLs"),
           ("inject_ms", "Inject"), ("propagate_ms", "Propagate"), ("gbuffer_ms", "G-buffer"),
-          ("direct_ms", "Direct"), ("indirect_ms", "Indirect"), ("readback_ms", "Readback"), ("total_ms", "Total"))
+          ("direct_ms", "Direct"), ("indirect_ms", "Indirect"), ("debug_ms", "Debug passes"),
+          ("readback_ms", "Readback"), ("total_ms", "Total"))
 
 
 def draw_settings(layout, properties, group):
     layout.use_property_split = True
     layout.use_property_decorate = False
     for name in SETTING_GROUPS[group]:
-        layout.prop(properties, name)
+        row = layout.row()
+        row.active = name not in ENABLED_BY or getattr(properties, ENABLED_BY[name])
+        row.prop(properties, name)
 
 
 def draw_statistics(layout, stats):
@@ -121,7 +129,7 @@ CLASSES = (RENDER_PT_lpv_preview, *GROUP_PANELS, RENDER_PT_lpv_preview_statistic
 def check_groups():
     """Every setting of gpu/settings.py is in exactly one group or comes from Blender."""
     grouped = [name for names in SETTING_GROUPS.values() for name in names] + list(FROM_BLENDER)
-    return sorted(grouped) == sorted(PARAMETERS) and len(grouped) == len(set(grouped))
+    return sorted(grouped) == sorted([*PARAMETERS, *DISPLAY_PARAMETERS]) and len(grouped) == len(set(grouped))
 
 
 def register():

@@ -9,11 +9,12 @@ import time
 from dataclasses import dataclass
 
 from .context import GLContext
+from .debug_views import DEBUG_PASS_NAMES, render_debug_passes
 from .errors import LPVError
 from .lpv import LightPropagationVolume, fit_grid
 from .mesh_buffer import MeshBuffer
 from .rsm import PROJECTION_PARABOLOID, render_rsm
-from .settings import Settings
+from .settings import DisplaySettings, Settings
 from .shade import PASS_NAMES, FrameTargets, render_gbuffer, shade_direct, shade_indirect
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES, warp_paraboloid_map
@@ -90,6 +91,8 @@ class Pipeline:
         self._lights = {}          # light cache key -> LightMaps
         self._lpv = None           # (key, LightPropagationVolume)
         self._targets = None
+        self.last_light_maps = []  # what the last frame was made of, for the overlays
+        self.last_lpv = self.last_lpv_key = None
 
     def light_maps(self, scene, stats=None):
         """Each light's LightMaps, rendered only when the light, geometry or settings changed;
@@ -141,11 +144,12 @@ class Pipeline:
             vpls = self.vpl_sampler.sample(rsm, s.vpls_per_light)
         return LightMaps(rsm, vpls, method, status)
 
-    def render(self, scene, settings=None, passes=PASS_NAMES, display_into=None):
+    def render(self, scene, settings=None, passes=PASS_NAMES, display_into=None, display_settings=None):
         """Render the scene from its camera; returns a Frame with the `passes` asked for
-        (read back from the GPU), and with `display_into` (a writable buffer of width x
-        height x 4 float32) the combined image read into it as RGBA rows, bottom row first:
-        what a viewport draws, read with no copy on the way."""
+        (read back from the GPU; PASS_NAMES and the debug passes DEBUG_PASS_NAMES, whose
+        splat size `display_settings` gives), and with `display_into` (a writable buffer
+        of width x height x 4 float32) the combined image read into it as RGBA rows,
+        bottom row first: what a viewport draws, read with no copy on the way."""
         if settings is not None:
             self.settings = settings
         s = self.settings
@@ -184,6 +188,11 @@ class Pipeline:
                 shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, scene.camera, lpv, s.indirect_intensity, display_into is not None)
+        if any(name in DEBUG_PASS_NAMES for name in passes):
+            with self.glc.timed(stats, "debug_ms"):
+                render_debug_passes(self.glc, targets, scene.camera, maps,
+                                    (display_settings or DisplaySettings()).vpl_point_size)
+        self.last_light_maps, self.last_lpv, self.last_lpv_key = maps, lpv, lpv_key
         with self.glc.timed(stats, "readback_ms"):
             images = {name: targets.read(name) for name in passes}
             display = None if display_into is None else targets.read_display_into(display_into)

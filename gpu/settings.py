@@ -1,13 +1,15 @@
 """Every parameter of the pipeline: its default, its valid range and what it means.
 
 This is the one source of truth: Blender properties, command-line flags and benchmark
-sweeps are generated from `PARAMETERS` or checked against it.
+sweeps are generated from `PARAMETERS` or checked against it; the viewport overlays and
+debug passes, which change what is shown but rerun no stage, from `DISPLAY_PARAMETERS`.
 """
 from dataclasses import dataclass, field, fields, replace
 
 from .errors import LPVError
 
 METHODS = ("cm", "dpm", "wdpm", "tdpm", "twdpm", "auto")
+SLICE_AXES = ("x", "y", "z")
 
 
 def _param(default, description, minimum=None, maximum=None, choices=None):
@@ -15,25 +17,8 @@ def _param(default, description, minimum=None, maximum=None, choices=None):
         "description": description, "min": minimum, "max": maximum, "choices": choices})
 
 
-@dataclass(frozen=True)
-class Settings:
-    """All pipeline parameters; constructing one validates it."""
-
-    method: str = _param("cm", "How omnidirectional reflective shadow maps are made", choices=METHODS)
-    rsm_resolution: int = _param(512, "Texels along one side of each RSM face", 16, 2048)
-    vpls_per_light: int = _param(2048, "Virtual point lights sampled per light", 1, 65536)
-    lpv_resolution: int = _param(32, "Cells along each side of the light propagation volume", 4, 128)
-    propagation_iterations: int = _param(8, "Propagation steps through the volume", 1, 64)
-    warp_alpha: float = _param(0.7, "WDPM step damping per iteration while the error exceeds a texel", 0.05, 1.0)
-    tessellated_warp_alpha: float = _param(0.9, "TWDPM step damping per iteration (the thesis: 0.9)", 0.05, 1.0)
-    tessellation_unit: float = _param(0.1, "TDPM map length per tessellated segment (thesis eq. 8-9)", 0.005, 2.0)
-    warp_iterations: int = _param(16, "Most fixed-point iterations per texel of the warp", 1, 64)
-    warp_significant_figures: int = _param(2, "Significant figures of the warp's approximate-error stop", 1, 6)
-    occlusion: bool = _param(True, "Block propagation with the geometry volume")
-    indirect_intensity: float = _param(1.0, "Scale of the indirect light", 0.0, 100.0)
-    shadow_bias: float = _param(1.5, "Shadow-map normal offset in texels", 0.0, 16.0)
-    width: int = _param(640, "Image width in pixels", 1, 16384)
-    height: int = _param(480, "Image height in pixels", 1, 16384)
+class Validated:
+    """A frozen dataclass of `_param` fields that validates itself when constructed."""
 
     def __post_init__(self):
         for f in fields(self):
@@ -59,8 +44,47 @@ class Settings:
         """A validated copy with some parameters changed."""
         unknown = set(changes) - {f.name for f in fields(self)}
         if unknown:
-            raise LPVError(f"Unknown setting '{sorted(unknown)[0]}'; known settings are {', '.join(PARAMETERS)}.")
+            known = ", ".join(f.name for f in fields(self))
+            raise LPVError(f"Unknown setting '{sorted(unknown)[0]}'; known settings are {known}.")
         return replace(self, **changes)
 
 
+@dataclass(frozen=True)
+class Settings(Validated):
+    """All pipeline parameters; constructing one validates it."""
+
+    method: str = _param("cm", "How omnidirectional reflective shadow maps are made", choices=METHODS)
+    rsm_resolution: int = _param(512, "Texels along one side of each RSM face", 16, 2048)
+    vpls_per_light: int = _param(2048, "Virtual point lights sampled per light", 1, 65536)
+    lpv_resolution: int = _param(32, "Cells along each side of the light propagation volume", 4, 128)
+    propagation_iterations: int = _param(8, "Propagation steps through the volume", 1, 64)
+    warp_alpha: float = _param(0.7, "WDPM step damping per iteration while the error exceeds a texel", 0.05, 1.0)
+    tessellated_warp_alpha: float = _param(0.9, "TWDPM step damping per iteration (the thesis: 0.9)", 0.05, 1.0)
+    tessellation_unit: float = _param(0.1, "TDPM map length per tessellated segment (thesis eq. 8-9)", 0.005, 2.0)
+    warp_iterations: int = _param(16, "Most fixed-point iterations per texel of the warp", 1, 64)
+    warp_significant_figures: int = _param(2, "Significant figures of the warp's approximate-error stop", 1, 6)
+    occlusion: bool = _param(True, "Block propagation with the geometry volume")
+    indirect_intensity: float = _param(1.0, "Scale of the indirect light", 0.0, 100.0)
+    shadow_bias: float = _param(1.5, "Shadow-map normal offset in texels", 0.0, 16.0)
+    width: int = _param(640, "Image width in pixels", 1, 16384)
+    height: int = _param(480, "Image height in pixels", 1, 16384)
+
+
+@dataclass(frozen=True)
+class DisplaySettings(Validated):
+    """What the viewport overlays and the debug render passes show."""
+
+    show_vpls: bool = _param(False, "Draw every VPL as a point coloured by its flux")
+    vpl_point_size: float = _param(4.0, "Size of the VPL points (overlay) and splats (pass) in pixels", 1.0, 32.0)
+    show_lpv_slice: bool = _param(False, "Draw a slice through the light propagation volume, coloured by the "
+                                         "light passing through each cell")
+    lpv_slice_axis: str = _param("z", "Axis the LPV slice is perpendicular to", choices=SLICE_AXES)
+    lpv_slice_position: float = _param(0.5, "Where the LPV slice lies along its axis, from the volume's low side "
+                                            "(0) to its high side (1)", 0.0, 1.0)
+    show_warp_status: bool = _param(False, "Show the warp status map of the first warped light in a corner of "
+                                           "the view (green converged, yellow approximate, red failed)")
+    debug_passes: bool = _param(False, "Write the VPL Splats and Warp Status passes in renders")
+
+
 PARAMETERS = {f.name: f for f in fields(Settings)}
+DISPLAY_PARAMETERS = {f.name: f for f in fields(DisplaySettings)}

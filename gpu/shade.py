@@ -28,6 +28,12 @@ class FrameTargets:
         self.framebuffer = gl.framebuffer(color_attachments=[self.surface], depth_attachment=self.depth)
         self.direct_framebuffer = gl.framebuffer(color_attachments=[self.direct])
         self.display = None  # the composite as RGBA rows, made on a viewport's first request
+        self.vpl_splats = self.warp_status = None  # debug passes (gpu/debug_views.py), made on first use
+
+    def debug_images(self):
+        if self.vpl_splats is None:
+            self.vpl_splats, self.warp_status = (self.gl.texture(self.size, 4, dtype="f4") for _ in range(2))
+        return self.vpl_splats, self.warp_status
 
     def display_buffer(self):
         if self.display is None:
@@ -51,7 +57,8 @@ class FrameTargets:
     def release(self):
         self.framebuffer.release()
         self.direct_framebuffer.release()
-        for resource in (self.depth, self.surface, self.direct, self.indirect, self.combined, self.display):
+        for resource in (self.depth, self.surface, self.direct, self.indirect, self.combined, self.display,
+                         self.vpl_splats, self.warp_status):
             if resource is not None:
                 resource.release()
 

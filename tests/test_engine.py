@@ -14,6 +14,7 @@ from lpv_preview import demo  # noqa: E402
 from lpv_preview.addon.engine import ENGINE_ID  # noqa: E402
 from lpv_preview.addon.extract import extract_scene  # noqa: E402
 from lpv_preview.addon.properties import settings_from_properties  # noqa: E402
+from lpv_preview.gpu.debug_views import STATUS_COLOURS  # noqa: E402
 from lpv_preview.gpu.image_io import read_exr_channels  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 
@@ -89,15 +90,7 @@ def test_a_render_without_a_gpu_fails_with_one_clear_message(tmp_path):
 
 
 def test_f12_render_writes_our_passes_into_a_multilayer_exr(cornell, tmp_path):
-    image = cornell.render.image_settings
-    saved = image.media_type, image.file_format, image.color_depth, cornell.render.filepath
-    image.media_type, image.file_format, image.color_depth = "MULTI_LAYER_IMAGE", "OPEN_EXR_MULTILAYER", "32"
-    cornell.render.filepath = str(tmp_path / "f12.exr")
-    try:
-        bpy.ops.render.render(write_still=True)
-    finally:
-        image.media_type, image.file_format, image.color_depth, cornell.render.filepath = saved
-    channels = read_exr_channels(tmp_path / "f12.exr")
+    channels = render_exr(cornell, tmp_path / "f12.exr")
     expected = {f"ViewLayer.{name}.{c}" for name in ("Combined", "Direct", "Indirect") for c in "RGB"}
     assert expected | {"ViewLayer.Combined.A"} <= set(channels), sorted(channels)
     for name, values in channels.items():
@@ -117,3 +110,34 @@ def test_f12_render_writes_our_passes_into_a_multilayer_exr(cornell, tmp_path):
         pipeline.release()
     np.testing.assert_allclose(direct, alone["direct"], rtol=1e-4, atol=1e-6)
     np.testing.assert_allclose(indirect, alone["indirect"], rtol=1e-4, atol=1e-6)
+
+
+def render_exr(scene, path):
+    """F12 into a 32-bit multilayer EXR at `path`; the image settings are restored."""
+    image = scene.render.image_settings
+    saved = image.media_type, image.file_format, image.color_depth, scene.render.filepath
+    image.media_type, image.file_format, image.color_depth = "MULTI_LAYER_IMAGE", "OPEN_EXR_MULTILAYER", "32"
+    scene.render.filepath = str(path)
+    try:
+        bpy.ops.render.render(write_still=True)
+    finally:
+        image.media_type, image.file_format, image.color_depth, scene.render.filepath = saved
+    return read_exr_channels(path)
+
+
+def test_debug_passes_are_written_only_when_asked_for(cornell, tmp_path):
+    debug = {f"ViewLayer.{name}.{c}" for name in ("VPL Splats", "Warp Status") for c in "RGB"}
+    assert not debug & set(render_exr(cornell, tmp_path / "plain.exr"))
+    properties = cornell.lpv_preview
+    properties.debug_passes, properties.method = True, "wdpm"
+    try:
+        channels = render_exr(cornell, tmp_path / "debug.exr")
+    finally:
+        properties.debug_passes, properties.method = False, "cm"
+    assert debug <= set(channels), sorted(channels)
+    splats = np.stack([channels[f"ViewLayer.VPL Splats.{c}"] for c in "RGB"], axis=-1)
+    status = np.stack([channels[f"ViewLayer.Warp Status.{c}"] for c in "RGB"], axis=-1)
+    assert np.all(np.isfinite(splats)) and splats.sum() > 0
+    palette = {tuple(np.round(colour, 4)) for colour in STATUS_COLOURS}
+    assert {tuple(np.round(colour, 4)) for colour in status.reshape(-1, 3)} <= palette
+    assert (status.sum(axis=-1) > 0).mean() > 0.5  # the point light's warped maps see most of the box

@@ -5,8 +5,9 @@ bpy = pytest.importorskip("bpy")
 
 import lpv_preview  # noqa: E402
 from lpv_preview.addon import engine, ui  # noqa: E402
-from lpv_preview.addon.properties import settings_from_properties  # noqa: E402
-from lpv_preview.gpu.settings import PARAMETERS, Settings  # noqa: E402
+from lpv_preview.addon import overlay  # noqa: E402
+from lpv_preview.addon.properties import display_settings_from_properties, settings_from_properties  # noqa: E402
+from lpv_preview.gpu.settings import DISPLAY_PARAMETERS, PARAMETERS, DisplaySettings, Settings  # noqa: E402
 
 
 def registered_state():
@@ -17,16 +18,19 @@ def registered_state():
     handlers = {name: len(getattr(bpy.app.handlers, name)) for name in dir(bpy.app.handlers)
                 if isinstance(getattr(bpy.app.handlers, name), list)}
     return {"scene property": hasattr(bpy.types.Scene, "lpv_preview"), "engine": engine.LPVPreviewEngine.is_registered,
-            "panels": sorted(panels), "shared panels": len(shared) > 0, "handlers": handlers}
+            "panels": sorted(panels), "shared panels": len(shared) > 0, "handlers": handlers,
+            "draw handlers": overlay.handler_count()}
 
 
 def test_register_unregister_three_times_leaves_nothing_behind():
     before = registered_state()
     assert not before["scene property"] and not before["engine"] and not before["panels"]
+    assert before["draw handlers"] == 0
     for _ in range(3):
         lpv_preview.register()
         during = registered_state()
         assert during["scene property"] and during["engine"] and during["shared panels"]
+        assert during["draw handlers"] == 2
         assert len(during["panels"]) == len(ui.CLASSES)
         lpv_preview.unregister()
         assert registered_state() == before
@@ -39,16 +43,21 @@ def test_every_setting_has_its_place_in_the_panels():
 
 def test_properties_mirror_the_settings():
     lpv_preview.register()
+    scene = bpy.data.scenes.new("fresh")  # earlier tests may have changed the current scene's settings
     try:
-        properties = bpy.context.scene.lpv_preview
+        properties = scene.lpv_preview
         rna = properties.bl_rna.properties
-        for name, field in PARAMETERS.items():
+        for name, field in (*PARAMETERS.items(), *DISPLAY_PARAMETERS.items()):
             assert rna[name].description == field.metadata["description"]
             if field.metadata["min"] is not None:
                 assert rna[name].hard_min == pytest.approx(field.metadata["min"], rel=1e-6)
                 assert rna[name].hard_max == pytest.approx(field.metadata["max"], rel=1e-6)
         assert settings_from_properties(properties) == Settings()
+        assert display_settings_from_properties(properties) == DisplaySettings()
         properties.rsm_resolution = 256
+        properties.lpv_slice_axis = "x"
         assert settings_from_properties(properties).rsm_resolution == 256
+        assert display_settings_from_properties(properties).lpv_slice_axis == "x"
     finally:
+        bpy.data.scenes.remove(scene)
         lpv_preview.unregister()

@@ -134,3 +134,41 @@ def test_the_viewport_reads_the_combined_image_bottom_row_first_into_its_own_buf
     assert alone.mean() > 0
     np.testing.assert_array_equal(drawn.display[::-1, :, :3], alone)
     np.testing.assert_array_equal(drawn.display[..., 3], 1.0)
+
+
+def test_overlay_data_follows_the_light_side_and_the_overlay_settings(cornell_scene):
+    properties = cornell_scene.lpv_preview
+    session = ViewportSession()
+    try:
+        def draw():
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+            session.note_updates([])
+            return session.frame_to_draw(depsgraph, extract_camera(depsgraph, (48, 48)), (48, 48))
+
+        drawn = draw()
+        assert session.overlays.empty
+        properties.method, properties.show_vpls, properties.show_lpv_slice, properties.show_warp_status = (
+            "wdpm", True, True, True)
+        drawn = draw()
+        overlays = session.overlays
+        assert len(overlays.vpls.positions) == drawn.stats["vpl_count"] - int(
+            (~session.pipeline.last_light_maps[0].vpls.read()["valid"]).sum())
+        assert overlays.slice.image.shape == (16, 16, 4) and overlays.slice.light.sum() > 0
+        assert overlays.warp_status.shape[:2] == session.pipeline.last_light_maps[0].warp.texture.size[::-1]
+        shown = (overlays.vpls, overlays.slice, overlays.warp_status)
+        session.note_updates(recorded_updates(move_camera))
+        draw()  # a camera move keeps the LPV, so the overlays keep their data
+        assert (overlays.vpls, overlays.slice, overlays.warp_status) == shown
+        properties.lpv_slice_axis = "x"
+        draw()
+        assert overlays.slice is not shown[1] and overlays.vpls is shown[0]
+        session.note_updates(recorded_updates(move_light))
+        draw()
+        assert overlays.vpls is not shown[0]
+        properties.show_vpls = properties.show_lpv_slice = properties.show_warp_status = False
+        draw()
+        assert overlays.empty
+    finally:
+        properties.method, properties.lpv_slice_axis = "cm", "z"
+        properties.show_vpls = properties.show_lpv_slice = properties.show_warp_status = False
+        session.release()

@@ -1,5 +1,6 @@
 // The camera G-buffer of shaders/gbuffer.frag: a depth texture and one packed surface
-// texel per pixel (octahedral normal, albedo); positions are rebuilt from the depth.
+// texel per pixel (octahedral normal in two 16-bit snorms, albedo as three floats);
+// positions are rebuilt from the depth.
 uniform sampler2D g_depth;
 uniform usampler2D g_surface;
 uniform mat4 inverse_view_projection;
@@ -18,7 +19,7 @@ vec3 octahedral_decode(vec2 e) {
 }
 
 uvec4 gbuffer_pack(vec3 normal, vec3 albedo) {
-    return uvec4(packSnorm2x16(octahedral_encode(normal)), packHalf2x16(albedo.rg), packHalf2x16(vec2(albedo.b, 0.0)), 0u);
+    return uvec4(packSnorm2x16(octahedral_encode(normal)), floatBitsToUint(albedo));
 }
 
 // The surface the camera sees at `pixel`; false where it sees nothing.
@@ -30,6 +31,6 @@ bool gbuffer_surface(ivec2 pixel, out vec3 position, out vec3 normal, out vec3 a
     position = world.xyz / world.w;
     uvec4 surface = texelFetch(g_surface, pixel, 0);
     normal = octahedral_decode(unpackSnorm2x16(surface.x));
-    albedo = vec3(unpackHalf2x16(surface.y), unpackHalf2x16(surface.z).x);
+    albedo = uintBitsToFloat(surface.yzw);
     return true;
 }

@@ -45,6 +45,20 @@ def settings_for_blend(bpy_scene, args):
     return settings_from(args, *render_resolution(bpy_scene))
 
 
+def passes_for(args):
+    """The pipeline passes a command writes: ours, and the debug ones with --debug-passes."""
+    from .gpu.debug_views import DEBUG_PASS_NAMES
+    from .gpu.shade import PASS_NAMES
+    return PASS_NAMES + (DEBUG_PASS_NAMES if args.debug_passes else ())
+
+
+def add_debug_passes_flag(parser):
+    from .gpu.settings import DISPLAY_PARAMETERS
+    parser.add_argument("--debug-passes", action="store_true",
+                        help=DISPLAY_PARAMETERS["debug_passes"].metadata["description"] + " (EXR layers vpl_splats, "
+                        "warp_status)")
+
+
 def write_outputs(frame, out_dir, extra_stats):
     """combined/direct/indirect EXR, PNGs of combined and indirect, stats.json."""
     from .gpu.image_io import write_exr, write_png
@@ -69,7 +83,7 @@ def render_bpy_scene(bpy_scene, args, extra_stats):
     extract_ms = (time.perf_counter() - start) * 1000
     pipeline = Pipeline(settings)
     try:
-        frame = pipeline.render(scene)
+        frame = pipeline.render(scene, passes=passes_for(args))
     finally:
         pipeline.release()
     return write_outputs(frame, args.out, {**extra_stats, "extract_ms": extract_ms})
@@ -140,7 +154,7 @@ def render_animation(bpy_scene, frames, args):
             started = time.perf_counter()
             bpy_scene.frame_set(frame)
             scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=(settings.width, settings.height))
-            result = pipeline.render(scene)
+            result = pipeline.render(scene, passes=passes_for(args))
             partial = frame_path(args.out, frame) + ".partial.exr"
             write_exr(partial, result.passes)
             os.replace(partial, frame_path(args.out, frame))
@@ -215,6 +229,7 @@ def build_parser():
     demo.add_argument("--triangles", type=int, help="triangle count of the atrium or the city")
     demo.add_argument("--out", default="out", help="output folder (default: out)")
     add_setting_flags(demo)
+    add_debug_passes_flag(demo)
     demo.set_defaults(run=command_demo)
     render = commands.add_parser("render", help="render a .blend file from its active camera")
     render.add_argument("file")
@@ -222,6 +237,7 @@ def build_parser():
     render.add_argument("--frames", help="render these frames, like 1-24, one EXR each (frame_0001.exr ...)")
     render.add_argument("--overwrite", action="store_true", help="with --frames: render frames already written too")
     add_setting_flags(render)
+    add_debug_passes_flag(render)
     render.set_defaults(run=command_render)
     export = commands.add_parser("export", help="save a demo scene as .npz for machines without Blender")
     export.add_argument("scene", choices=("cornell", "atrium", "city"))

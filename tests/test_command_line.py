@@ -34,6 +34,10 @@ def test_render_a_saved_blend_file(tmp_path):
     out = tmp_path / "render"
     assert main(["render", str(blend), "--out", str(out), *SMALL]) == 0
     assert read_exr(str(out / "passes.exr"))["combined"].shape == (64, 64, 3)
+    assert main(["render", str(blend), "--out", str(out), "--debug-passes", "--method", "wdpm", *SMALL]) == 0
+    passes = read_exr(str(out / "passes.exr"))
+    assert sorted(passes) == ["combined", "direct", "indirect", "vpl_splats", "warp_status"]
+    assert passes["vpl_splats"].sum() > 0 and passes["warp_status"].sum() > 0
 
 
 def test_an_animation_renders_one_exr_a_frame_and_resumes(tmp_path, capsys):

@@ -1,8 +1,10 @@
-"""Command line: `python -m lpv_preview demo | render FILE.blend | export SCENE | bench`.
+"""Command line: `python -m lpv_preview demo | render FILE.blend | compare FILE.blend | export SCENE | bench`.
 
 `demo` builds a built-in scene with bpy and renders it; `render` renders a user's .blend
-from its active camera (`--frames 1-24`: an animation, one EXR a frame, resumable); `export` saves a demo scene as .npz for machines without Blender;
-`bench` measures every RSM method against CM (the thesis's Table 1).
+from its active camera (`--frames 1-24`: an animation, one EXR a frame, resumable);
+`compare` measures the methods against Cycles references; `export` saves a demo scene as
+.npz for machines without Blender; `bench` measures every RSM method against CM (the
+thesis's Table 1).
 Each writes a multi-layer EXR (combined, direct, indirect), tone-mapped PNGs of combined
 and indirect, and stats.json. Errors a user can fix print one line, no traceback.
 """
@@ -115,6 +117,33 @@ def command_render(args):
         stats = render_bpy_scene(bpy.context.scene, args, {"file": os.path.abspath(args.file)})
     stats["command_ms"] = (time.perf_counter() - start) * 1000
     return stats
+
+
+def command_compare(args):
+    """Cycles references and each method's errors against them, written to args.out."""
+    import bpy
+    from .addon.comparison import comparison_steps, run_to_end, write_report
+    from .addon.cycles_reference import ReferenceCache
+    from .demo import SCENES, build
+    start = time.perf_counter()
+    if args.file in SCENES:
+        build(args.file)
+    elif not os.path.isfile(args.file):
+        raise LPVError(f"There is no file '{args.file}'; give the path of a .blend file or a demo scene name "
+                       f"({', '.join(SCENES)}).")
+    else:
+        try:
+            bpy.ops.wm.open_mainfile(filepath=os.path.abspath(args.file))
+        except RuntimeError as error:
+            raise LPVError(f"Blender cannot open '{args.file}' ({str(error).strip()}); check that it is a .blend file.")
+    if args.samples < 1:
+        raise LPVError(f"--samples is {args.samples}; give at least 1 Cycles sample per pixel.")
+    methods = [m.strip() for m in args.methods.split(",") if m.strip()]
+    cache = None if args.no_cache else ReferenceCache(args.cache)
+    steps = comparison_steps(bpy.context.scene, methods, args.samples, settings_for_blend(bpy.context.scene, args),
+                             cache, noise_floor=not args.no_noise_floor)
+    rows = write_report(run_to_end(steps), args.out)
+    return {"rows": rows, "out": os.path.abspath(args.out), "command_ms": (time.perf_counter() - start) * 1000}
 
 
 def parse_frames(text):
@@ -239,6 +268,17 @@ def build_parser():
     add_setting_flags(render)
     add_debug_passes_flag(render)
     render.set_defaults(run=command_render)
+    compare = commands.add_parser("compare", help="measure the methods against Cycles references")
+    compare.add_argument("file", help="a .blend file, or a demo scene name (cornell, atrium, city)")
+    compare.add_argument("--methods", default="cm,wdpm", help="comma-separated methods (default: cm,wdpm)")
+    compare.add_argument("--samples", type=int, default=256, help="Cycles samples per pixel (default: 256)")
+    compare.add_argument("--out", default="out/compare", help="output folder (default: out/compare)")
+    compare.add_argument("--cache", help="folder of cached Cycles references (default: ~/.cache/lpv_preview/cycles)")
+    compare.add_argument("--no-cache", action="store_true", help="render the references even when cached")
+    compare.add_argument("--no-noise-floor", action="store_true",
+                         help="skip the second Cycles render per reference that measures its noise")
+    add_setting_flags(compare)
+    compare.set_defaults(run=command_compare)
     export = commands.add_parser("export", help="save a demo scene as .npz for machines without Blender")
     export.add_argument("scene", choices=("cornell", "atrium", "city"))
     export.add_argument("--triangles", type=int, help="triangle count of the atrium or the city")

@@ -5,13 +5,21 @@ folder; the passes are read back with OpenImageIO. In Blender 5.0 every view-lay
 reaches the file only once `image_settings.media_type` is 'MULTI_LAYER_IMAGE' (only then
 can `file_format` be 'OPEN_EXR_MULTILAYER'); plain 'OPEN_EXR' holds Combined alone.
 Every setting changed on the user's scene is given back afterwards.
+
+`cycles_reference` makes the two references the preview is judged by: one diffuse bounce
+(the light transport an LPV approximates) and full global illumination, each split into
+diffuse direct and diffuse indirect light (Cycles' light passes times its colour pass),
+cached by scene content and settings in a `ReferenceCache`.
 """
+import hashlib
+import json
 import os
 import shutil
 import tempfile
 import time
 from collections import namedtuple
 from contextlib import contextmanager
+from dataclasses import dataclass
 
 import bpy
 import numpy as np
@@ -255,3 +263,133 @@ def _read_exr_passes(exr_path, view_layer_name, wanted_layers):
                            f"it has {', '.join(present)}.")
         images[name] = np.stack([channels[channel] for channel in names], axis=2)
     return images
+
+
+# ----------------------------------------------------------------------------- references
+
+REFERENCE_BOUNCES = {"one_bounce": 1, "full_gi": 12}
+"""The references: Cycles' bounce limit (every bounce type) for each."""
+
+REFERENCE_PASSES = ("DiffDir", "DiffInd", "DiffCol")
+REFERENCE_FILTER_WIDTH = 0.01
+"""Pixel filter width of the references: our images are sampled at pixel centres, so the
+reference is too (Cycles' default 1.5 px Blackman-Harris would blur it against ours)."""
+
+
+@dataclass
+class CyclesReference:
+    """A Cycles reference: diffuse direct and indirect light, (H, W, 3) linear float32 top
+    row first, and how it was rendered (`render_cycles_passes`' settings)."""
+
+    kind: str
+    direct: np.ndarray
+    indirect: np.ndarray
+    settings: dict
+
+    @property
+    def combined(self):
+        """Diffuse direct plus indirect: what LPV Preview's combined image approximates
+        (Cycles' own Combined adds glossy, emission and the world seen directly)."""
+        return self.direct + self.indirect
+
+
+def default_cache_folder():
+    """$LPV_PREVIEW_CACHE, else $XDG_CACHE_HOME/lpv_preview/cycles, else ~/.cache/lpv_preview/cycles."""
+    if os.environ.get("LPV_PREVIEW_CACHE"):
+        return os.environ["LPV_PREVIEW_CACHE"]
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(base, "lpv_preview", "cycles")
+
+
+class ReferenceCache:
+    """Cycles references on disk, one .npz per key, so none is rendered twice."""
+
+    def __init__(self, folder=None):
+        self.folder = folder or default_cache_folder()
+
+    def path(self, key):
+        return os.path.join(self.folder, f"{key}.npz")
+
+    def load(self, key):
+        try:
+            with np.load(self.path(key)) as data:
+                return CyclesReference(str(data["kind"]), data["direct"], data["indirect"],
+                                       json.loads(str(data["settings"])))
+        except (OSError, KeyError, ValueError):
+            return None
+
+    def store(self, key, reference):
+        """Write the reference; a cache that cannot be written only costs a render later."""
+        try:
+            os.makedirs(self.folder, exist_ok=True)
+            partial = self.path(key) + ".partial.npz"
+            np.savez_compressed(partial, kind=reference.kind, direct=reference.direct, indirect=reference.indirect,
+                                settings=json.dumps(reference.settings))
+            os.replace(partial, self.path(key))
+        except OSError:
+            pass
+
+
+def material_signature(material):
+    """What of a material can change a Cycles render: its node tree's nodes, their input
+    values and links, image names and sizes (or its viewport colour without nodes)."""
+    if material is None:
+        return None
+    if not material.use_nodes or material.node_tree is None:
+        return ("plain", tuple(material.diffuse_color))
+    nodes = []
+    for node in sorted(material.node_tree.nodes, key=lambda n: n.name):
+        inputs = tuple((i.identifier, _plain(getattr(i, "default_value", None))) for i in node.inputs)
+        image = getattr(node, "image", None)
+        nodes.append((node.name, node.bl_idname, inputs,
+                      (image.name, tuple(image.size), image.filepath) if image is not None else None))
+    links = tuple(sorted((link.from_node.name, link.from_socket.identifier, link.to_node.name,
+                          link.to_socket.identifier) for link in material.node_tree.links))
+    return (tuple(nodes), links)
+
+
+def _plain(value):
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value if not isinstance(value, float) else round(value, 7)
+    try:
+        return tuple(round(float(v), 7) for v in value)
+    except TypeError:
+        return repr(value)
+
+
+def reference_key(depsgraph, kind, samples, seed, resolution):
+    """A content key of what a reference shows: the extracted geometry, lights and camera,
+    every material's nodes, the world's, and the Cycles settings and Blender version."""
+    from .extract import extract_scene
+    scene = extract_scene(depsgraph, resolution=resolution)
+    original = depsgraph.scene
+    world = original.world
+    parts = [scene.geometry_key(), [light.key() for light in scene.lights], scene.camera.key(),
+             sorted((m.name, repr(material_signature(m))) for m in bpy.data.materials if m.users),
+             repr(material_signature(world)) if world is not None else None,
+             kind, REFERENCE_BOUNCES[kind], samples, seed, tuple(resolution), REFERENCE_FILTER_WIDTH,
+             bpy.app.version_string]
+    return hashlib.sha1(repr(parts).encode()).hexdigest()[:20]
+
+
+def cycles_reference(scene, kind, samples, seed=0, resolution=None, cache=None):
+    """The `kind` reference ("one_bounce" or "full_gi") of `scene` from its camera at
+    `resolution` (None: the scene's render size), from `cache` when it holds one."""
+    if kind not in REFERENCE_BOUNCES:
+        raise LPVError(f"Unknown Cycles reference '{kind}'; choose one of {', '.join(REFERENCE_BOUNCES)}.")
+    from .extract import render_resolution
+    resolution = tuple(resolution or render_resolution(scene))
+    key = reference_key(bpy.context.evaluated_depsgraph_get(), kind, samples, seed, resolution)
+    if cache is not None:
+        cached = cache.load(key)
+        if cached is not None:
+            cached.settings["cached"] = True
+            return cached
+    images = render_cycles_passes(scene, passes=REFERENCE_PASSES, samples=samples, resolution=resolution, seed=seed,
+                                  max_bounces=REFERENCE_BOUNCES[kind], pixel_filter_width=REFERENCE_FILTER_WIDTH)
+    colour = images["DiffCol"]
+    reference = CyclesReference(kind, images["DiffDir"] * colour, images["DiffInd"] * colour,
+                                {**images["settings"], "cached": False, "key": key})
+    if cache is not None:
+        cache.store(key, reference)
+    return reference

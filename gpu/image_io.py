@@ -68,13 +68,16 @@ def read_exr(path):
             if all(f"{layer}.{c}" in channels for c in CHANNELS)}
 
 
-def tone_map(image, key=0.18):
+def tone_map(image, key=0.18, exposure_of=None):
     """Linear HDR to display sRGB in [0, 1]: Reinhard's photographic operator, auto exposure.
 
-    The exposure maps the log-average luminance of the lit pixels to `key`.
+    The exposure maps the log-average luminance of the lit pixels of `exposure_of` (by
+    default the image itself) to `key`: images tone-mapped with one `exposure_of` can be
+    compared by eye.
     """
     image = np.maximum(np.asarray(image, dtype=np.float64), 0.0)
-    luminance = image @ LUMINANCE_WEIGHTS
+    source = image if exposure_of is None else np.maximum(np.asarray(exposure_of, dtype=np.float64), 0.0)
+    luminance = source @ LUMINANCE_WEIGHTS
     lit = luminance[luminance > 1e-9]
     average = np.exp(np.mean(np.log(lit))) if lit.size else 1.0
     scaled = image * (key / average)
@@ -82,10 +85,12 @@ def tone_map(image, key=0.18):
     return np.where(mapped <= 0.0031308, 12.92 * mapped, 1.055 * np.power(mapped, 1 / 2.4) - 0.055)
 
 
-def write_png(path, image):
-    """A tone-mapped 8-bit PNG of a linear image."""
+def write_png(path, image, tone_mapped=True, exposure_of=None):
+    """An 8-bit PNG of a linear image, tone-mapped (`tone_map`, exposure from `exposure_of`
+    when given), or of display values in [0, 1] as they are with `tone_mapped=False`."""
     import OpenImageIO as oiio
     height, width, _ = image.shape
+    display = tone_map(image, exposure_of=exposure_of) if tone_mapped else np.clip(image, 0.0, 1.0)
     output = _open_output(path, oiio.ImageSpec(width, height, 3, "uint8"))
-    output.write_image(np.ascontiguousarray(np.round(tone_map(image) * 255).astype(np.uint8)))
+    output.write_image(np.ascontiguousarray(np.round(display * 255).astype(np.uint8)))
     output.close()

@@ -7,7 +7,8 @@ array whose shape is the leading part of the data's shape ((H, W) for an (H, W, 
 Shape mismatches, a non-boolean or empty mask and NaN/infinity anywhere in either array
 raise LPVError. Scalar metrics return Python floats.
 
-FLIP is not here; it comes from the `flip-evaluator` package.
+FLIP is computed by NVIDIA's `flip-evaluator` package (`flip`), HDR mode on the linear
+images; `image_errors` gives every metric of a comparison in one dict.
 """
 import numpy as np
 
@@ -242,3 +243,41 @@ def heat_map(errors, vmax=None):
     positions = np.linspace(0.0, 1.0, len(HEAT_RAMP))
     rgb = np.stack([np.interp(scaled, positions, HEAT_RAMP[:, c]) for c in range(3)], axis=-1)
     return rgb.astype(np.float32)
+
+
+# ----------------------------------------------------------------------------- FLIP
+
+FLIP_PIXELS_PER_DEGREE = 67.0  # FLIP's default: a 0.7 m wide 4K monitor seen from 0.7 m
+
+
+def flip(test, reference, mask=None):
+    """Mean HDR-FLIP error (Andersson et al. 2021), in [0, 1]; 0 for identical images.
+
+    Both images are linear RGB (H, W, 3), negative values clamped to 0 (FLIP takes
+    non-negative radiance). HDR-FLIP tone-maps both with ACES at a range of exposures that
+    it derives from the reference (its default start and stop exposures) and keeps each
+    pixel's largest LDR-FLIP error; `FLIP_PIXELS_PER_DEGREE` sets the viewing distance.
+    `mask` ((H, W)) selects the pixels of the error map that are averaged. Returns the
+    mean and the (H, W) float32 error map.
+    """
+    import flip_evaluator
+    test, reference = _pair(test, reference)
+    if test.ndim != 3 or test.shape[2] != 3:
+        raise LPVError(f"The images have shape {test.shape}; FLIP needs (H, W, 3) RGB images.")
+    if mask is not None:
+        mask = _as_mask(mask, test.shape[:2])
+    if float(reference.max()) <= 0.0:
+        raise LPVError("The reference is black, so HDR-FLIP has no exposure range; compare against a lit reference.")
+    errors, _, _ = flip_evaluator.evaluate(
+        np.ascontiguousarray(np.maximum(reference, 0.0), dtype=np.float32),
+        np.ascontiguousarray(np.maximum(test, 0.0), dtype=np.float32), "HDR", inputsRGB=False,
+        applyMagma=False, computeMeanError=False, parameters={"ppd": FLIP_PIXELS_PER_DEGREE})
+    errors = np.asarray(errors, dtype=np.float32).reshape(test.shape[:2])
+    return float(np.mean(errors if mask is None else errors[mask])), errors
+
+
+def image_errors(test, reference, mask=None):
+    """Every figure of a comparison: PSNR (peak: the reference's maximum), relative MSE,
+    SSIM and mean HDR-FLIP of `test` against `reference`."""
+    return {"psnr": psnr(test, reference, mask), "relative_mse": relative_mse(test, reference, mask),
+            "ssim": ssim(test, reference, mask), "flip": flip(test, reference, mask)[0]}

@@ -1,0 +1,171 @@
+"""LPV Preview against Cycles: the references, our pipeline per method, the error figures.
+
+`comparison_steps` does the work one step at a time (each Cycles render, each method), so
+the comparison operator can show progress and stop between steps when the user presses
+Esc; the command line runs the same steps to the end. Errors are `gpu.metrics.image_errors`
+of our indirect and combined images against each reference's, and the reference's own
+noise floor is the same figures between two Cycles renders that differ only in the seed.
+"""
+from dataclasses import dataclass, field
+
+import bpy
+
+from ..gpu.errors import LPVError
+from ..gpu.metrics import error_map, heat_map, image_errors
+from ..gpu.settings import METHODS
+from .cycles_reference import REFERENCE_BOUNCES, cycles_reference
+from .extract import extract_scene
+
+IMAGES = ("indirect", "combined")
+
+
+@dataclass
+class MethodResult:
+    """One method's images (top row first), full-frame milliseconds (every stage redone,
+    shaders warm) and errors: reference kind -> image -> metric -> value."""
+
+    method: str
+    milliseconds: float
+    images: dict
+    errors: dict = field(default_factory=dict)
+
+
+@dataclass
+class Comparison:
+    references: dict = field(default_factory=dict)   # kind -> CyclesReference (seed 0)
+    noise_floor: dict = field(default_factory=dict)  # kind -> image -> metric -> value (seed 1 against seed 0)
+    methods: list = field(default_factory=list)      # MethodResult
+    samples: int = 0
+    resolution: tuple = ()
+
+    def heat_map(self, method_result, kind, image="indirect"):
+        """The relative error of a method's image against a reference, as an sRGB heat map."""
+        return heat_map(error_map(method_result.images[image], getattr(self.references[kind], image)))
+
+    def table(self):
+        """The rows of the comparison table: one per method and reference, then the noise floor."""
+        rows = []
+        for kind, reference in self.references.items():
+            for result in self.methods:
+                rows.append({"method": result.method, "reference": kind, "our_ms": result.milliseconds,
+                             "cycles_s": reference.settings["render_seconds"], **_flat(result.errors[kind])})
+            if kind in self.noise_floor:
+                rows.append({"method": "Cycles seed 1", "reference": kind, "our_ms": None,
+                             "cycles_s": reference.settings["render_seconds"], **_flat(self.noise_floor[kind])})
+        return rows
+
+
+def _flat(errors):
+    return {f"{image}_{metric}": value for image, metrics in errors.items() for metric, value in metrics.items()}
+
+
+def _errors(test, reference):
+    return {image: image_errors(test[image], getattr(reference, image)) for image in IMAGES}
+
+
+def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(REFERENCE_BOUNCES),
+                     noise_floor=True):
+    """Compare `scene` (its camera, frame and `settings`' image size) rendered by each of
+    `methods` with the `kinds` of Cycles reference at `samples`.
+
+    A generator: it yields (fraction done, what the next step does) before each step and
+    returns the Comparison. Every Cycles render restores the scene's settings itself, so
+    closing the generator between steps leaves the scene as it was.
+    """
+    from ..gpu.pipeline import Pipeline
+    unknown = [m for m in methods if m not in METHODS]
+    if unknown or not methods:
+        raise LPVError(f"Unknown or no method '{','.join(unknown)}'; choose from {', '.join(METHODS)}.")
+    resolution = (settings.width, settings.height)
+    comparison = Comparison(samples=samples, resolution=resolution)
+    steps = len(kinds) * (2 if noise_floor else 1) + len(methods)
+    done = 0
+    for kind in kinds:
+        yield done / steps, f"Cycles {kind.replace('_', ' ')} reference, {samples} samples"
+        comparison.references[kind] = cycles_reference(scene, kind, samples, 0, resolution, cache)
+        done += 1
+        if noise_floor:
+            yield done / steps, f"Cycles {kind.replace('_', ' ')} noise floor (a second seed)"
+            second = cycles_reference(scene, kind, samples, 1, resolution, cache)
+            comparison.noise_floor[kind] = _errors({image: getattr(second, image) for image in IMAGES},
+                                                   comparison.references[kind])
+            done += 1
+    lpv_scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=resolution)
+    for method in methods:
+        yield done / steps, f"LPV Preview {method.upper()}"
+        pipeline = Pipeline(settings.with_changes(method=method))
+        try:
+            pipeline.render(lpv_scene)  # shaders, Poisson cells
+            pipeline.invalidate()
+            frame = pipeline.render(lpv_scene)
+        finally:
+            pipeline.release()
+        result = MethodResult(method, frame.stats["total_ms"], {image: frame.passes[image] for image in IMAGES})
+        for kind, reference in comparison.references.items():
+            result.errors[kind] = _errors(result.images, reference)
+        comparison.methods.append(result)
+        done += 1
+    return comparison
+
+
+def run_to_end(steps):
+    """Run a comparison generator to the end; returns its Comparison."""
+    while True:
+        try:
+            next(steps)
+        except StopIteration as finished:
+            return finished.value
+
+
+METRIC_COLUMNS = (("psnr", "PSNR dB", "{:.2f}"), ("relative_mse", "relMSE", "{:.4f}"), ("ssim", "SSIM", "{:.4f}"),
+                  ("flip", "FLIP", "{:.4f}"))
+
+
+def markdown_table(comparison):
+    """The comparison table in Markdown: per method and reference, our and Cycles' time,
+    the indirect and combined errors; the noise floor rows are Cycles against itself."""
+    head = ["method", "reference", "ours ms", "Cycles s"] + [f"{image} {label}" for image in IMAGES
+                                                              for _, label, _ in METRIC_COLUMNS]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for row in comparison.table():
+        cells = [row["method"].upper() if row["our_ms"] is not None else row["method"],
+                 row["reference"].replace("_", " "),
+                 "" if row["our_ms"] is None else f"{row['our_ms']:.1f}", f"{row['cycles_s']:.1f}"]
+        cells += [fmt.format(row[f"{image}_{metric}"]) for image in IMAGES for metric, _, fmt in METRIC_COLUMNS]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def write_report(comparison, folder):
+    """comparison.json and comparison.md, PNGs of every reference and method image, and
+    heat maps of each method's indirect error against each reference; returns the rows."""
+    import json
+    import os
+
+    from ..gpu.image_io import write_png
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as error:
+        raise LPVError(f"Cannot create the output folder '{folder}' ({error.strerror}); choose a writable folder.")
+    # One exposure for each image type (that of the first reference), so the PNGs compare by eye.
+    exposure = {image: getattr(next(iter(comparison.references.values())), image) for image in IMAGES}
+    for kind, reference in comparison.references.items():
+        for image in IMAGES:
+            write_png(os.path.join(folder, f"cycles_{kind}_{image}.png"), getattr(reference, image),
+                      exposure_of=exposure[image])
+    for result in comparison.methods:
+        for image in IMAGES:
+            write_png(os.path.join(folder, f"ours_{result.method}_{image}.png"), result.images[image],
+                      exposure_of=exposure[image])
+        for kind in comparison.references:
+            write_png(os.path.join(folder, f"error_{result.method}_{kind}_indirect.png"),
+                      comparison.heat_map(result, kind), tone_mapped=False)
+    rows = comparison.table()
+    report = {"samples": comparison.samples, "resolution": list(comparison.resolution),
+              "references": {kind: reference.settings for kind, reference in comparison.references.items()},
+              "rows": rows}
+    with open(os.path.join(folder, "comparison.json"), "w") as handle:
+        json.dump(report, handle, indent=2, default=float)
+    with open(os.path.join(folder, "comparison.md"), "w") as handle:
+        handle.write(markdown_table(comparison))
+    return rows

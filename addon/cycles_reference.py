@@ -335,7 +335,7 @@ def material_signature(material):
     values and links, image names and sizes (or its viewport colour without nodes)."""
     if material is None:
         return None
-    if not material.use_nodes or material.node_tree is None:
+    if material.node_tree is None:
         return ("plain", tuple(material.diffuse_color))
     nodes = []
     for node in sorted(material.node_tree.nodes, key=lambda n: n.name):

@@ -65,6 +65,33 @@ def test_identical_images():
     assert metrics.psnr(image, image.copy(), mask) == math.inf
 
 
+def test_flip_is_zero_for_identical_images_and_grows_with_the_difference():
+    image = random_image(2, (24, 24, 3))
+    assert metrics.flip(image, image.copy())[0] == 0.0
+    errors = [metrics.flip(image * scale, image)[0] for scale in (1.02, 1.2, 2.0)]
+    assert 0.0 < errors[0] < errors[1] < errors[2] <= 1.0
+    mean, error_map = metrics.flip(image * 1.2, image)
+    assert error_map.shape == (24, 24) and mean == pytest.approx(float(error_map.mean()), rel=1e-6)
+    mask = np.zeros((24, 24), bool)
+    mask[:8] = True
+    assert metrics.flip(image * 1.2, image, mask)[0] == pytest.approx(float(error_map[mask].mean()), rel=1e-6)
+
+
+def test_image_errors_of_identical_images_are_perfect():
+    image = random_image(3, (16, 16, 3))
+    assert metrics.image_errors(image, image.copy()) == {"psnr": math.inf, "relative_mse": 0.0, "ssim": 1.0,
+                                                         "flip": 0.0}
+
+
+def test_flip_needs_rgb_images_and_a_lit_reference():
+    with pytest.raises(LPVError, match="RGB") as grey:
+        metrics.flip(REFERENCE, TEST)
+    assert_one_sentence(grey)
+    with pytest.raises(LPVError, match="black") as black:
+        metrics.flip(random_image(4, (4, 4, 3)), np.zeros((4, 4, 3)))
+    assert_one_sentence(black)
+
+
 def test_psnr_of_black_reference():
     black = np.zeros((2, 2, 3))
     assert metrics.psnr(black, black) == math.inf          # identical wins

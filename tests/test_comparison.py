@@ -1,0 +1,103 @@
+"""The comparison with Cycles through real bpy and real Cycles: finite figures for every
+metric, a reference cache that renders nothing twice, the scene untouched when the
+comparison finishes, is cancelled between steps or fails."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from lpv_preview import demo  # noqa: E402
+from lpv_preview.__main__ import main  # noqa: E402
+from lpv_preview.addon.comparison import comparison_steps, run_to_end  # noqa: E402
+from lpv_preview.addon.cycles_reference import ReferenceCache  # noqa: E402
+from lpv_preview.gpu.errors import LPVError  # noqa: E402
+from lpv_preview.gpu.settings import Settings  # noqa: E402
+
+from .test_engine import scene_snapshot  # noqa: E402
+
+SMALL = Settings(width=40, height=32, rsm_resolution=64, vpls_per_light=256, lpv_resolution=16)
+SAMPLES = 8
+
+
+def cycles_state(scene):
+    """Every Cycles setting beside the scene snapshot (engine, passes, samples are in it)."""
+    return {prop.identifier: getattr(scene.cycles, prop.identifier) for prop in scene.cycles.bl_rna.properties
+            if prop.identifier != "rna_type" and prop.type not in {"POINTER", "COLLECTION"}
+            and not getattr(prop, "is_array", False)}
+
+
+@pytest.fixture()
+def cornell():
+    scene = demo.build("cornell")
+    import addon_utils
+    addon_utils.enable("cycles", default_set=True)
+    return scene
+
+
+def test_a_comparison_gives_finite_figures_and_leaves_the_scene_as_it_was(cornell, tmp_path):
+    before = scene_snapshot(cornell), cycles_state(cornell)
+    cache = ReferenceCache(str(tmp_path / "cache"))
+    comparison = run_to_end(comparison_steps(cornell, ["cm", "wdpm"], SAMPLES, SMALL, cache))
+    assert (scene_snapshot(cornell), cycles_state(cornell)) == before
+    rows = comparison.table()
+    assert [(r["method"], r["reference"]) for r in rows] == [
+        ("cm", "one_bounce"), ("wdpm", "one_bounce"), ("Cycles seed 1", "one_bounce"),
+        ("cm", "full_gi"), ("wdpm", "full_gi"), ("Cycles seed 1", "full_gi")]
+    for row in rows:
+        for name in ("indirect", "combined"):
+            for metric in ("psnr", "relative_mse", "ssim", "flip"):
+                assert math.isfinite(row[f"{name}_{metric}"]), (row, name, metric)
+    one, full = comparison.references["one_bounce"], comparison.references["full_gi"]
+    assert one.indirect.shape == (32, 40, 3)
+    # More bounces, more indirect light; the same direct light.
+    assert full.indirect.mean() > 1.2 * one.indirect.mean()
+    np.testing.assert_allclose(full.direct.mean(), one.direct.mean(), rtol=0.05)
+    assert comparison.heat_map(comparison.methods[0], "one_bounce").shape == (32, 40, 3)
+    # The second run renders no reference: all four come from the cache, unchanged.
+    again = run_to_end(comparison_steps(cornell, ["cm"], SAMPLES, SMALL, cache))
+    assert all(r.settings["cached"] for r in again.references.values())
+    np.testing.assert_array_equal(again.references["full_gi"].indirect, full.indirect)
+    assert (scene_snapshot(cornell), cycles_state(cornell)) == before
+
+
+def test_a_cancelled_comparison_leaves_the_scene_as_it_was(cornell, tmp_path):
+    before = scene_snapshot(cornell), cycles_state(cornell)
+    steps = comparison_steps(cornell, ["cm"], SAMPLES, SMALL, ReferenceCache(str(tmp_path)))
+    fractions = [next(steps)[0] for _ in range(3)]  # the first reference, its noise floor, then Esc
+    steps.close()
+    assert fractions == sorted(fractions) and fractions[0] == 0.0
+    assert (scene_snapshot(cornell), cycles_state(cornell)) == before
+
+
+def test_a_failing_comparison_raises_one_error_and_leaves_the_scene_as_it_was(cornell, tmp_path):
+    before = scene_snapshot(cornell), cycles_state(cornell)
+    with pytest.raises(LPVError, match="Unknown or no method"):
+        run_to_end(comparison_steps(cornell, ["cm", "nope"], SAMPLES, SMALL))
+    next(light for light in bpy.data.lights).energy = float("nan")
+    before = scene_snapshot(cornell), cycles_state(cornell)
+    with pytest.raises(LPVError, match="non-finite|power"):
+        run_to_end(comparison_steps(cornell, ["cm"], SAMPLES, SMALL, ReferenceCache(str(tmp_path))))
+    after = scene_snapshot(cornell), cycles_state(cornell)
+    assert str(after) == str(before)  # NaN != NaN: compare the printed values
+
+
+def test_the_compare_command_writes_the_table_and_images(tmp_path, capsys):
+    out = tmp_path / "compare"
+    argv = ["compare", "cornell", "--methods", "wdpm", "--samples", str(SAMPLES), "--out", str(out),
+            "--cache", str(tmp_path / "cache"), "--width", "40", "--height", "32", "--rsm-resolution", "64",
+            "--vpls-per-light", "256", "--lpv-resolution", "16"]
+    assert main(argv) == 0
+    report = json.loads((out / "comparison.json").read_text())
+    assert [(r["method"], r["reference"]) for r in report["rows"]] == [
+        ("wdpm", "one_bounce"), ("Cycles seed 1", "one_bounce"), ("wdpm", "full_gi"), ("Cycles seed 1", "full_gi")]
+    table = (out / "comparison.md").read_text()
+    assert table.startswith("| method | reference | ours ms | Cycles s | indirect PSNR dB")
+    assert "| WDPM | one bounce |" in table
+    for name in ("cycles_one_bounce_indirect.png", "ours_wdpm_combined.png", "error_wdpm_full_gi_indirect.png"):
+        assert (out / name).stat().st_size > 0
+    capsys.readouterr()
+    assert main(["compare", "nowhere.blend", "--out", str(out)]) == 2
+    assert "There is no file 'nowhere.blend'" in capsys.readouterr().err

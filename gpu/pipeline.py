@@ -94,6 +94,11 @@ class Pipeline:
         self.last_light_maps = []  # what the last frame was made of, for the overlays
         self.last_lpv = self.last_lpv_key = None
 
+    @property
+    def targets(self):
+        """The camera's G-buffer and images of the last frame (gpu/shade.py FrameTargets)."""
+        return self._targets
+
     def light_maps(self, scene, stats=None):
         """Each light's LightMaps, rendered only when the light, geometry or settings changed;
         and their cache keys."""

@@ -123,3 +123,50 @@ def test_the_lpv_slice_is_the_volumes_layer_at_its_place(rendered, axis, positio
     extent = piece.corners.max(axis=0) - piece.corners.min(axis=0)
     np.testing.assert_allclose(np.delete(extent, a), grid.cell_size * grid.size, rtol=1e-6)
     assert np.all((piece.image[..., 3] > 0) == (piece.light.max(axis=-1) > 0))
+
+
+def room_hits(camera, size, half=(2.0, 2.0), height=3.0):
+    """World point and inward normal where each pixel centre's ray leaves the 4 x 4 x 3 m
+    room of `room_scene` (top row first), by intersecting its six planes."""
+    inverse = np.linalg.inv(camera.projection @ camera.view)
+    rows, columns = np.mgrid[0:size, 0:size]
+    ndc = np.stack([(columns + 0.5) / size * 2 - 1, 1 - (rows + 0.5) / size * 2], -1)
+    near = np.c_[ndc.reshape(-1, 2), -np.ones(size * size), np.ones(size * size)] @ inverse.T
+    far = np.c_[ndc.reshape(-1, 2), np.ones(size * size), np.ones(size * size)] @ inverse.T
+    origin = near[:, :3] / near[:, 3:]
+    direction = far[:, :3] / far[:, 3:] - origin
+    best = np.full(len(origin), np.inf)
+    normals = np.zeros_like(origin)
+    for axis, low, high in ((0, -half[0], half[0]), (1, -half[1], half[1]), (2, 0.0, height)):
+        for plane, inward in ((low, 1.0), (high, -1.0)):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t = (plane - origin[:, axis]) / direction[:, axis]
+            take = (t > 0) & (t < best)
+            best[take] = t[take]
+            normals[take] = 0.0
+            normals[take, axis] = inward
+    return (origin + best[:, None] * direction).reshape(size, size, 3), normals.reshape(size, size, 3)
+
+
+def test_the_exact_transfer_matches_the_sum_over_vpls_done_in_numpy(glc, room):
+    from lpv_preview.gpu.exact_stages import gathered_indirect
+    size = 24
+    pipeline = Pipeline(Settings(width=size, height=size, rsm_resolution=32, vpls_per_light=128, lpv_resolution=8),
+                        glc)
+    try:
+        pipeline.render(room, passes=())
+        gathered = gathered_indirect(pipeline, room.camera)
+        vpls = pipeline.last_light_maps[0].vpls.read()
+    finally:
+        pipeline.release()
+    points, normals = room_hits(room.camera, size)
+    v = vpls["valid"]
+    d = points[:, :, None, :] - vpls["position"][v][None, None].astype(np.float64)
+    dist2 = np.sum(d * d, axis=-1)
+    w = d / np.sqrt(dist2)[..., None]
+    cosines = (np.maximum(np.einsum("vk,ijvk->ijv", vpls["normal"][v], w), 0)
+               * np.maximum(-np.einsum("ijk,ijvk->ijv", normals, w), 0))
+    falloff = cosines / np.maximum(dist2, vpls["area"][v][None, None] / math.pi)
+    expected = 0.6 / math.pi * np.einsum("ijv,vc->ijc", falloff, vpls["flux"][v]) / math.pi
+    assert expected.mean() > 0
+    np.testing.assert_allclose(gathered, expected, rtol=2e-3, atol=1e-6 * expected.max())

@@ -8,7 +8,9 @@ seed (the reference's noise floor); the method at default settings (RSM, VPLs, L
 the LPV swapped for the exact transfer from the same VPLs (gpu/exact_stages.py: no grid,
 no SH, no visibility); that with 65,536 VPLs (the VPL sampling swapped too); and the same
 two with the scene's blocks hidden, where no surface hides one from another, so the
-missing visibility is swapped out as well.
+missing visibility is swapped out as well. Last, the LPV alone: its image for a few
+propagation settings against the exact transfer from the same VPLs, with the ratio of
+their means over each quarter of the picture's rows, top to bottom.
 """
 import argparse
 
@@ -46,6 +48,29 @@ def method_rows(scene_label, settings, reference):
             pipeline.release()
 
 
+LPV_VARIANTS = ({}, {"propagation_iterations": 16}, {"propagation_iterations": 32},
+                {"propagation_iterations": 32, "occlusion": False})
+
+
+def lpv_alone_rows(settings):
+    """The LPV for each of LPV_VARIANTS against the exact transfer from the same VPLs."""
+    scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=(settings.width, settings.height))
+    print("\n| LPV settings | PSNR dB against the exact transfer | mean / exact | quarters of rows / exact |\n"
+          "|---|---|---|---|")
+    for changes in LPV_VARIANTS:
+        pipeline = Pipeline(settings.with_changes(**changes))
+        try:
+            lpv = pipeline.render(scene).passes["indirect"]
+            exact = gathered_indirect(pipeline, scene.camera)
+        finally:
+            pipeline.release()
+        quarters = [lpv[q * len(lpv) // 4:(q + 1) * len(lpv) // 4].mean() /
+                    exact[q * len(exact) // 4:(q + 1) * len(exact) // 4].mean() for q in range(4)]
+        label = ", ".join(f"{k} {v}" for k, v in changes.items()) or "defaults"
+        print(f"| {label} | {image_errors(lpv, exact)['psnr']:.2f} | {lpv.mean() / exact.mean():.3f} | "
+              f"{' / '.join(f'{q:.2f}' for q in quarters)} |", flush=True)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scene", default="cornell", choices=sorted(BLOCKS))
@@ -68,6 +93,9 @@ def main():
         scene.objects[name].hide_render = scene.objects[name].hide_viewport = True
     empty = cycles_reference(scene, "one_bounce", args.samples, 0, resolution, cache)
     method_rows("blocks hidden", settings, empty)
+    for name in BLOCKS[args.scene]:
+        scene.objects[name].hide_render = scene.objects[name].hide_viewport = False
+    lpv_alone_rows(settings)
 
 
 if __name__ == "__main__":

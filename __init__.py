@@ -8,9 +8,13 @@ nothing here imports bpy at module level.
 
 def register():
     from .addon import register_addon
+    from .operators import register_operators
     register_addon()
+    register_operators()
 
 
 def unregister():
     from .addon import unregister_addon
+    from .operators import unregister_operators
+    unregister_operators()
     unregister_addon()

@@ -18,6 +18,20 @@ from .extract import extract_scene
 
 IMAGES = ("indirect", "combined")
 
+_last = []  # the last comparison the operator finished, for the panel
+
+
+def remember(comparison):
+    _last[:] = [comparison]
+
+
+def last_comparison():
+    return _last[0] if _last else None
+
+
+def forget():
+    _last.clear()
+
 
 @dataclass
 class MethodResult:

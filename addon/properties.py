@@ -6,7 +6,8 @@ scene as `scene.lpv_preview`.
 """
 import bpy
 
-from ..gpu.settings import DISPLAY_PARAMETERS, PARAMETERS, DisplaySettings, Settings
+from ..gpu.settings import (ALL_PARAMETERS, COMPARISON_PARAMETERS, DISPLAY_PARAMETERS, PARAMETERS,
+                            ComparisonSettings, DisplaySettings, Settings)
 
 
 def redraw_views(properties, context):
@@ -34,8 +35,7 @@ def _property(name, field):
 
 
 LPVPreviewSettings = type("LPVPreviewSettings", (bpy.types.PropertyGroup,), {
-    "__annotations__": {name: _property(name, field)
-                        for name, field in (*PARAMETERS.items(), *DISPLAY_PARAMETERS.items())},
+    "__annotations__": {name: _property(name, field) for name, field in ALL_PARAMETERS.items()},
     "__doc__": "LPV Preview settings of a scene (generated from gpu/settings.py)",
 })
 
@@ -55,6 +55,11 @@ def settings_from_properties(properties, **overrides):
 def display_settings_from_properties(properties):
     """A validated DisplaySettings (overlays, debug passes) from a scene's properties."""
     return DisplaySettings(**_values(properties, DISPLAY_PARAMETERS))
+
+
+def comparison_settings_from_properties(properties):
+    """A validated ComparisonSettings (methods, Cycles samples) from a scene's properties."""
+    return ComparisonSettings(**_values(properties, COMPARISON_PARAMETERS))
 
 
 def register():

@@ -3,7 +3,8 @@ engine) and in a "LPV Preview" tab of the 3D view's sidebar, with the last frame
 statistics. Which setting goes in which group is checked against gpu/settings.py."""
 import bpy
 
-from ..gpu.settings import DISPLAY_PARAMETERS, PARAMETERS
+from ..gpu.settings import ALL_PARAMETERS
+from .comparison import last_comparison
 from .engine import ENGINE_ID, last_stats
 
 SETTING_GROUPS = {
@@ -15,6 +16,8 @@ SETTING_GROUPS = {
     "Overlays": ("show_vpls", "vpl_point_size", "show_lpv_slice", "lpv_slice_axis", "lpv_slice_position",
                  "show_warp_status"),
     "Passes": ("debug_passes",),
+    "Comparison": ("compare_cm", "compare_dpm", "compare_wdpm", "compare_tdpm", "compare_twdpm", "compare_auto",
+                   "compare_samples", "compare_noise_floor"),
 }
 ENABLED_BY = {"lpv_slice_axis": "show_lpv_slice", "lpv_slice_position": "show_lpv_slice"}
 """Settings that matter only while another is on: drawn inactive while it is off."""
@@ -58,6 +61,33 @@ def draw_statistics(layout, stats):
                                                 for name in ("converged", "approximate", "failed")))
 
 
+COMPARE_OPERATOR = "lpv_preview.compare_with_cycles"  # operators/compare.py
+
+
+def draw_comparison(layout, properties):
+    """The comparison settings, its button and the last comparison's table (indirect image)."""
+    draw_settings(layout, properties, "Comparison")
+    layout.operator(COMPARE_OPERATOR, icon="RENDER_STILL")
+    comparison = last_comparison()
+    if comparison is None:
+        return
+    for kind, reference in comparison.references.items():
+        box = layout.box()
+        box.label(text=f"Indirect vs Cycles {kind.replace('_', ' ')}: {comparison.samples} samples, "
+                       f"{reference.settings['render_seconds']:.1f} s")
+        grid = box.grid_flow(columns=6, row_major=True, even_columns=False, align=True)
+        for heading in ("Method", "ms", "PSNR", "relMSE", "SSIM", "FLIP"):
+            grid.label(text=heading)
+        rows = [(r.method.upper(), f"{r.milliseconds:.0f}", r.errors[kind]["indirect"]) for r in comparison.methods]
+        if kind in comparison.noise_floor:
+            rows.append(("Noise", "", comparison.noise_floor[kind]["indirect"]))
+        for method, milliseconds, errors in rows:
+            for text in (method, milliseconds, f"{errors['psnr']:.1f}", f"{errors['relative_mse']:.3f}",
+                         f"{errors['ssim']:.3f}", f"{errors['flip']:.3f}"):
+                grid.label(text=text)
+    layout.label(text="Images: \"LPV Compare ...\" in the Image Editor")
+
+
 class LPVPreviewPanel:
     """Shown only while LPV Preview is the render engine."""
 
@@ -94,7 +124,16 @@ class RENDER_PT_lpv_preview(RenderPropertiesPanel, bpy.types.Panel):
 GROUP_PANELS = tuple(
     type(f"RENDER_PT_lpv_preview_{group.lower().replace(' ', '_')}", (GroupPanel, bpy.types.Panel),
          {"bl_label": group, "group": group})
-    for group in list(SETTING_GROUPS)[1:])
+    for group in list(SETTING_GROUPS)[1:] if group != "Comparison")
+
+
+class RENDER_PT_lpv_preview_comparison(RenderPropertiesPanel, bpy.types.Panel):
+    bl_label = "Compare with Cycles"
+    bl_parent_id = "RENDER_PT_lpv_preview"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        draw_comparison(self.layout, context.scene.lpv_preview)
 
 
 class RENDER_PT_lpv_preview_statistics(RenderPropertiesPanel, bpy.types.Panel):
@@ -117,19 +156,23 @@ class VIEW3D_PT_lpv_preview(LPVPreviewPanel, bpy.types.Panel):
         for group in SETTING_GROUPS:
             box = self.layout.box()
             box.label(text=group)
-            draw_settings(box, context.scene.lpv_preview, group)
+            if group == "Comparison":
+                draw_comparison(box, context.scene.lpv_preview)
+            else:
+                draw_settings(box, context.scene.lpv_preview, group)
         box = self.layout.box()
         box.label(text="Statistics")
         draw_statistics(box, last_stats())
 
 
-CLASSES = (RENDER_PT_lpv_preview, *GROUP_PANELS, RENDER_PT_lpv_preview_statistics, VIEW3D_PT_lpv_preview)
+CLASSES = (RENDER_PT_lpv_preview, *GROUP_PANELS, RENDER_PT_lpv_preview_comparison, RENDER_PT_lpv_preview_statistics,
+           VIEW3D_PT_lpv_preview)
 
 
 def check_groups():
     """Every setting of gpu/settings.py is in exactly one group or comes from Blender."""
     grouped = [name for names in SETTING_GROUPS.values() for name in names] + list(FROM_BLENDER)
-    return sorted(grouped) == sorted([*PARAMETERS, *DISPLAY_PARAMETERS]) and len(grouped) == len(set(grouped))
+    return sorted(grouped) == sorted(ALL_PARAMETERS) and len(grouped) == len(set(grouped))
 
 
 def register():

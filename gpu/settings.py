@@ -2,7 +2,9 @@
 
 This is the one source of truth: Blender properties, command-line flags and benchmark
 sweeps are generated from `PARAMETERS` or checked against it; the viewport overlays and
-debug passes, which change what is shown but rerun no stage, from `DISPLAY_PARAMETERS`.
+debug passes, which change what is shown but rerun no stage, from `DISPLAY_PARAMETERS`;
+the comparison with Cycles from `COMPARISON_PARAMETERS`. `ALL_PARAMETERS` is every one
+a Blender property mirrors.
 """
 from dataclasses import dataclass, field, fields, replace
 
@@ -86,5 +88,25 @@ class DisplaySettings(Validated):
     debug_passes: bool = _param(False, "Write the VPL Splats and Warp Status passes in renders")
 
 
+@dataclass(frozen=True)
+class ComparisonSettings(Validated):
+    """What the comparison with Cycles renders: the methods ticked and the references' samples."""
+
+    compare_cm: bool = _param(True, "Compare CM with Cycles")
+    compare_dpm: bool = _param(False, "Compare DPM with Cycles")
+    compare_wdpm: bool = _param(True, "Compare WDPM with Cycles")
+    compare_tdpm: bool = _param(False, "Compare TDPM with Cycles")
+    compare_twdpm: bool = _param(False, "Compare TWDPM with Cycles")
+    compare_auto: bool = _param(False, "Compare AUTO with Cycles")
+    compare_samples: int = _param(256, "Cycles samples per pixel of each reference", 1, 65536)
+    compare_noise_floor: bool = _param(True, "Render each reference again with another seed to measure its noise")
+
+    @property
+    def methods(self):
+        return [method for method in METHODS if getattr(self, f"compare_{method}")]
+
+
 PARAMETERS = {f.name: f for f in fields(Settings)}
 DISPLAY_PARAMETERS = {f.name: f for f in fields(DisplaySettings)}
+COMPARISON_PARAMETERS = {f.name: f for f in fields(ComparisonSettings)}
+ALL_PARAMETERS = {**PARAMETERS, **DISPLAY_PARAMETERS, **COMPARISON_PARAMETERS}

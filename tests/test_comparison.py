@@ -101,3 +101,47 @@ def test_the_compare_command_writes_the_table_and_images(tmp_path, capsys):
     capsys.readouterr()
     assert main(["compare", "nowhere.blend", "--out", str(out)]) == 2
     assert "There is no file 'nowhere.blend'" in capsys.readouterr().err
+
+
+@pytest.fixture()
+def registered(cornell, tmp_path, monkeypatch):
+    """The Cornell box with the add-on registered, small settings and a private cache."""
+    import lpv_preview
+    monkeypatch.setenv("LPV_PREVIEW_CACHE", str(tmp_path / "cache"))
+    lpv_preview.register()
+    cornell.render.resolution_x, cornell.render.resolution_y, cornell.render.resolution_percentage = 40, 32, 100
+    properties = cornell.lpv_preview
+    properties.rsm_resolution, properties.vpls_per_light, properties.lpv_resolution = 64, 256, 16
+    properties.compare_samples, properties.compare_tdpm = SAMPLES, True
+    yield cornell
+    lpv_preview.unregister()
+
+
+def test_the_operator_fills_the_table_and_the_images_and_leaves_the_scene_as_it_was(registered):
+    from lpv_preview.addon.comparison import last_comparison
+    before = scene_snapshot(registered), cycles_state(registered)
+    assert bpy.ops.lpv_preview.compare_with_cycles() == {"FINISHED"}
+    assert (scene_snapshot(registered), cycles_state(registered)) == before
+    comparison = last_comparison()
+    assert [r.method for r in comparison.methods] == ["cm", "wdpm", "tdpm"]
+    for name in ("LPV Compare Cycles one bounce indirect", "LPV Compare WDPM combined",
+                 "LPV Compare TDPM error vs full gi"):
+        image = bpy.data.images[name]
+        assert tuple(image.size) == (40, 32)
+        pixels = np.empty(40 * 32 * 4, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+        assert np.isfinite(pixels).all() and pixels.reshape(-1, 4)[:, :3].max() > 0
+    np.testing.assert_allclose(  # the datablock holds the image, bottom row first
+        np.asarray(bpy.data.images["LPV Compare CM indirect"].pixels[:]).reshape(32, 40, 4)[::-1, :, :3],
+        comparison.methods[0].images["indirect"], rtol=1e-6)
+
+
+def test_the_operator_reports_one_error_when_no_method_is_ticked(registered):
+    properties = registered.lpv_preview
+    properties.compare_cm = properties.compare_wdpm = properties.compare_tdpm = False
+    before = scene_snapshot(registered), cycles_state(registered)
+    with pytest.raises(RuntimeError) as error:
+        bpy.ops.lpv_preview.compare_with_cycles()
+    assert str(error.value).strip() == ("Error: No method is ticked for the comparison; tick at least one in the "
+                                        "Comparison panel.")
+    assert (scene_snapshot(registered), cycles_state(registered)) == before

@@ -6,8 +6,9 @@ bpy = pytest.importorskip("bpy")
 import lpv_preview  # noqa: E402
 from lpv_preview.addon import engine, ui  # noqa: E402
 from lpv_preview.addon import overlay  # noqa: E402
+from lpv_preview.operators import compare  # noqa: E402
 from lpv_preview.addon.properties import display_settings_from_properties, settings_from_properties  # noqa: E402
-from lpv_preview.gpu.settings import DISPLAY_PARAMETERS, PARAMETERS, DisplaySettings, Settings  # noqa: E402
+from lpv_preview.gpu.settings import ALL_PARAMETERS, DisplaySettings, Settings  # noqa: E402
 
 
 def registered_state():
@@ -19,7 +20,8 @@ def registered_state():
                 if isinstance(getattr(bpy.app.handlers, name), list)}
     return {"scene property": hasattr(bpy.types.Scene, "lpv_preview"), "engine": engine.LPVPreviewEngine.is_registered,
             "panels": sorted(panels), "shared panels": len(shared) > 0, "handlers": handlers,
-            "draw handlers": overlay.handler_count()}
+            "draw handlers": overlay.handler_count(),
+            "operators": [cls.__name__ for cls in compare.CLASSES if cls.is_registered]}
 
 
 def test_register_unregister_three_times_leaves_nothing_behind():
@@ -30,7 +32,7 @@ def test_register_unregister_three_times_leaves_nothing_behind():
         lpv_preview.register()
         during = registered_state()
         assert during["scene property"] and during["engine"] and during["shared panels"]
-        assert during["draw handlers"] == 2
+        assert during["draw handlers"] == 2 and during["operators"] == ["LPV_OT_compare_with_cycles"]
         assert len(during["panels"]) == len(ui.CLASSES)
         lpv_preview.unregister()
         assert registered_state() == before
@@ -47,7 +49,7 @@ def test_properties_mirror_the_settings():
     try:
         properties = scene.lpv_preview
         rna = properties.bl_rna.properties
-        for name, field in (*PARAMETERS.items(), *DISPLAY_PARAMETERS.items()):
+        for name, field in ALL_PARAMETERS.items():
             assert rna[name].description == field.metadata["description"]
             if field.metadata["min"] is not None:
                 assert rna[name].hard_min == pytest.approx(field.metadata["min"], rel=1e-6)

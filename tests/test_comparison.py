@@ -145,3 +145,18 @@ def test_the_operator_reports_one_error_when_no_method_is_ticked(registered):
     assert str(error.value).strip() == ("Error: No method is ticked for the comparison; tick at least one in the "
                                         "Comparison panel.")
     assert (scene_snapshot(registered), cycles_state(registered)) == before
+
+
+def test_time_to_equal_error_fits_cycles_error_and_time_against_samples(cornell, tmp_path):
+    from lpv_preview.addon.comparison import time_to_equal_error
+    settings = Settings(width=32, height=32, rsm_resolution=64, vpls_per_light=256, lpv_resolution=16, method="wdpm")
+    results = time_to_equal_error(cornell, settings, 64, [1, 4, 16], "one_bounce", ReferenceCache(str(tmp_path)))
+    assert [r.image for r in results] == ["indirect", "combined"]
+    for result in results:
+        samples = [rung[0] for rung in result.ladder]
+        errors = [rung[2] for rung in result.ladder]
+        assert samples == [1, 4, 16] and errors[0] > errors[-1] > 0
+        assert 0.5 < result.slope < 1.5  # Monte Carlo: MSE about 1 / samples
+        assert result.our_mse > 0 and result.our_ms > 0
+        if result.samples is not None:
+            assert result.samples >= 1 and result.seconds > 0

@@ -6,15 +6,16 @@ nothing here imports bpy at module level.
 """
 
 
+def _modules():
+    from . import addon, operators
+    return addon.MODULES + operators.MODULES
+
+
 def register():
-    from .addon import register_addon
-    from .operators import register_operators
-    register_addon()
-    register_operators()
+    for module in _modules():
+        module.register()
 
 
 def unregister():
-    from .addon import unregister_addon
-    from .operators import unregister_operators
-    unregister_operators()
-    unregister_addon()
+    for module in reversed(_modules()):
+        module.unregister()

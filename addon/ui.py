@@ -175,11 +175,4 @@ def check_groups():
     return sorted(grouped) == sorted(ALL_PARAMETERS) and len(grouped) == len(set(grouped))
 
 
-def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

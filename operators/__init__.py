@@ -2,13 +2,4 @@
 from . import compare
 
 MODULES = (compare,)
-
-
-def register_operators():
-    for module in MODULES:
-        module.register()
-
-
-def unregister_operators():
-    for module in reversed(MODULES):
-        module.unregister()
+"""The modules with register()/unregister(), in registration order."""

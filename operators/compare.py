@@ -130,14 +130,13 @@ class LPV_OT_compare_with_cycles(bpy.types.Operator):
 
 
 CLASSES = (LPV_OT_compare_with_cycles,)
+register_classes, unregister_classes = bpy.utils.register_classes_factory(CLASSES)
 
 
 def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
+    register_classes()
 
 
 def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+    unregister_classes()
     forget()

@@ -209,8 +209,48 @@ def command_export(args):
     return {"scene": args.scene, "file": args.out, "triangles": scene.triangle_count, "lights": len(scene.lights)}
 
 
+def load_bench_scene(item):
+    """A .npz export (no Blender needed) or a demo scene built with bpy."""
+    from .gpu.scene import Scene
+    if item.endswith(".npz"):
+        if not os.path.isfile(item):
+            raise LPVError(f"There is no scene file '{item}'; make it with `python -m lpv_preview export`.")
+        return Scene.load(item)
+    return built_scene(item)
+
+
+def write_sweep_outputs(report, out, command=None):
+    """sweep_NAME.json (unless it is the input), .md and the plots, from a sweep report."""
+    from .gpu.sweep_report import markdown_report, pareto_plots, scaling_plots
+    os.makedirs(out, exist_ok=True)
+    name = report["sweep"]
+    json_path = os.path.join(out, f"sweep_{name}.json")
+    with open(json_path, "w") as handle:
+        json.dump(report, handle, indent=1, default=float)
+    plots = pareto_plots(report, out)
+    fits = scaling_plots(report, out)
+    with open(os.path.join(out, f"sweep_{name}.md"), "w") as handle:
+        handle.write(markdown_report(report, command or report.get("command")))
+    return {"json": json_path, "plots": plots + list(fits), "scaling": fits}
+
+
 def command_bench(args):
-    """Table 1 on demo scenes (built with bpy) or exported .npz scenes (no Blender needed)."""
+    """Table 1 on demo scenes (built with bpy) or exported .npz scenes (no Blender needed),
+    a declared sweep (--sweep), or the outputs of a sweep report again (--report)."""
+    if args.report:
+        try:
+            with open(args.report) as handle:
+                report = json.load(handle)
+        except (OSError, ValueError) as error:
+            raise LPVError(f"Cannot read the sweep report '{args.report}' ({error}); give a sweep_NAME.json file.")
+        return write_sweep_outputs(report, args.out)
+    if args.sweep:
+        from .gpu.sweep import SWEEPS_FILE, load_sweep, run_sweep
+        sweep = load_sweep(args.sweep, args.sweeps or SWEEPS_FILE)
+        report = run_sweep(args.sweep, sweep, load_bench_scene, log=lambda line: print(line, file=sys.stderr))
+        report["command"] = "python -m lpv_preview " + " ".join(args.argv)
+        return {**write_sweep_outputs(report, args.out), "points": len(report["points"]),
+                "seconds": report["seconds"]}
     from .gpu.bench import benchmark_scene, markdown_table
     from .gpu.context import GLContext
     from .gpu.scene import Scene
@@ -292,7 +332,10 @@ def build_parser():
                        choices=("equal-resolution", "equal-texel-budget", "both"))
     bench.add_argument("--frames", type=int, default=5, help="camera-path frames for the LPV quality")
     bench.add_argument("--repeats", type=int, default=3, help="timed full frames per method (median)")
-    bench.add_argument("--out", default="out/bench", help="folder for table1.json and table1.md")
+    bench.add_argument("--out", default="out/bench", help="folder for table1.json and table1.md, or the sweep's files")
+    bench.add_argument("--sweep", help="run this sweep of gpu/sweeps.toml (or --sweeps FILE) instead of Table 1")
+    bench.add_argument("--sweeps", help="the file of declared sweeps (default: gpu/sweeps.toml)")
+    bench.add_argument("--report", help="write the Markdown and plots of this sweep_NAME.json again")
     add_setting_flags(bench)
     bench.set_defaults(run=command_bench)
     return parser

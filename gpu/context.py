@@ -126,6 +126,23 @@ class GLContext:
         self.gl.release()
 
 
+DTYPE_BYTES = {"f1": 1, "f2": 2, "f4": 4, "u1": 1, "u2": 2, "u4": 4, "i1": 1, "i2": 2, "i4": 4}
+
+
+def resource_bytes(*resources):
+    """GPU memory of moderngl buffers and textures (2D and 3D), as allocated; None counts 0."""
+    total = 0
+    for resource in resources:
+        if resource is None:
+            continue
+        if hasattr(resource, "components"):  # a texture
+            texels = resource.width * resource.height * getattr(resource, "depth", 1)
+            total += texels * resource.components * DTYPE_BYTES[resource.dtype]
+        else:
+            total += resource.size
+    return total
+
+
 def load_shader(filename, defines=None):
     """GLSL source of shaders/<filename>, preprocessed."""
     return preprocess((SHADER_DIR / filename).read_text(), defines)

@@ -21,7 +21,7 @@ class MeshBuffer:
         self.vertex_count = count * 3
         self.buffer = glc.gl.buffer(interleaved.tobytes())
         self._arrays = {}
-        self._rim_lists = {}
+        self.rim_lists = {}
 
     def vertex_array(self, program, indices=None):
         if (program, indices) not in self._arrays:
@@ -39,10 +39,10 @@ class MeshBuffer:
         waits on sorting the other."""
         gl = self.glc.gl
         capacity = self.vertex_count
-        if hemisphere not in self._rim_lists:
-            self._rim_lists[hemisphere] = (gl.buffer(reserve=max(2 * capacity, 1) * 4),
+        if hemisphere not in self.rim_lists:
+            self.rim_lists[hemisphere] = (gl.buffer(reserve=max(2 * capacity, 1) * 4),
                                            gl.buffer(reserve=RIM_COMMAND_BYTES))
-        lists, commands = self._rim_lists[hemisphere]
+        lists, commands = self.rim_lists[hemisphere]
         for binding, buffer in enumerate((self.buffer, commands, lists)):
             buffer.bind_to_storage_buffer(binding)
         program = self.glc.compute("rim_split")
@@ -56,7 +56,7 @@ class MeshBuffer:
     def release(self):
         for array in self._arrays.values():
             array.release()
-        for buffers in self._rim_lists.values():
+        for buffers in self.rim_lists.values():
             for buffer in buffers:
                 buffer.release()
         self.buffer.release()

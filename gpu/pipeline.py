@@ -8,7 +8,7 @@ import math
 import time
 from dataclasses import dataclass
 
-from .context import GLContext
+from .context import GLContext, resource_bytes
 from .debug_views import DEBUG_PASS_NAMES, render_debug_passes
 from .errors import LPVError
 from .lpv import LightPropagationVolume, fit_grid
@@ -221,6 +221,25 @@ class Pipeline:
             "renderer": self.glc.renderer,
         })
         return Frame(images, stats, display)
+
+    def gpu_bytes(self):
+        """GPU memory the pipeline holds now: mesh, light maps, VPLs, LPV, camera images."""
+        held = []
+        if self._mesh is not None:
+            mesh = self._mesh[1]
+            held += [mesh.buffer, *(b for buffers in mesh.rim_lists.values() for b in buffers)]
+        for maps in self._lights.values():
+            held += [maps.rsm.position, maps.rsm.normal, maps.rsm.flux, maps.vpls.buffer]
+            held += [maps.warp.texture] if maps.warp is not None else []
+        if self._lpv is not None:
+            lpv = self._lpv[1]
+            held += [lpv.accumulator, lpv.geometry_accumulator, lpv.geometry, *lpv.ping, *lpv.pong, *lpv.sums]
+        if self._targets is not None:
+            t = self._targets
+            held += [t.depth, t.surface, t.direct, t.indirect, t.combined, t.display, t.vpl_splats, t.warp_status]
+        for cells in self.vpl_sampler.cached_cells():
+            held += [cells.cell_ids, cells.bounds, cells.samples]
+        return resource_bytes(*held)
 
     def invalidate(self):
         """Forget every cached stage result, so the next render redoes every stage."""

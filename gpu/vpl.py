@@ -128,6 +128,9 @@ class VPLSampler:
                                             in_disk)
         return self._cells[key]
 
+    def cached_cells(self):
+        return list(self._cells.values())
+
     def sample(self, rsm, vpl_count):
         cells = self.cells(rsm, vpl_count)
         program = self.glc.compute("vpl_gather")

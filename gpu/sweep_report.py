@@ -1,0 +1,149 @@
+"""What a sweep's JSON report shows: a Markdown table, Pareto plots of time against error
+per scene, and scaling plots of frame time against triangles and lights with the fitted
+line. Made from the JSON alone, so a sweep run on the GPU machine is reported here."""
+import os
+from collections import defaultdict
+
+import numpy as np
+
+ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
+STAGES = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms")
+
+
+def scene_label(scene):
+    return os.path.splitext(os.path.basename(scene))[0]
+
+
+def varied_axes(points):
+    """The settings and light keys whose value differs between points (besides method)."""
+    keys = [k for k in points[0]["settings"] if k != "method"]
+    varied = [k for k in keys if len({p["settings"][k] for p in points}) > 1]
+    varied += [k for k in ("lights", "light_kind") if len({p.get(k) for p in points}) > 1]
+    return varied
+
+
+def pareto_front(points):
+    """The points no other point beats in both time and error, fastest first."""
+    ranked = sorted((p for p in points if p["errors_vs_cm"][ERROR_METRIC] is not None),
+                    key=lambda p: (p["timings_ms"]["total_ms"], p["errors_vs_cm"][ERROR_METRIC]))
+    front, best = [], float("inf")
+    for point in ranked:
+        if point["errors_vs_cm"][ERROR_METRIC] < best:
+            front.append(point)
+            best = point["errors_vs_cm"][ERROR_METRIC]
+    return front
+
+
+def markdown_report(report, command=None):
+    """The whole report as Markdown: machine, command, then one table per scene."""
+    points = report["points"]
+    varied = varied_axes(points)
+    lines = [f"Sweep `{report['sweep']}`: {report['description']}", "",
+             f"Machine: {report['machine']['renderer']}, OpenGL {report['machine']['version']}; "
+             f"median of {report['repeats']} frames with every stage redone (warm-up excluded), "
+             f"spread min-max; errors of the indirect image against the CM-LPV reference "
+             f"(cube map 2048², 65,536 VPLs, the same grid and steps)."]
+    if command:
+        lines += ["", f"    {command}"]
+    by_scene = defaultdict(list)
+    for point in points:
+        by_scene[point["scene"]].append(point)
+    for scene, group in by_scene.items():
+        front = {id(p) for p in pareto_front(group)}
+        lines += ["", f"### {scene_label(scene)} ({group[0]['triangles']:,} triangles)", "",
+                  "| method | " + " | ".join(varied) + " | frame ms (spread) | RSM | warp | VPL | inject | propagate | "
+                  "GPU MB | PSNR dB | relMSE | FLIP | Pareto |",
+                  "|---|" + "---|" * len(varied) + "---|---|---|---|---|---|---|---|---|---|---|"]
+        for p in group:
+            t, e = p["timings_ms"], p["errors_vs_cm"]
+            values = [str(p["settings"].get(k, p.get(k))) for k in varied]
+            low, high = t["total_ms_spread"]
+            errors = ["—" if e[k] is None else f"{e[k]:.{d}f}" for k, d in (("psnr", 2), (ERROR_METRIC, 4),
+                                                                           ("flip", 3))]
+            lines.append(f"| {p['method'].upper()} | " + " | ".join(values) +
+                         f" | {t['total_ms']:.2f} ({low:.2f}-{high:.2f}) | " +
+                         " | ".join(f"{t.get(s, 0.0):.2f}" for s in STAGES) +
+                         f" | {p['gpu_bytes'] / 2**20:.0f} | " + " | ".join(errors) +
+                         f" | {'yes' if id(p) in front else ''} |")
+    return "\n".join(lines) + "\n"
+
+
+def _figure():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def pareto_plots(report, folder):
+    """One PNG per scene: frame time against the error, one series per method, the
+    Pareto front drawn through its points. Returns the files written."""
+    plt = _figure()
+    by_scene = defaultdict(list)
+    for point in report["points"]:
+        by_scene[point["scene"]].append(point)
+    written = []
+    for scene, group in by_scene.items():
+        figure, axes = plt.subplots(figsize=(6.4, 4.4), dpi=100)
+        for method in sorted({p["method"] for p in group}):
+            series = [p for p in group if p["method"] == method and p["errors_vs_cm"][ERROR_METRIC] is not None]
+            axes.scatter([p["timings_ms"]["total_ms"] for p in series],
+                         [p["errors_vs_cm"][ERROR_METRIC] for p in series], label=method.upper(), s=18)
+        front = pareto_front(group)
+        xs, ys = [p["timings_ms"]["total_ms"] for p in front], [p["errors_vs_cm"][ERROR_METRIC] for p in front]
+        axes.plot(xs, ys, color="black", linewidth=1, marker="o", markersize=9, markerfacecolor="none",
+                  label="Pareto front")
+        axes.set_xlabel("frame ms (every stage redone)")
+        axes.set_ylabel("relative MSE of the indirect image vs CM-LPV")
+        if all(p["errors_vs_cm"][ERROR_METRIC] for p in front):
+            axes.set_yscale("log")
+        axes.set_title(f"{scene_label(scene)}: {report['machine']['renderer']}", fontsize=9)
+        axes.legend(fontsize=8)
+        figure.tight_layout()
+        path = os.path.join(folder, f"pareto_{report['sweep']}_{scene_label(scene)}.png")
+        figure.savefig(path)
+        plt.close(figure)
+        written.append(path)
+    return written
+
+
+def scaling_fit(xs, ys):
+    """Least-squares line ys = intercept + slope · xs, and the exponent of ys ∝ xs^k
+    (1 is linear growth)."""
+    slope, intercept = np.polyfit(xs, ys, 1)[0], np.polyfit(xs, ys, 1)[1]
+    exponent = np.polyfit(np.log(xs), np.log(ys), 1)[0] if min(xs) > 0 and min(ys) > 0 else float("nan")
+    return float(intercept), float(slope), float(exponent)
+
+
+def scaling_plots(report, folder):
+    """Frame time against triangles, and against light count, per method (and light
+    kind), with the fitted line, where the report varies them. Returns {plot: fits}."""
+    plt = _figure()
+    results = {}
+    for axis, label, key in (("triangles", "triangles", lambda p: p["triangles"]),
+                             ("lights", "lights", lambda p: p.get("lights", 1))):
+        series = defaultdict(list)
+        for point in report["points"]:
+            series[(point["method"], point.get("light_kind", ""))].append((key(point), point["timings_ms"]["total_ms"]))
+        if not any(len({x for x, _ in values}) > 1 for values in series.values()):
+            continue
+        figure, axes = plt.subplots(figsize=(6.4, 4.4), dpi=100)
+        fits = {}
+        for (method, kind), values in sorted(series.items()):
+            values.sort()
+            xs, ys = np.array([v[0] for v in values], float), np.array([v[1] for v in values], float)
+            intercept, slope, exponent = scaling_fit(xs, ys)
+            name = f"{method.upper()} {kind}".strip()
+            fits[name] = {"intercept_ms": intercept, "slope_ms": slope, "exponent": exponent}
+            axes.scatter(xs, ys, s=18, label=f"{name}: {slope:.3g} ms per {label[:-1]}, exponent {exponent:.2f}")
+            axes.plot(xs, intercept + slope * xs, linewidth=1)
+        axes.set_xlabel(label)
+        axes.set_ylabel("frame ms")
+        axes.set_title(f"{report['sweep']}: {report['machine']['renderer']}", fontsize=9)
+        axes.legend(fontsize=7)
+        figure.tight_layout()
+        path = os.path.join(folder, f"scaling_{report['sweep']}_{axis}.png")
+        figure.savefig(path)
+        plt.close(figure)
+        results[path] = fits
+    return results

@@ -1,0 +1,94 @@
+"""Benchmark sweeps (gpu/sweep.py, gpu/sweep_report.py): the tiny sweep end to end through
+the command line, its JSON's schema, the plot and the Markdown table; the sweep file's
+checks; the light sets and the scaling fit."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from lpv_preview.gpu.errors import LPVError
+from lpv_preview.gpu.sweep import load_sweep, sweep_points, with_lights
+from lpv_preview.gpu.sweep_report import pareto_front, scaling_fit
+
+from .synthetic_scenes import room_scene
+
+bpy = pytest.importorskip("bpy")
+
+from lpv_preview.__main__ import main  # noqa: E402
+
+POINT_KEYS = {"scene", "method", "settings", "triangles", "timings_ms", "gpu_bytes", "vpl_count", "errors_vs_cm"}
+
+
+def test_the_tiny_sweep_writes_a_json_a_plot_and_a_table(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    assert main(["bench", "--sweep", "tiny", "--out", str(out)]) == 0
+    report = json.loads((out / "sweep_tiny.json").read_text())
+    assert report["schema"] == 1 and report["sweep"] == "tiny" and report["repeats"] == 2
+    assert set(report["machine"]) == {"renderer", "version"} and report["command"].endswith(f"--out {out}")
+    assert [(p["method"], p["settings"]["rsm_resolution"]) for p in report["points"]] == [
+        ("cm", 64), ("cm", 128), ("wdpm", 64), ("wdpm", 128)]
+    for point in report["points"]:
+        assert POINT_KEYS <= set(point)
+        assert point["triangles"] == 900 and point["settings"]["width"] == 64 and point["vpl_count"] > 0
+        timings = point["timings_ms"]
+        assert timings["total_ms"] > 0 and all(timings[k] >= 0 for k in ("rsm_ms", "vpl_ms", "propagate_ms"))
+        low, high = timings["total_ms_spread"]
+        assert low <= timings["total_ms"] <= high
+        assert point["gpu_bytes"] > 64 * 64 * 16  # at least the camera images
+        errors = point["errors_vs_cm"]
+        assert set(errors) == {"psnr", "relative_mse", "flip"} and all(math.isfinite(v) for v in errors.values())
+    assert (out / "pareto_tiny_cornell.png").stat().st_size > 10_000
+    table = (out / "sweep_tiny.md").read_text()
+    assert "| method | rsm_resolution | frame ms (spread) | RSM | warp | VPL | inject | propagate | GPU MB |" in table
+    assert table.count("| CM | ") == 2 and table.count("| WDPM | ") == 2 and "| yes |" in table
+    # The outputs again from the JSON alone (how a GPU machine's run is reported here).
+    (out / "sweep_tiny.md").unlink()
+    assert main(["bench", "--report", str(out / "sweep_tiny.json"), "--out", str(out)]) == 0
+    assert (out / "sweep_tiny.md").read_text() == table
+
+
+def test_the_sweep_file_is_checked(tmp_path, capsys):
+    with pytest.raises(LPVError, match="There is no sweep 'nope'"):
+        load_sweep("nope")
+    bad = tmp_path / "sweeps.toml"
+    bad.write_text('[typo]\nscenes = ["cornell"]\nmethods = ["cm"]\nrsm_resoluton = 64\n')
+    with pytest.raises(LPVError, match="unknown key 'rsm_resoluton'"):
+        load_sweep("typo", bad)
+    assert main(["bench", "--sweep", "typo", "--sweeps", str(bad)]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+
+
+def test_one_at_a_time_varies_each_axis_around_the_first_values(tmp_path):
+    path = tmp_path / "sweeps.toml"
+    path.write_text('[s]\nmode = "one-at-a-time"\nscenes = ["a", "b"]\nmethods = ["cm", "wdpm"]\n'
+                    'rsm_resolution = [512, 256, 1024]\nlpv_resolution = [32, 16]\n')
+    points = sweep_points(load_sweep("s", path))
+    assert len(points) == 2 * 2 * (1 + 2 + 1)
+    assert {(p["rsm_resolution"], p["lpv_resolution"]) for p in points} == {(512, 32), (256, 32), (1024, 32), (512, 16)}
+
+
+@pytest.mark.parametrize("kind", ["point", "spot", "area", "sun"])
+def test_light_sets_keep_one_lights_power_and_stay_inside_the_scene(kind):
+    one = with_lights(room_scene(2), 1, kind).lights
+    many = with_lights(room_scene(2), 16, kind).lights
+    assert len(one) == 1 and len(many) == 16
+    assert sum(light.power for light in many) == pytest.approx(one[0].power)
+    low, high = room_scene(2).bounds()
+    for light in many:
+        assert np.all(light.position > low) and np.all(light.position < high) and light.direction[2] < 0
+
+
+def test_the_scaling_fit_finds_a_line_and_its_exponent():
+    xs = np.array([1e5, 5e5, 1e6, 1.5e6])
+    intercept, slope, exponent = scaling_fit(xs, 3.0 + 2e-5 * xs)
+    assert intercept == pytest.approx(3.0) and slope == pytest.approx(2e-5)
+    assert 0 < exponent < 1  # a fixed cost makes the growth sub-linear
+    assert scaling_fit(xs, 4e-6 * xs ** 2)[2] == pytest.approx(2.0)
+
+
+def test_the_pareto_front_keeps_only_points_nothing_beats():
+    def point(ms, error):
+        return {"timings_ms": {"total_ms": ms}, "errors_vs_cm": {"relative_mse": error}}
+    points = [point(10, 0.5), point(20, 0.2), point(15, 0.6), point(30, 0.2), point(40, 0.1)]
+    assert [(p["timings_ms"]["total_ms"]) for p in pareto_front(points)] == [10, 20, 40]

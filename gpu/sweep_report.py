@@ -75,6 +75,18 @@ def _figure():
     return plt
 
 
+def _save(plt, figure, axes, labels, title, path, legend_size=8):
+    """Label the axes, title and legend the plot, and write it as a PNG."""
+    axes.set_xlabel(labels[0])
+    axes.set_ylabel(labels[1])
+    axes.set_title(title, fontsize=9)
+    axes.legend(fontsize=legend_size)
+    figure.tight_layout()
+    figure.savefig(path)
+    plt.close(figure)
+    return path
+
+
 def pareto_plots(report, folder):
     """One PNG per scene: frame time against the error, one series per method, the
     Pareto front drawn through its points. Returns the files written."""
@@ -93,17 +105,12 @@ def pareto_plots(report, folder):
         xs, ys = [p["timings_ms"]["total_ms"] for p in front], [p["errors_vs_cm"][ERROR_METRIC] for p in front]
         axes.plot(xs, ys, color="black", linewidth=1, marker="o", markersize=9, markerfacecolor="none",
                   label="Pareto front")
-        axes.set_xlabel("frame ms (every stage redone)")
-        axes.set_ylabel("relative MSE of the indirect image vs CM-LPV")
         if all(p["errors_vs_cm"][ERROR_METRIC] for p in front):
             axes.set_yscale("log")
-        axes.set_title(f"{scene_label(scene)}: {report['machine']['renderer']}", fontsize=9)
-        axes.legend(fontsize=8)
-        figure.tight_layout()
-        path = os.path.join(folder, f"pareto_{report['sweep']}_{scene_label(scene)}.png")
-        figure.savefig(path)
-        plt.close(figure)
-        written.append(path)
+        written.append(_save(plt, figure, axes, ("frame ms (every stage redone)",
+                                                 "relative MSE of the indirect image vs CM-LPV"),
+                             f"{scene_label(scene)}: {report['machine']['renderer']}",
+                             os.path.join(folder, f"pareto_{report['sweep']}_{scene_label(scene)}.png")))
     return written
 
 
@@ -137,13 +144,7 @@ def scaling_plots(report, folder):
             fits[name] = {"intercept_ms": intercept, "slope_ms": slope, "exponent": exponent}
             axes.scatter(xs, ys, s=18, label=f"{name}: {slope:.3g} ms per {label[:-1]}, exponent {exponent:.2f}")
             axes.plot(xs, intercept + slope * xs, linewidth=1)
-        axes.set_xlabel(label)
-        axes.set_ylabel("frame ms")
-        axes.set_title(f"{report['sweep']}: {report['machine']['renderer']}", fontsize=9)
-        axes.legend(fontsize=7)
-        figure.tight_layout()
-        path = os.path.join(folder, f"scaling_{report['sweep']}_{axis}.png")
-        figure.savefig(path)
-        plt.close(figure)
+        path = _save(plt, figure, axes, (label, "frame ms"), f"{report['sweep']}: {report['machine']['renderer']}",
+                     os.path.join(folder, f"scaling_{report['sweep']}_{axis}.png"), legend_size=7)
         results[path] = fits
     return results

@@ -221,14 +221,19 @@ def load_bench_scene(item):
 
 def write_sweep_outputs(report, out, command=None):
     """sweep_NAME.json (unless it is the input), .md and the plots, from a sweep report."""
+    import importlib.util
     from .gpu.sweep_report import markdown_report, pareto_plots, scaling_plots
     os.makedirs(out, exist_ok=True)
     name = report["sweep"]
     json_path = os.path.join(out, f"sweep_{name}.json")
     with open(json_path, "w") as handle:
         json.dump(report, handle, indent=1, default=float)
-    plots = pareto_plots(report, out)
-    fits = scaling_plots(report, out)
+    if importlib.util.find_spec("matplotlib") is None:  # the GPU machine: plot here with --report
+        print("bench: no matplotlib here, so no plots; run `bench --report` on the JSON where it is installed",
+              file=sys.stderr)
+        plots, fits = [], {}
+    else:
+        plots, fits = pareto_plots(report, out), scaling_plots(report, out)
     with open(os.path.join(out, f"sweep_{name}.md"), "w") as handle:
         handle.write(markdown_report(report, command or report.get("command")))
     return {"json": json_path, "plots": plots + list(fits), "scaling": fits}

@@ -1,6 +1,6 @@
 """Times the cube-map pipeline on exported scenes (.npz), without Blender.
 
-    python scripts/time_pipeline.py DIR NAME [NAME ...]
+    python scripts/time_pipeline.py DIR NAME [NAME ...] [--method cm] [--point-light]
 
 reads DIR/NAME.npz (made with `python -m lpv_preview export`), renders once to warm up
 (shader compilation, Poisson cells), then five full frames (every stage redone) and five
@@ -10,9 +10,9 @@ viewport does (`display_into`), and prints the medians and the last
 full and camera-only frames' per-stage milliseconds as JSON lines. `python -m
 lpv_preview bench` measures the RSM methods against each other instead.
 """
+import argparse
 import json
 import statistics
-import sys
 import time
 
 import numpy as np
@@ -21,12 +21,21 @@ from lpv_preview.gpu.bench import camera_path
 from lpv_preview.gpu.scene import Scene
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.settings import Settings
+from lpv_preview.gpu.sweep import with_lights
+
+parser = argparse.ArgumentParser(description="whole-frame and camera-only timings of exported scenes")
+parser.add_argument("folder")
+parser.add_argument("names", nargs="+")
+parser.add_argument("--method", default="cm")
+parser.add_argument("--point-light", action="store_true", help="replace the lights by one point light (gpu/sweep.py)")
+args = parser.parse_args()
 results = {}
-folder = sys.argv[1]
-for name in sys.argv[2:]:
-    scene = Scene.load(f"{folder}/{name}.npz")
+for name in args.names:
+    scene = Scene.load(f"{args.folder}/{name}.npz")
+    if args.point_light:
+        scene = with_lights(scene, 1, "point")
     size = (1024, 1024) if name == "cornell" else (1920, 1080)
-    p = Pipeline(Settings(width=size[0], height=size[1], rsm_resolution=1024))
+    p = Pipeline(Settings(width=size[0], height=size[1], rsm_resolution=1024, method=args.method))
     p.render(scene)  # warm-up: shader compilation, Poisson cells
     display = np.empty(size[0] * size[1] * 4, dtype=np.float32)
     full, camera = [], []
@@ -44,6 +53,7 @@ for name in sys.argv[2:]:
                      "camera_share": statistics.median(camera) / statistics.median(full), "finite": finite,
                      "stages_ms": {k: round(v, 3) for k, v in stats.items() if k.endswith("_ms")},
                      "camera_stages_ms": {k: round(v, 3) for k, v in g.stats.items() if k.endswith("_ms")},
-                     "combined_mean": float(display.reshape(-1, 4)[:, :3].mean())}
+                     "combined_mean": float(display.reshape(-1, 4)[:, :3].mean()),
+                     "gbuffer_triangles_per_second": scene.triangle_count / (g.stats["gbuffer_ms"] / 1000)}
     print(name, json.dumps(results[name]), flush=True)
     p.release()

@@ -78,17 +78,20 @@ def sampling_reference(settings, scene, cameras, reference_images):
 WARM_UP_FRAMES = 5
 
 
-def timed_frames(pipeline, scene, repeats):
+def timed_frames(pipeline, scene, repeats, passes=None):
     """Median stage and frame milliseconds with every stage redone, after full warm-up
-    frames: the GPU's clocks drop while the CPU measures quality between methods."""
+    frames: the GPU's clocks drop while the CPU measures quality between methods.
+    `passes` are read back each frame (None: every pass; () times the GPU work alone)."""
+    kwargs = {} if passes is None else {"passes": passes}
     for _ in range(WARM_UP_FRAMES):
         pipeline.invalidate()
-        pipeline.render(scene)
+        pipeline.render(scene, **kwargs)
     samples = []
     for _ in range(repeats):
         pipeline.invalidate()
-        samples.append(pipeline.render(scene).stats)
-    keys = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms", "total_ms")
+        samples.append(pipeline.render(scene, **kwargs).stats)
+    keys = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms", "gbuffer_ms", "direct_ms", "indirect_ms",
+            "total_ms")
     keys += tuple("gpu_" + key for key in keys[:-1] if any("gpu_" + key in s for s in samples))
     result = {key: statistics.median(s.get(key, 0.0) for s in samples) for key in keys}
     result["total_ms_spread"] = [min(s["total_ms"] for s in samples), max(s["total_ms"] for s in samples)]

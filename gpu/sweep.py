@@ -2,7 +2,8 @@
 
 A sweep (gpu/sweeps.toml) names scenes, methods and axes of settings. For each point the
 pipeline renders the scene's camera view; `timed_frames` gives the median per-stage and
-frame milliseconds with every stage redone (warm-up excluded) and their spread, and the
+frame milliseconds with every stage redone (warm-up excluded, no image read back: what
+the GPU does for a frame) and their spread, and the
 indirect image is compared (PSNR, relative MSE, FLIP) with the CM-LPV reference: the
 same LPV grid and steps fed by a cube map of 2048² and 65,536 VPLs, so the error is what
 the method's light side costs. The GPU memory is what the pipeline holds. No bpy: this
@@ -120,7 +121,7 @@ def run_sweep(name, sweep, load_scene, log=print):
                 reference_pipeline.release()
         pipeline = Pipeline(settings, glc)
         try:
-            timings, stats = timed_frames(pipeline, scene, repeats)
+            timings, stats = timed_frames(pipeline, scene, repeats, passes=())
             frame = pipeline.render(scene, passes=("indirect",))
             memory = pipeline.gpu_bytes()
         finally:

@@ -7,7 +7,8 @@ from collections import defaultdict
 import numpy as np
 
 ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
-STAGES = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms")
+STAGES = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms", "gbuffer_ms", "direct_ms", "indirect_ms")
+STAGE_LABELS = ("RSM", "warp", "VPL", "inject", "propagate", "G-buffer", "direct", "indirect")
 
 
 def scene_label(scene):
@@ -41,7 +42,7 @@ def markdown_report(report, command=None):
     lines = [f"Sweep `{report['sweep']}`: {report['description']}", "",
              f"Machine: {report['machine']['renderer']}, OpenGL {report['machine']['version']}; "
              f"median of {report['repeats']} frames with every stage redone (warm-up excluded), "
-             f"spread min-max; errors of the indirect image against the CM-LPV reference "
+             f"spread min-max, no image read back; errors of the indirect image against the CM-LPV reference "
              f"(cube map 2048², 65,536 VPLs, the same grid and steps)."]
     if command:
         lines += ["", f"    {command}"]
@@ -50,21 +51,19 @@ def markdown_report(report, command=None):
         by_scene[point["scene"]].append(point)
     for scene, group in by_scene.items():
         front = {id(p) for p in pareto_front(group)}
+        head = ["method", *varied, "frame ms (spread)", *STAGE_LABELS, "GPU MB", "PSNR dB", "relMSE", "FLIP", "Pareto"]
         lines += ["", f"### {scene_label(scene)} ({group[0]['triangles']:,} triangles)", "",
-                  "| method | " + " | ".join(varied) + " | frame ms (spread) | RSM | warp | VPL | inject | propagate | "
-                  "GPU MB | PSNR dB | relMSE | FLIP | Pareto |",
-                  "|---|" + "---|" * len(varied) + "---|---|---|---|---|---|---|---|---|---|---|"]
+                  "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
         for p in group:
             t, e = p["timings_ms"], p["errors_vs_cm"]
             values = [str(p["settings"].get(k, p.get(k))) for k in varied]
+            cells = [p["method"].upper(), *values]
             low, high = t["total_ms_spread"]
-            errors = ["—" if e[k] is None else f"{e[k]:.{d}f}" for k, d in (("psnr", 2), (ERROR_METRIC, 4),
-                                                                           ("flip", 3))]
-            lines.append(f"| {p['method'].upper()} | " + " | ".join(values) +
-                         f" | {t['total_ms']:.2f} ({low:.2f}-{high:.2f}) | " +
-                         " | ".join(f"{t.get(s, 0.0):.2f}" for s in STAGES) +
-                         f" | {p['gpu_bytes'] / 2**20:.0f} | " + " | ".join(errors) +
-                         f" | {'yes' if id(p) in front else ''} |")
+            errors = ["—" if e[k] is None else format(e[k], f) for k, f in (("psnr", ".2f"), (ERROR_METRIC, ".3g"),
+                                                                              ("flip", ".3f"))]
+            cells += [f"{t['total_ms']:.2f} ({low:.2f}-{high:.2f})", *(f"{t.get(s, 0.0):.2f}" for s in STAGES),
+                      f"{p['gpu_bytes'] / 2**20:.0f}", *errors, "yes" if id(p) in front else ""]
+            lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 

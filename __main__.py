@@ -219,6 +219,15 @@ def load_bench_scene(item):
     return built_scene(item)
 
 
+def demo_cycles_indirect(name, samples, width, height):
+    """The Cycles one-bounce indirect image of a demo scene (cached), None for an .npz scene."""
+    if name.endswith(".npz"):
+        return None
+    from .addon.cycles_reference import ReferenceCache, cycles_reference
+    from .demo import build
+    return cycles_reference(build(name), "one_bounce", samples, 0, (width, height), ReferenceCache()).indirect
+
+
 def write_sweep_outputs(report, out, command=None):
     """sweep_NAME.json (unless it is the input), .md and the plots, from a sweep report."""
     import importlib.util
@@ -252,7 +261,8 @@ def command_bench(args):
     if args.sweep:
         from .gpu.sweep import SWEEPS_FILE, load_sweep, run_sweep
         sweep = load_sweep(args.sweep, args.sweeps or SWEEPS_FILE)
-        report = run_sweep(args.sweep, sweep, load_bench_scene, log=lambda line: print(line, file=sys.stderr))
+        report = run_sweep(args.sweep, sweep, load_bench_scene, log=lambda line: print(line, file=sys.stderr),
+                           cycles_indirect=demo_cycles_indirect)
         report["command"] = "python -m lpv_preview " + " ".join(args.argv)
         return {**write_sweep_outputs(report, args.out), "points": len(report["points"]),
                 "seconds": report["seconds"]}

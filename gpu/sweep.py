@@ -6,8 +6,11 @@ frame milliseconds with every stage redone (warm-up excluded, no image read back
 the GPU does for a frame) and their spread, and the
 indirect image is compared (PSNR, relative MSE, FLIP) with the CM-LPV reference: the
 same LPV grid and steps fed by a cube map of 2048² and 65,536 VPLs, so the error is what
-the method's light side costs. The GPU memory is what the pipeline holds. No bpy: this
-runs on the GPU machine from .npz scene exports.
+the method's light side costs. With `cycles_samples`, points that keep the scene's own
+lights are also compared with its Cycles one-bounce reference, which `cycles_indirect`
+(a callback: bpy lives above this module) supplies; those errors compare grids and steps
+too. The GPU memory is what the pipeline holds. No bpy: this runs on the GPU machine from
+.npz scene exports.
 """
 import itertools
 import math
@@ -25,7 +28,7 @@ from .scene import Light
 from .settings import PARAMETERS, Settings
 
 SWEEPS_FILE = Path(__file__).parent / "sweeps.toml"
-SWEEP_KEYS = {"description", "mode", "scenes", "methods", "lights", "light_kind", "repeats"}
+SWEEP_KEYS = {"description", "mode", "scenes", "methods", "lights", "light_kind", "repeats", "cycles_samples"}
 REFERENCE_CHANGES = {"method": "cm", "rsm_resolution": 2048, "vpls_per_light": 65536}
 LIGHT_KINDS = {"point": "POINT", "spot": "SPOT", "area": "AREA", "sun": "SUN"}
 SCHEMA_VERSION = 1
@@ -96,13 +99,17 @@ def _indirect_errors(image, reference):
             "flip": flip(image, reference)[0]}
 
 
-def run_sweep(name, sweep, load_scene, log=print):
-    """Measure every point; returns the JSON-ready report (SCHEMA_VERSION)."""
+def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
+    """Measure every point; returns the JSON-ready report (SCHEMA_VERSION).
+
+    `cycles_indirect(scene, samples, width, height)` returns the scene's Cycles one-bounce
+    indirect image (top row first) or None where there is none (an .npz scene)."""
     from .context import GLContext
     glc = GLContext.shared()
     repeats = int(sweep.get("repeats", 3))
     points = sweep_points(sweep)
-    scenes, references, results = {}, {}, []
+    scenes, references, cycles, results = {}, {}, {}, []
+    cycles_samples = sweep.get("cycles_samples")
     started = time.perf_counter()
     for index, point in enumerate(points):
         if point["scene"] not in scenes:
@@ -126,12 +133,21 @@ def run_sweep(name, sweep, load_scene, log=print):
             memory = pipeline.gpu_bytes()
         finally:
             pipeline.release()
-        results.append({**point, "settings": {key: getattr(settings, key) for key in PARAMETERS},
-                        "triangles": scene.triangle_count, "timings_ms": timings, "gpu_bytes": memory,
-                        "vpl_count": stats["vpl_count"],
-                        "errors_vs_cm": _indirect_errors(frame.passes["indirect"], references[reference_key])})
+        result = {**point, "settings": {key: getattr(settings, key) for key in PARAMETERS},
+                  "triangles": scene.triangle_count, "timings_ms": timings, "gpu_bytes": memory,
+                  "vpl_count": stats["vpl_count"],
+                  "errors_vs_cm": _indirect_errors(frame.passes["indirect"], references[reference_key])}
+        own_lights = "lights" not in point and "light_kind" not in point
+        if cycles_samples and cycles_indirect is not None and own_lights:
+            cycles_key = (point["scene"], settings.width, settings.height)
+            if cycles_key not in cycles:
+                cycles[cycles_key] = cycles_indirect(point["scene"], int(cycles_samples), *cycles_key[1:])
+            if cycles[cycles_key] is not None:
+                result["errors_vs_cycles"] = _indirect_errors(frame.passes["indirect"], cycles[cycles_key])
+        results.append(result)
         log(f"sweep {name}: {index + 1}/{len(points)} {point['scene']} {point['method']} "
             f"{timings['total_ms']:.1f} ms")
     return {"schema": SCHEMA_VERSION, "sweep": name, "description": sweep.get("description", ""),
+            "cycles_samples": cycles_samples,
             "machine": {"renderer": glc.renderer, "version": glc.version}, "repeats": repeats,
             "seconds": time.perf_counter() - started, "points": results}

@@ -7,6 +7,7 @@ from collections import defaultdict
 import numpy as np
 
 ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
+ERROR_SOURCES = {"errors_vs_cycles": "Cycles one bounce", "errors_vs_cm": "CM-LPV"}
 STAGES = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms", "gbuffer_ms", "direct_ms", "indirect_ms")
 STAGE_LABELS = ("RSM", "warp", "VPL", "inject", "propagate", "G-buffer", "direct", "indirect")
 
@@ -23,15 +24,22 @@ def varied_axes(points):
     return varied
 
 
+def error_source(points):
+    """The errors the Pareto front of `points` is drawn on: against Cycles where every
+    point has them (they compare grids and steps too), else against the CM-LPV."""
+    return "errors_vs_cycles" if all("errors_vs_cycles" in p for p in points) else "errors_vs_cm"
+
+
 def pareto_front(points):
     """The points no other point beats in both time and error, fastest first."""
-    ranked = sorted((p for p in points if p["errors_vs_cm"][ERROR_METRIC] is not None),
-                    key=lambda p: (p["timings_ms"]["total_ms"], p["errors_vs_cm"][ERROR_METRIC]))
+    source = error_source(points)
+    ranked = sorted((p for p in points if p[source][ERROR_METRIC] is not None),
+                    key=lambda p: (p["timings_ms"]["total_ms"], p[source][ERROR_METRIC]))
     front, best = [], float("inf")
     for point in ranked:
-        if point["errors_vs_cm"][ERROR_METRIC] < best:
+        if point[source][ERROR_METRIC] < best:
             front.append(point)
-            best = point["errors_vs_cm"][ERROR_METRIC]
+            best = point[source][ERROR_METRIC]
     return front
 
 
@@ -43,7 +51,10 @@ def markdown_report(report, command=None):
              f"Machine: {report['machine']['renderer']}, OpenGL {report['machine']['version']}; "
              f"median of {report['repeats']} frames with every stage redone (warm-up excluded), "
              f"spread min-max, no image read back; errors of the indirect image against the CM-LPV reference "
-             f"(cube map 2048², 65,536 VPLs, the same grid and steps)."]
+             f"(cube map 2048², 65,536 VPLs, the same grid and steps)"
+             + (f" and against Cycles' one bounce at {report['cycles_samples']} samples (points with the scene's own "
+                f"lights); the Pareto front is drawn on the Cycles errors where every point has them."
+                if report.get("cycles_samples") else ".")]
     if command:
         lines += ["", f"    {command}"]
     by_scene = defaultdict(list)
@@ -51,16 +62,19 @@ def markdown_report(report, command=None):
         by_scene[point["scene"]].append(point)
     for scene, group in by_scene.items():
         front = {id(p) for p in pareto_front(group)}
-        head = ["method", *varied, "frame ms (spread)", *STAGE_LABELS, "GPU MB", "PSNR dB", "relMSE", "FLIP", "Pareto"]
+        sources = [source for source in ERROR_SOURCES if any(source in p for p in group)][::-1]
+        head = ["method", *varied, "frame ms (spread)", *STAGE_LABELS, "GPU MB",
+                *(f"{metric} vs {ERROR_SOURCES[source]}" for source in sources for metric in ("PSNR dB", "relMSE", "FLIP")),
+                "Pareto"]
         lines += ["", f"### {scene_label(scene)} ({group[0]['triangles']:,} triangles)", "",
                   "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
         for p in group:
-            t, e = p["timings_ms"], p["errors_vs_cm"]
+            t = p["timings_ms"]
             values = [str(p["settings"].get(k, p.get(k))) for k in varied]
             cells = [p["method"].upper(), *values]
             low, high = t["total_ms_spread"]
-            errors = ["—" if e[k] is None else format(e[k], f) for k, f in (("psnr", ".2f"), (ERROR_METRIC, ".3g"),
-                                                                              ("flip", ".3f"))]
+            errors = ["—" if source not in p or p[source][k] is None else format(p[source][k], f)
+                      for source in sources for k, f in (("psnr", ".2f"), (ERROR_METRIC, ".3g"), ("flip", ".3f"))]
             cells += [f"{t['total_ms']:.2f} ({low:.2f}-{high:.2f})", *(f"{t.get(s, 0.0):.2f}" for s in STAGES),
                       f"{p['gpu_bytes'] / 2**20:.0f}", *errors, "yes" if id(p) in front else ""]
             lines.append("| " + " | ".join(cells) + " |")
@@ -95,19 +109,20 @@ def pareto_plots(report, folder):
         by_scene[point["scene"]].append(point)
     written = []
     for scene, group in by_scene.items():
+        source = error_source(group)
         figure, axes = plt.subplots(figsize=(6.4, 4.4), dpi=100)
         for method in sorted({p["method"] for p in group}):
-            series = [p for p in group if p["method"] == method and p["errors_vs_cm"][ERROR_METRIC] is not None]
+            series = [p for p in group if p["method"] == method and p[source][ERROR_METRIC] is not None]
             axes.scatter([p["timings_ms"]["total_ms"] for p in series],
-                         [p["errors_vs_cm"][ERROR_METRIC] for p in series], label=method.upper(), s=18)
+                         [p[source][ERROR_METRIC] for p in series], label=method.upper(), s=18)
         front = pareto_front(group)
-        xs, ys = [p["timings_ms"]["total_ms"] for p in front], [p["errors_vs_cm"][ERROR_METRIC] for p in front]
+        xs, ys = [p["timings_ms"]["total_ms"] for p in front], [p[source][ERROR_METRIC] for p in front]
         axes.plot(xs, ys, color="black", linewidth=1, marker="o", markersize=9, markerfacecolor="none",
                   label="Pareto front")
-        if all(p["errors_vs_cm"][ERROR_METRIC] for p in front):
+        if all(p[source][ERROR_METRIC] for p in front):
             axes.set_yscale("log")
         written.append(_save(plt, figure, axes, ("frame ms (every stage redone)",
-                                                 "relative MSE of the indirect image vs CM-LPV"),
+                                                 f"relative MSE of the indirect image vs {ERROR_SOURCES[source]}"),
                              f"{scene_label(scene)}: {report['machine']['renderer']}",
                              os.path.join(folder, f"pareto_{report['sweep']}_{scene_label(scene)}.png")))
     return written

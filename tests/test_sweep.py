@@ -20,7 +20,8 @@ from lpv_preview.__main__ import main  # noqa: E402
 POINT_KEYS = {"scene", "method", "settings", "triangles", "timings_ms", "gpu_bytes", "vpl_count", "errors_vs_cm"}
 
 
-def test_the_tiny_sweep_writes_a_json_a_plot_and_a_table(tmp_path, capsys):
+def test_the_tiny_sweep_writes_a_json_a_plot_and_a_table(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("LPV_PREVIEW_CACHE", str(tmp_path / "cycles"))
     out = tmp_path / "sweep"
     assert main(["bench", "--sweep", "tiny", "--out", str(out)]) == 0
     report = json.loads((out / "sweep_tiny.json").read_text())
@@ -36,11 +37,14 @@ def test_the_tiny_sweep_writes_a_json_a_plot_and_a_table(tmp_path, capsys):
         low, high = timings["total_ms_spread"]
         assert low <= timings["total_ms"] <= high
         assert point["gpu_bytes"] > 64 * 64 * 16  # at least the camera images
-        errors = point["errors_vs_cm"]
-        assert set(errors) == {"psnr", "relative_mse", "flip"} and all(math.isfinite(v) for v in errors.values())
+        for source in ("errors_vs_cm", "errors_vs_cycles"):
+            errors = point[source]
+            assert set(errors) == {"psnr", "relative_mse", "flip"} and all(math.isfinite(v) for v in errors.values())
+    assert report["cycles_samples"] == 8
     assert (out / "pareto_tiny_cornell.png").stat().st_size > 10_000
     table = (out / "sweep_tiny.md").read_text()
     assert "| method | rsm_resolution | frame ms (spread) | RSM | warp | VPL | inject | propagate | G-buffer |" in table
+    assert "| PSNR dB vs Cycles one bounce | relMSE vs Cycles one bounce |" in table
     assert table.count("| CM | ") == 2 and table.count("| WDPM | ") == 2 and "| yes |" in table
     # The outputs again from the JSON alone (how a GPU machine's run is reported here).
     (out / "sweep_tiny.md").unlink()

@@ -155,7 +155,10 @@ class LightPropagationVolume:
         nx, ny, nz = volume.size
         return np.frombuffer(volume.read(), dtype=np.float32).reshape(nz, ny, nx, 4)
 
+    def resources(self):
+        """Every GPU buffer and volume the LPV holds."""
+        return (self.accumulator, self.geometry_accumulator, self.geometry, *self.ping, *self.pong, *self.sums)
+
     def release(self):
-        for resource in (self.accumulator, self.geometry_accumulator, self.geometry, *self.ping,
-                         *self.pong, *self.sums):
+        for resource in self.resources():
             resource.release()

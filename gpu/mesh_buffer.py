@@ -53,10 +53,12 @@ class MeshBuffer:
         dispatch(program, self.triangle_count, local=(64, 1, 1))
         return lists, commands
 
+    def resources(self):
+        """The vertex buffer and each hemisphere's rim-split lists and draw commands."""
+        return (self.buffer, *(buffer for buffers in self.rim_lists.values() for buffer in buffers))
+
     def release(self):
         for array in self._arrays.values():
             array.release()
-        for buffers in self.rim_lists.values():
-            for buffer in buffers:
-                buffer.release()
-        self.buffer.release()
+        for resource in self.resources():
+            resource.release()

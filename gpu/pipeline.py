@@ -63,6 +63,11 @@ class LightMaps:
     method: str
     warp: object = None
 
+    def resources(self):
+        """The GPU memory of the maps, VPLs and warp status."""
+        held = (self.rsm.position, self.rsm.normal, self.rsm.flux, self.vpls.buffer)
+        return held + ((self.warp.texture,) if self.warp is not None else ())
+
     def release(self):
         for resource in (self.rsm, self.vpls, self.warp):
             if resource is not None:
@@ -224,21 +229,12 @@ class Pipeline:
 
     def gpu_bytes(self):
         """GPU memory the pipeline holds now: mesh, light maps, VPLs, LPV, camera images."""
-        held = []
-        if self._mesh is not None:
-            mesh = self._mesh[1]
-            held += [mesh.buffer, *(b for buffers in mesh.rim_lists.values() for b in buffers)]
+        held = [*self.vpl_sampler.resources()]
+        for owner in (self._mesh, self._lpv):
+            held += owner[1].resources() if owner is not None else ()
         for maps in self._lights.values():
-            held += [maps.rsm.position, maps.rsm.normal, maps.rsm.flux, maps.vpls.buffer]
-            held += [maps.warp.texture] if maps.warp is not None else []
-        if self._lpv is not None:
-            lpv = self._lpv[1]
-            held += [lpv.accumulator, lpv.geometry_accumulator, lpv.geometry, *lpv.ping, *lpv.pong, *lpv.sums]
-        if self._targets is not None:
-            t = self._targets
-            held += [t.depth, t.surface, t.direct, t.indirect, t.combined, t.display, t.vpl_splats, t.warp_status]
-        for cells in self.vpl_sampler.cached_cells():
-            held += [cells.cell_ids, cells.bounds, cells.samples]
+            held += maps.resources()
+        held += self._targets.resources() if self._targets is not None else ()
         return resource_bytes(*held)
 
     def invalidate(self):

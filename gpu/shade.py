@@ -54,13 +54,17 @@ class FrameTargets:
         width, height = self.size
         return np.frombuffer(out, dtype=np.float32).reshape(height, width, 4)
 
+    def resources(self):
+        """Every texture and buffer made so far (the display and debug ones on request)."""
+        return tuple(resource for resource in (self.depth, self.surface, self.direct, self.indirect, self.combined,
+                                               self.display, self.vpl_splats, self.warp_status)
+                     if resource is not None)
+
     def release(self):
         self.framebuffer.release()
         self.direct_framebuffer.release()
-        for resource in (self.depth, self.surface, self.direct, self.indirect, self.combined, self.display,
-                         self.vpl_splats, self.warp_status):
-            if resource is not None:
-                resource.release()
+        for resource in self.resources():
+            resource.release()
 
 
 def gbuffer_uniforms(camera):

@@ -108,8 +108,11 @@ class PoissonCells:
             first += n
         self.samples = gl.buffer(np.concatenate(samples).astype(np.float32).tobytes())
 
+    def resources(self):
+        return (self.cell_ids, self.bounds, self.samples)
+
     def release(self):
-        for resource in (self.cell_ids, self.bounds, self.samples):
+        for resource in self.resources():
             resource.release()
 
 
@@ -128,8 +131,9 @@ class VPLSampler:
                                             in_disk)
         return self._cells[key]
 
-    def cached_cells(self):
-        return list(self._cells.values())
+    def resources(self):
+        """The GPU resources of every cached Poisson cell layout."""
+        return tuple(resource for cells in self._cells.values() for resource in cells.resources())
 
     def sample(self, rsm, vpl_count):
         cells = self.cells(rsm, vpl_count)

@@ -130,16 +130,16 @@ DTYPE_BYTES = {"f1": 1, "f2": 2, "f4": 4, "u1": 1, "u2": 2, "u4": 4, "i1": 1, "i
 
 
 def resource_bytes(*resources):
-    """GPU memory of moderngl buffers and textures (2D and 3D), as allocated; None counts 0."""
+    """GPU memory of moderngl buffers and textures (2D and 3D), as allocated."""
+    import moderngl
     total = 0
     for resource in resources:
-        if resource is None:
-            continue
-        if hasattr(resource, "components"):  # a texture
-            texels = resource.width * resource.height * getattr(resource, "depth", 1)
-            total += texels * resource.components * DTYPE_BYTES[resource.dtype]
-        else:
+        if isinstance(resource, moderngl.Buffer):
             total += resource.size
+            continue
+        # A 2D texture's `depth` says whether it is a depth texture; a 3D one's is its depth.
+        layers = resource.depth if isinstance(resource, moderngl.Texture3D) else 1
+        total += resource.width * resource.height * layers * resource.components * DTYPE_BYTES[resource.dtype]
     return total
 
 

@@ -96,3 +96,27 @@ def test_the_pareto_front_keeps_only_points_nothing_beats():
         return {"timings_ms": {"total_ms": ms}, "errors_vs_cm": {"relative_mse": error}}
     points = [point(10, 0.5), point(20, 0.2), point(15, 0.6), point(30, 0.2), point(40, 0.1)]
     assert [(p["timings_ms"]["total_ms"]) for p in pareto_front(points)] == [10, 20, 40]
+
+
+def test_gpu_memory_counts_every_texture_and_buffer(glc):
+    from lpv_preview.gpu.context import resource_bytes
+    from lpv_preview.gpu.pipeline import Pipeline
+    from lpv_preview.gpu.settings import Settings
+    gl = glc.gl
+    parts = [gl.texture((8, 4), 4, dtype="f4"), gl.texture((8, 4), 4, dtype="u4"), gl.depth_texture((8, 4)),
+             gl.texture3d((2, 3, 5), 4, dtype="f4"), gl.buffer(reserve=100)]
+    try:
+        assert resource_bytes(*parts) == 8 * 4 * 16 * 2 + 8 * 4 * 4 + 2 * 3 * 5 * 16 + 100
+    finally:
+        for part in parts:
+            part.release()
+    pipeline = Pipeline(Settings(width=32, height=16, rsm_resolution=32, vpls_per_light=64, lpv_resolution=8), glc)
+    try:
+        pipeline.render(room_scene(2), passes=())
+        held = pipeline.gpu_bytes()
+    finally:
+        pipeline.release()
+    camera_images = 32 * 16 * (16 * 3 + 16 + 4)        # direct, indirect, combined; surface; depth
+    cube_maps = 3 * 16 * (3 * 32) * (2 * 32)            # position, normal, flux atlases of six faces
+    volumes = 9 * 8 ** 3 * 16 + 9 ** 3 * 16             # ping, pong, sums (a volume per colour each); geometry
+    assert held > camera_images + cube_maps + volumes

@@ -96,8 +96,21 @@ class Pipeline:
         self._lights = {}          # light cache key -> LightMaps
         self._lpv = None           # (key, LightPropagationVolume)
         self._targets = None
-        self.last_light_maps = []  # what the last frame was made of, for the overlays
-        self.last_lpv = self.last_lpv_key = None
+        self._shown_keys = ()      # the light cache keys of the last frame
+
+    @property
+    def last_light_maps(self):
+        """The LightMaps the last frame was made of (none once invalidated), for the overlays."""
+        return [self._lights[key] for key in self._shown_keys if key in self._lights]
+
+    @property
+    def last_lpv(self):
+        return self._lpv[1] if self._lpv is not None else None
+
+    @property
+    def last_lpv_key(self):
+        """What the LPV's content depends on: every light's key, the grid and the steps."""
+        return self._lpv[0] if self._lpv is not None else None
 
     @property
     def targets(self):
@@ -202,7 +215,7 @@ class Pipeline:
             with self.glc.timed(stats, "debug_ms"):
                 render_debug_passes(self.glc, targets, scene.camera, maps,
                                     (display_settings or DisplaySettings()).vpl_point_size)
-        self.last_light_maps, self.last_lpv, self.last_lpv_key = maps, lpv, lpv_key
+        self._shown_keys = tuple(keys)
         with self.glc.timed(stats, "readback_ms"):
             images = {name: targets.read(name) for name in passes}
             display = None if display_into is None else targets.read_display_into(display_into)

@@ -78,6 +78,19 @@ def _errors(test, reference):
     return {image: image_errors(test[image], getattr(reference, image)) for image in IMAGES}
 
 
+def full_frame(settings, lpv_scene):
+    """A frame of `lpv_scene` with every stage redone and the shaders and Poisson cells
+    already made (the time a settled preview takes for a full update)."""
+    from ..gpu.pipeline import Pipeline
+    pipeline = Pipeline(settings)
+    try:
+        pipeline.render(lpv_scene)
+        pipeline.invalidate()
+        return pipeline.render(lpv_scene)
+    finally:
+        pipeline.release()
+
+
 def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(REFERENCE_BOUNCES),
                      noise_floor=True):
     """Compare `scene` (its camera, frame and `settings`' image size) rendered by each of
@@ -87,7 +100,6 @@ def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(
     returns the Comparison. Every Cycles render restores the scene's settings itself, so
     closing the generator between steps leaves the scene as it was.
     """
-    from ..gpu.pipeline import Pipeline
     unknown = [m for m in methods if m not in METHODS]
     if unknown or not methods:
         raise LPVError(f"Unknown or no method '{','.join(unknown)}'; choose from {', '.join(METHODS)}.")
@@ -95,26 +107,20 @@ def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(
     comparison = Comparison(samples=samples, resolution=resolution)
     steps = len(kinds) * (2 if noise_floor else 1) + len(methods)
     done = 0
+    lpv_scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=resolution)
     for kind in kinds:
         yield done / steps, f"Cycles {kind.replace('_', ' ')} reference, {samples} samples"
-        comparison.references[kind] = cycles_reference(scene, kind, samples, 0, resolution, cache)
+        comparison.references[kind] = cycles_reference(scene, kind, samples, 0, resolution, cache, lpv_scene)
         done += 1
         if noise_floor:
             yield done / steps, f"Cycles {kind.replace('_', ' ')} noise floor (a second seed)"
-            second = cycles_reference(scene, kind, samples, 1, resolution, cache)
+            second = cycles_reference(scene, kind, samples, 1, resolution, cache, lpv_scene)
             comparison.noise_floor[kind] = _errors({image: getattr(second, image) for image in IMAGES},
                                                    comparison.references[kind])
             done += 1
-    lpv_scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=resolution)
     for method in methods:
         yield done / steps, f"LPV Preview {method.upper()}"
-        pipeline = Pipeline(settings.with_changes(method=method))
-        try:
-            pipeline.render(lpv_scene)  # shaders, Poisson cells
-            pipeline.invalidate()
-            frame = pipeline.render(lpv_scene)
-        finally:
-            pipeline.release()
+        frame = full_frame(settings.with_changes(method=method), lpv_scene)
         result = MethodResult(method, frame.stats["total_ms"], {image: frame.passes[image] for image in IMAGES})
         for kind, reference in comparison.references.items():
             result.errors[kind] = _errors(result.images, reference)
@@ -213,18 +219,11 @@ def time_to_equal_error(scene, settings, reference_samples, ladder, kind="full_g
     `reference_samples` reference of `kind` equals ours, from Cycles renders at each of
     `ladder` samples with another seed than the reference's."""
     from ..gpu.metrics import mse
-    from ..gpu.pipeline import Pipeline
     resolution = (settings.width, settings.height)
-    reference = cycles_reference(scene, kind, reference_samples, 0, resolution, cache)
-    rungs = [cycles_reference(scene, kind, samples, 1, resolution, cache) for samples in ladder]
     lpv_scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=resolution)
-    pipeline = Pipeline(settings)
-    try:
-        pipeline.render(lpv_scene)
-        pipeline.invalidate()
-        frame = pipeline.render(lpv_scene)
-    finally:
-        pipeline.release()
+    reference = cycles_reference(scene, kind, reference_samples, 0, resolution, cache, lpv_scene)
+    rungs = [cycles_reference(scene, kind, samples, 1, resolution, cache, lpv_scene) for samples in ladder]
+    frame = full_frame(settings, lpv_scene)
     seconds = [rung.settings["render_seconds"] for rung in rungs]
     fixed, per_sample = np.polynomial.polynomial.polyfit(ladder, seconds, 1)
     results = []

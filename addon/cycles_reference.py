@@ -357,14 +357,11 @@ def _plain(value):
         return repr(value)
 
 
-def reference_key(depsgraph, kind, samples, seed, resolution):
-    """A content key of what a reference shows: the extracted geometry, lights and camera,
-    every material's nodes, the world's, and the Cycles settings and Blender version."""
-    from .extract import extract_scene
-    scene = extract_scene(depsgraph, resolution=resolution)
-    original = depsgraph.scene
-    world = original.world
-    parts = [scene.geometry_key(), [light.key() for light in scene.lights], scene.camera.key(),
+def reference_key(content, world, kind, samples, seed, resolution):
+    """A content key of what a reference shows: the extracted geometry, lights and camera
+    (`content`, our Scene), every material's nodes, the `world`'s, and the Cycles settings
+    and Blender version."""
+    parts = [content.geometry_key(), [light.key() for light in content.lights], content.camera.key(),
              sorted((m.name, repr(material_signature(m))) for m in bpy.data.materials if m.users),
              repr(material_signature(world)) if world is not None else None,
              kind, REFERENCE_BOUNCES[kind], samples, seed, tuple(resolution), REFERENCE_FILTER_WIDTH,
@@ -372,14 +369,17 @@ def reference_key(depsgraph, kind, samples, seed, resolution):
     return hashlib.sha1(repr(parts).encode()).hexdigest()[:20]
 
 
-def cycles_reference(scene, kind, samples, seed=0, resolution=None, cache=None):
+def cycles_reference(scene, kind, samples, seed=0, resolution=None, cache=None, content=None):
     """The `kind` reference ("one_bounce" or "full_gi") of `scene` from its camera at
-    `resolution` (None: the scene's render size), from `cache` when it holds one."""
+    `resolution` (None: the scene's render size), from `cache` when it holds one.
+    `content` is the scene extracted at that resolution, when the caller has it already."""
     if kind not in REFERENCE_BOUNCES:
         raise LPVError(f"Unknown Cycles reference '{kind}'; choose one of {', '.join(REFERENCE_BOUNCES)}.")
-    from .extract import render_resolution
+    from .extract import extract_scene, render_resolution
     resolution = tuple(resolution or render_resolution(scene))
-    key = reference_key(bpy.context.evaluated_depsgraph_get(), kind, samples, seed, resolution)
+    if content is None:
+        content = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=resolution)
+    key = reference_key(content, scene.world, kind, samples, seed, resolution)
     if cache is not None:
         cached = cache.load(key)
         if cached is not None:

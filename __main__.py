@@ -15,13 +15,27 @@ import sys
 import time
 
 from .gpu.errors import LPVError
-from .gpu.settings import PARAMETERS, Settings
+from .gpu.settings import PARAMETERS, PRESETS, Settings, describe_preset, preset_settings
 
 SCENE_SIZE_FLAGS = ("width", "height")  # taken from the .blend unless given
 
 
+def positive_int(text):
+    """An argparse type: a whole number of at least 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number of at least 1")
+    return value
+
+
 def add_setting_flags(parser):
-    """One flag per parameter of gpu/settings.py, defaulting to None (= not given)."""
+    """One flag per parameter of gpu/settings.py, defaulting to None (= not given), and
+    --preset, whose values the flags given override."""
+    parser.add_argument("--preset", choices=tuple(PRESETS), help="start from this preset of gpu/settings.py: "
+                        + "; ".join(f"{name}: {describe_preset(name)}" for name in PRESETS))
     for name, field in PARAMETERS.items():
         meta = field.metadata
         flag = "--" + name.replace("_", "-")
@@ -38,7 +52,7 @@ def settings_from(args, width, height):
     given = {name: getattr(args, name) for name in PARAMETERS if getattr(args, name) is not None}
     given.setdefault("width", width)
     given.setdefault("height", height)
-    return Settings(**given)
+    return preset_settings(args.preset, **given) if args.preset else Settings(**given)
 
 
 def settings_for_blend(bpy_scene, args):
@@ -205,8 +219,15 @@ def print_progress(done, total, frame, timings, width=30):
 
 def command_export(args):
     from .demo import export_npz
-    scene = export_npz(args.scene, args.out, **({"triangles": args.triangles} if args.triangles else {}))
-    return {"scene": args.scene, "file": args.out, "triangles": scene.triangle_count, "lights": len(scene.lights)}
+    from .gpu.sweep import cycles_reference_path
+    if args.cycles_width and not args.cycles_samples:
+        raise LPVError("--cycles-width needs --cycles-samples: the Cycles reference is rendered only when asked.")
+    options = {key: value for key, value in (("triangles", args.triangles), ("lights", args.lights),
+                                             ("light_kind", args.light_kind), ("cycles_samples", args.cycles_samples),
+                                             ("cycles_width", args.cycles_width)) if value}
+    scene = export_npz(args.scene, args.out, **options)
+    return {"scene": args.scene, "file": args.out, "triangles": scene.triangle_count, "lights": len(scene.lights),
+            **({"cycles_reference": str(cycles_reference_path(args.out))} if args.cycles_samples else {})}
 
 
 def load_bench_scene(item):
@@ -219,13 +240,15 @@ def load_bench_scene(item):
     return built_scene(item)
 
 
-def demo_cycles_indirect(name, samples, width, height):
-    """The Cycles one-bounce indirect image of a demo scene (cached), None for an .npz scene."""
+def sweep_cycles_indirect(name, samples, width, height):
+    """A sweep scene's Cycles one-bounce indirect image and its samples: a demo scene's
+    rendered (cached) at the point's size, an .npz export's stored beside it (None if not)."""
     if name.endswith(".npz"):
-        return None
+        from .gpu.sweep import stored_cycles_indirect
+        return stored_cycles_indirect(name)
     from .addon.cycles_reference import ReferenceCache, cycles_reference
     from .demo import build
-    return cycles_reference(build(name), "one_bounce", samples, 0, (width, height), ReferenceCache()).indirect
+    return cycles_reference(build(name), "one_bounce", samples, 0, (width, height), ReferenceCache()).indirect, samples
 
 
 def write_sweep_outputs(report, out, command=None):
@@ -262,7 +285,7 @@ def command_bench(args):
         from .gpu.sweep import SWEEPS_FILE, load_sweep, run_sweep
         sweep = load_sweep(args.sweep, args.sweeps or SWEEPS_FILE)
         report = run_sweep(args.sweep, sweep, load_bench_scene, log=lambda line: print(line, file=sys.stderr),
-                           cycles_indirect=demo_cycles_indirect)
+                           cycles_indirect=sweep_cycles_indirect)
         report["command"] = "python -m lpv_preview " + " ".join(args.argv)
         return {**write_sweep_outputs(report, args.out), "points": len(report["points"]),
                 "seconds": report["seconds"]}
@@ -338,6 +361,11 @@ def build_parser():
     export.add_argument("scene", choices=("cornell", "atrium", "city"))
     export.add_argument("--triangles", type=int, help="triangle count of the atrium or the city")
     export.add_argument("--out", required=True, help="the .npz file to write")
+    export.add_argument("--lights", type=positive_int, help="replace the lights by this many of --light-kind")
+    export.add_argument("--light-kind", choices=("point", "spot", "area", "sun"), default="point")
+    export.add_argument("--cycles-samples", type=positive_int,
+                        help="also store the Cycles one-bounce indirect image beside it (NAME.cycles.npz) for sweeps")
+    export.add_argument("--cycles-width", type=positive_int, help="its width in pixels (default: the scene's)")
     export.set_defaults(run=command_export)
     bench = commands.add_parser("bench", help="every RSM method against CM: time, DPM and LPV quality")
     bench.add_argument("--scenes", default="cornell,atrium,city",

@@ -3,9 +3,10 @@ engine) and in a "LPV Preview" tab of the 3D view's sidebar, with the last frame
 statistics. Which setting goes in which group is checked against gpu/settings.py."""
 import bpy
 
-from ..gpu.settings import ALL_PARAMETERS
+from ..gpu.settings import ALL_PARAMETERS, PRESETS, matching_preset
 from .comparison import last_comparison
 from .engine import ENGINE_ID, last_stats
+from .properties import settings_from_properties
 
 SETTING_GROUPS = {
     "Method": ("method", "rsm_resolution", "vpls_per_light"),
@@ -30,7 +31,17 @@ STAGES = (("extract_ms", "Extract"), ("rsm_ms", "RSM"), ("warp_ms", "Warp"), ("v
           ("readback_ms", "Readback"), ("total_ms", "Total"))
 
 
+def draw_presets(layout, properties):
+    """One button per preset, the one the settings match pressed."""
+    current = matching_preset(settings_from_properties(properties))
+    row = layout.row(align=True)
+    for name in PRESETS:
+        row.operator(PRESET_OPERATOR, text=name.capitalize(), depress=name == current).preset = name
+
+
 def draw_settings(layout, properties, group):
+    if group == "Method":
+        draw_presets(layout, properties)
     layout.use_property_split = True
     layout.use_property_decorate = False
     for name in SETTING_GROUPS[group]:
@@ -62,6 +73,7 @@ def draw_statistics(layout, stats):
 
 
 COMPARE_OPERATOR = "lpv_preview.compare_with_cycles"  # operators/compare.py
+PRESET_OPERATOR = "lpv_preview.apply_preset"  # operators/presets.py
 
 
 def draw_comparison(layout, properties):

@@ -163,6 +163,23 @@ def add_light(scene, name, kind, location, power, color=(1.0, 1.0, 1.0), aim=Non
     return obj
 
 
+def replace_lights(scene, lights):
+    """Remove the scene's light objects and add one for each `gpu.scene.Light`."""
+    for obj in [o for o in scene.objects if o.type == "LIGHT"]:
+        bpy.data.objects.remove(obj)
+    for light in lights:
+        settings = {"shadow_soft_size": light.radius}
+        if light.kind == "SPOT":
+            settings.update(spot_size=light.spot_size, spot_blend=light.spot_blend)
+        elif light.kind == "AREA":
+            settings.update(shape="RECTANGLE", size=light.size[0], size_y=light.size[1])
+        elif light.kind == "SUN":
+            settings = {"angle": 0.0}
+        aim = tuple(light.direction) if light.kind == "SUN" else tuple(light.position + light.direction)
+        add_light(scene, light.name, light.kind, tuple(light.position), light.power, tuple(light.color), aim,
+                  **settings)
+
+
 def add_camera(scene, location, target, lens=35.0, resolution=(640, 360), clip_end=1000.0):
     """A camera at `location` looking at `target`, made the scene camera, with the render
     resolution set."""

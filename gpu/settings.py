@@ -4,7 +4,7 @@ This is the one source of truth: Blender properties, command-line flags and benc
 sweeps are generated from `PARAMETERS` or checked against it; the viewport overlays and
 debug passes, which change what is shown but rerun no stage, from `DISPLAY_PARAMETERS`;
 the comparison with Cycles from `COMPARISON_PARAMETERS`. `ALL_PARAMETERS` is every one
-a Blender property mirrors.
+a Blender property mirrors. `PRESETS` are named sets of pipeline parameters.
 """
 from dataclasses import dataclass, field, fields, replace
 
@@ -110,3 +110,38 @@ PARAMETERS = {f.name: f for f in fields(Settings)}
 DISPLAY_PARAMETERS = {f.name: f for f in fields(DisplaySettings)}
 COMPARISON_PARAMETERS = {f.name: f for f in fields(ComparisonSettings)}
 ALL_PARAMETERS = {**PARAMETERS, **DISPLAY_PARAMETERS, **COMPARISON_PARAMETERS}
+
+
+PRESETS = {
+    "fast": {"method": "wdpm", "rsm_resolution": 256, "vpls_per_light": 2048, "lpv_resolution": 16,
+             "propagation_iterations": 4},
+    "balanced": {"method": "wdpm", "rsm_resolution": 512, "vpls_per_light": 65536, "lpv_resolution": 16,
+                 "propagation_iterations": 4},
+    "accurate": {"method": "wdpm", "rsm_resolution": 1024, "vpls_per_light": 65536, "lpv_resolution": 16,
+                 "propagation_iterations": 4},
+}
+"""Named quality levels, each a set of Settings values: what `choose_presets` (gpu/
+sweep_report.py) picked from the Pareto fronts of the `fronts` sweep on the H100, the
+method from the `methods` sweep (docs/benchmarks.md, "Presets"). The panel's buttons and
+the command line's --preset apply them; other settings keep their values."""
+PRESET_PARAMETERS = ("method", "rsm_resolution", "vpls_per_light", "lpv_resolution", "propagation_iterations")
+
+
+def preset_settings(name, **changes):
+    """Settings of the preset `name`, with `changes` (given flags, the image size) on top."""
+    if name not in PRESETS:
+        raise LPVError(f"There is no preset '{name}'; choose one of {', '.join(PRESETS)}.")
+    return Settings(**{**PRESETS[name], **changes})
+
+
+def describe_preset(name):
+    """A preset's values in a few words, like 'WDPM, RSM 512², 2048 VPLs, 16³, 8 steps'."""
+    values = {**{key: PARAMETERS[key].default for key in PRESET_PARAMETERS}, **PRESETS[name]}
+    return (f"{values['method'].upper()}, RSM {values['rsm_resolution']}², {values['vpls_per_light']} VPLs, "
+            f"{values['lpv_resolution']}³, {values['propagation_iterations']} steps")
+
+
+def matching_preset(settings):
+    """The preset whose every value `settings` has, or None (custom settings)."""
+    return next((name for name, values in PRESETS.items()
+                 if all(getattr(settings, key) == value for key, value in values.items())), None)

@@ -9,11 +9,17 @@ same LPV grid and steps fed by a cube map of 2048² and 65,536 VPLs, so the erro
 the method's light side costs. With `cycles_samples`, points that keep the scene's own
 lights are also compared with its Cycles one-bounce reference, which `cycles_indirect`
 (a callback: bpy lives above this module) supplies; those errors compare grids and steps
-too. The GPU memory is what the pipeline holds. No bpy: this runs on the GPU machine from
-.npz scene exports.
+too. An .npz export may carry its Cycles reference beside it (`stored_cycles_indirect`,
+written by `python -m lpv_preview export --cycles-samples`): the GPU machine has no
+Cycles, and a reference of a 1920x1080 image would take the CPU machine an hour, so the
+points of such a scene are timed at their own size and compared, with both references,
+in a render at the stored reference's smaller size. The GPU memory is what the pipeline
+holds. No bpy: this runs on the GPU machine from .npz scene exports.
 """
 import itertools
 import math
+import os
+import platform
 import time
 import tomllib
 from pathlib import Path
@@ -25,10 +31,12 @@ from .errors import LPVError
 from .metrics import flip, psnr, relative_mse
 from .pipeline import Pipeline
 from .scene import Light
-from .settings import PARAMETERS, Settings
+from .settings import PARAMETERS, PRESETS, Settings, preset_settings
 
 SWEEPS_FILE = Path(__file__).parent / "sweeps.toml"
-SWEEP_KEYS = {"description", "mode", "scenes", "methods", "lights", "light_kind", "repeats", "cycles_samples"}
+SWEEP_KEYS = {"description", "mode", "scenes", "methods", "preset", "lights", "light_kind", "repeats", "cycles_samples",
+              "scaling", "choose_presets"}
+SCALING_AXES = ("triangles", "lights")
 REFERENCE_CHANGES = {"method": "cm", "rsm_resolution": 2048, "vpls_per_light": 65536}
 LIGHT_KINDS = {"point": "POINT", "spot": "SPOT", "area": "AREA", "sun": "SUN"}
 SCHEMA_VERSION = 1
@@ -45,6 +53,14 @@ def load_sweep(name, path=SWEEPS_FILE):
     if unknown:
         raise LPVError(f"Sweep '{name}' has unknown key '{sorted(unknown)[0]}'; use settings of gpu/settings.py "
                        f"or {', '.join(sorted(SWEEP_KEYS))}.")
+    if ("methods" in sweep) == ("preset" in sweep):
+        raise LPVError(f"Sweep '{name}' needs either 'methods' or 'preset' (a preset sets the method).")
+    for preset in _as_list(sweep.get("preset", [])):
+        if preset not in PRESETS:
+            raise LPVError(f"Sweep '{name}' has preset '{preset}'; choose from {', '.join(PRESETS)}.")
+    for axis in _as_list(sweep.get("scaling", [])):
+        if axis not in SCALING_AXES:
+            raise LPVError(f"Sweep '{name}' has scaling axis '{axis}'; choose from {', '.join(SCALING_AXES)}.")
     for kind in _as_list(sweep.get("light_kind", [])):
         if kind not in LIGHT_KINDS:
             raise LPVError(f"Sweep '{name}' has light kind '{kind}'; choose from {', '.join(LIGHT_KINDS)}.")
@@ -56,9 +72,10 @@ def _as_list(value):
 
 
 def sweep_points(sweep):
-    """Every point of the sweep: dicts of scene, method, light count and kind, settings."""
+    """Every point of the sweep: dicts of scene, method (or preset), light count and kind,
+    settings."""
     axes = {key: _as_list(value) for key, value in sweep.items()
-            if key in PARAMETERS or key in ("lights", "light_kind")}
+            if key in PARAMETERS or key in ("preset", "lights", "light_kind")}
     base = {key: values[0] for key, values in axes.items()}
     if sweep.get("mode", "product") == "one-at-a-time":
         variations = [dict(base)]
@@ -66,8 +83,9 @@ def sweep_points(sweep):
             variations += [{**base, key: value} for value in values[1:]]
     else:
         variations = [dict(zip(axes, combination)) for combination in itertools.product(*axes.values())]
-    return [{"scene": scene, "method": method, **variation} for scene in _as_list(sweep["scenes"])
-            for method in _as_list(sweep["methods"]) for variation in variations]
+    return [{"scene": scene, "method": method or preset_settings(variation["preset"]).method, **variation}
+            for scene in _as_list(sweep["scenes"]) for method in _as_list(sweep.get("methods", [None]))
+            for variation in variations]
 
 
 def with_lights(scene, count, kind):
@@ -92,6 +110,39 @@ def with_lights(scene, count, kind):
     return scene
 
 
+def machine_description(glc):
+    """What a report was measured on: the GL renderer, its version (the driver's on
+    NVIDIA and Mesa), the CPU and its cores."""
+    cpu = platform.processor()
+    try:
+        with open("/proc/cpuinfo") as handle:
+            cpu = next(line.split(":", 1)[1].strip() for line in handle if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return {"renderer": glc.renderer, "version": glc.version, "cpu": f"{cpu}, {os.cpu_count()} cores",
+            "system": platform.platform()}
+
+
+def cycles_reference_path(scene_path):
+    """Where the Cycles reference of an .npz scene export is stored: NAME.cycles.npz."""
+    return Path(scene_path).with_suffix(".cycles.npz")
+
+
+def store_cycles_indirect(scene_path, indirect, samples):
+    """Keep a Cycles one-bounce indirect image (top row first) beside an .npz export."""
+    np.savez_compressed(cycles_reference_path(scene_path), indirect=np.asarray(indirect, dtype=np.float32),
+                        samples=int(samples))
+
+
+def stored_cycles_indirect(scene_path):
+    """(indirect image, samples) stored beside an .npz export, or None."""
+    path = cycles_reference_path(scene_path)
+    if not path.is_file():
+        return None
+    with np.load(path) as data:
+        return data["indirect"], int(data["samples"])
+
+
 def _indirect_errors(image, reference):
     if float(reference.max()) <= 0.0:
         return {"psnr": None, "relative_mse": None, "flip": None}
@@ -99,11 +150,28 @@ def _indirect_errors(image, reference):
             "flip": flip(image, reference)[0]}
 
 
+def settle_allocations(glc, scene, settings):
+    """Build, render once and release a pipeline of `settings` before the timed one.
+
+    On the H100 (driver 580.159.04) the first pipeline built after a large one was
+    released (the CM-LPV reference: 2048² cube atlases, 65,536 VPLs) ran three times
+    slower for its whole life, its G-buffer 12.5 ms by the timer query instead of 2.2 on
+    the Cornell box, warm-up of 0.5 or 2 s or not; a second one built with the same
+    settings did not. This one takes that hit."""
+    pipeline = Pipeline(settings, glc)
+    try:
+        pipeline.render(scene, passes=())
+    finally:
+        pipeline.release()
+
+
 def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
     """Measure every point; returns the JSON-ready report (SCHEMA_VERSION).
 
     `cycles_indirect(scene, samples, width, height)` returns the scene's Cycles one-bounce
-    indirect image (top row first) or None where there is none (an .npz scene)."""
+    indirect image (top row first) and its samples, or None where there is none. Where
+    the image is smaller than the point's (a reference stored beside an .npz export),
+    both errors are measured in a render at the image's size."""
     from .context import GLContext
     glc = GLContext.shared()
     repeats = int(sweep.get("repeats", 3))
@@ -117,37 +185,49 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
         scene = scenes[point["scene"]]
         if "lights" in point or "light_kind" in point:
             scene = with_lights(scene, int(point.get("lights", 1)), point.get("light_kind", "point"))
-        settings = Settings(**{key: value for key, value in point.items() if key in PARAMETERS})
+        given = {key: value for key, value in point.items() if key in PARAMETERS}
+        settings = preset_settings(point["preset"], **given) if "preset" in point else Settings(**given)
+        cycles_reference = None
+        if cycles_samples and cycles_indirect is not None and "lights" not in point and "light_kind" not in point:
+            cycles_key = (point["scene"], settings.width, settings.height)
+            if cycles_key not in cycles:
+                cycles[cycles_key] = cycles_indirect(point["scene"], int(cycles_samples), *cycles_key[1:])
+            cycles_reference = cycles[cycles_key]
+        error_settings = settings
+        if cycles_reference is not None:
+            height, width = cycles_reference[0].shape[:2]
+            error_settings = settings.with_changes(width=width, height=height)
         reference_key = (point["scene"], point.get("lights"), point.get("light_kind"), settings.lpv_resolution,
-                         settings.propagation_iterations, settings.width, settings.height)
+                         settings.propagation_iterations, error_settings.width, error_settings.height)
         if reference_key not in references:
-            reference_pipeline = Pipeline(settings.with_changes(**REFERENCE_CHANGES), glc)
+            reference_pipeline = Pipeline(error_settings.with_changes(**REFERENCE_CHANGES), glc)
             try:
                 references[reference_key] = reference_pipeline.render(scene, passes=("indirect",)).passes["indirect"]
             finally:
                 reference_pipeline.release()
+        settle_allocations(glc, scene, settings)
         pipeline = Pipeline(settings, glc)
         try:
             timings, stats = timed_frames(pipeline, scene, repeats, passes=())
-            frame = pipeline.render(scene, passes=("indirect",))
             memory = pipeline.gpu_bytes()
+            if error_settings is not settings:
+                pipeline.release()
+                pipeline = Pipeline(error_settings, glc)
+            indirect = pipeline.render(scene, passes=("indirect",)).passes["indirect"]
         finally:
             pipeline.release()
         result = {**point, "settings": {key: getattr(settings, key) for key in PARAMETERS},
                   "triangles": scene.triangle_count, "timings_ms": timings, "gpu_bytes": memory,
-                  "vpl_count": stats["vpl_count"],
-                  "errors_vs_cm": _indirect_errors(frame.passes["indirect"], references[reference_key])}
-        own_lights = "lights" not in point and "light_kind" not in point
-        if cycles_samples and cycles_indirect is not None and own_lights:
-            cycles_key = (point["scene"], settings.width, settings.height)
-            if cycles_key not in cycles:
-                cycles[cycles_key] = cycles_indirect(point["scene"], int(cycles_samples), *cycles_key[1:])
-            if cycles[cycles_key] is not None:
-                result["errors_vs_cycles"] = _indirect_errors(frame.passes["indirect"], cycles[cycles_key])
+                  "vpl_count": stats["vpl_count"], "error_size": [error_settings.width, error_settings.height],
+                  "errors_vs_cm": _indirect_errors(indirect, references[reference_key])}
+        if cycles_reference is not None:
+            result["errors_vs_cycles"] = _indirect_errors(indirect, cycles_reference[0])
+            result["cycles_samples"] = cycles_reference[1]
         results.append(result)
         log(f"sweep {name}: {index + 1}/{len(points)} {point['scene']} {point['method']} "
             f"{timings['total_ms']:.1f} ms")
     return {"schema": SCHEMA_VERSION, "sweep": name, "description": sweep.get("description", ""),
-            "cycles_samples": cycles_samples,
-            "machine": {"renderer": glc.renderer, "version": glc.version}, "repeats": repeats,
+            "cycles_samples": cycles_samples, "scaling": _as_list(sweep.get("scaling", [])),
+            "choose_presets": bool(sweep.get("choose_presets", False)),
+            "machine": machine_description(glc), "date": time.strftime("%Y-%m-%d"), "repeats": repeats,
             "seconds": time.perf_counter() - started, "points": results}

@@ -20,7 +20,7 @@ def varied_axes(points):
     """The settings and light keys whose value differs between points (besides method)."""
     keys = [k for k in points[0]["settings"] if k != "method"]
     varied = [k for k in keys if len({p["settings"][k] for p in points}) > 1]
-    varied += [k for k in ("lights", "light_kind") if len({p.get(k) for p in points}) > 1]
+    varied += [k for k in ("preset", "lights", "light_kind") if len({p.get(k) for p in points}) > 1]
     return varied
 
 
@@ -43,12 +43,80 @@ def pareto_front(points):
     return front
 
 
+GRID_KEYS = ("lpv_resolution", "propagation_iterations")
+LIGHT_SIDE_KEYS = ("method", "rsm_resolution", "vpls_per_light")
+
+
+def _geometric_mean(values):
+    return float(np.exp(np.mean(np.log(values))))
+
+
+def choose_presets(report):
+    """Fast, balanced and accurate settings from a sweep that crosses the grid with the
+    light side on several scenes, every point compared with Cycles.
+
+    Against Cycles the grid and the steps decide the error (docs/accuracy.md: the LPV
+    loses most), so all three presets share the grid whose worst scene is nearest its own
+    best: per grid, each scene's geometric-mean ratio of Cycles relMSE to the scene's
+    best, the largest of those, the smallest over grids. The light side (method, RSM,
+    VPLs) is measured against the CM-LPV reference of that grid: its Pareto front on the
+    mean frame time over scenes and the geometric-mean relMSE gives fast (its fastest
+    point), accurate (its most accurate) and balanced (the point with the least product
+    of time and error, each over the front's best)."""
+    points = [p for p in report["points"] if p.get("errors_vs_cycles", {}).get("relative_mse")]
+    scenes = sorted({p["scene"] for p in points})
+    best = {scene: min(p["errors_vs_cycles"]["relative_mse"] for p in points if p["scene"] == scene)
+            for scene in scenes}
+    ratios = defaultdict(lambda: defaultdict(list))
+    for p in points:
+        ratios[tuple(p["settings"][k] for k in GRID_KEYS)][p["scene"]].append(
+            p["errors_vs_cycles"]["relative_mse"] / best[p["scene"]])
+    worst = {grid: max(_geometric_mean(by_scene[s]) for s in scenes)
+             for grid, by_scene in ratios.items() if set(by_scene) == set(scenes)}
+    grid = min(worst, key=worst.get)
+    combos = defaultdict(dict)
+    for p in points:
+        if tuple(p["settings"][k] for k in GRID_KEYS) == grid:
+            combos[tuple(p["settings"][k] for k in LIGHT_SIDE_KEYS)][p["scene"]] = p
+    candidates = []
+    for combo, by_scene in combos.items():
+        if set(by_scene) != set(scenes):
+            continue
+        group = [by_scene[s] for s in scenes]
+        candidates.append({
+            "settings": {**dict(zip(LIGHT_SIDE_KEYS, combo)), **dict(zip(GRID_KEYS, grid))},
+            "frame_ms": float(np.mean([p["timings_ms"]["total_ms"] for p in group])),
+            "relative_mse_vs_cm": _geometric_mean([p["errors_vs_cm"]["relative_mse"] for p in group]),
+            "relative_mse_vs_cycles": _geometric_mean([p["errors_vs_cycles"]["relative_mse"] for p in group]),
+            "worst_grid_ratio": worst[grid]})
+    front, lowest = [], float("inf")
+    for candidate in sorted(candidates, key=lambda c: (c["frame_ms"], c["relative_mse_vs_cm"])):
+        if candidate["relative_mse_vs_cm"] < lowest:
+            front.append(candidate)
+            lowest = candidate["relative_mse_vs_cm"]
+    fastest, most_accurate = front[0]["frame_ms"], front[-1]["relative_mse_vs_cm"]
+    balanced = min(front, key=lambda c: c["frame_ms"] / fastest * c["relative_mse_vs_cm"] / most_accurate)
+    return {"fast": front[0], "balanced": balanced, "accurate": front[-1]}
+
+
+def presets_table(chosen):
+    """Markdown rows of choose_presets' result."""
+    lines = ["| preset | method | RSM | VPLs | grid | steps | mean frame ms | relMSE vs CM-LPV | relMSE vs Cycles |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for name, c in chosen.items():
+        s = c["settings"]
+        lines.append(f"| {name} | {s['method'].upper()} | {s['rsm_resolution']}² | {s['vpls_per_light']} | "
+                     f"{s['lpv_resolution']}³ | {s['propagation_iterations']} | {c['frame_ms']:.2f} | "
+                     f"{c['relative_mse_vs_cm']:.3g} | {c['relative_mse_vs_cycles']:.3g} |")
+    return lines
+
+
 def markdown_report(report, command=None):
     """The whole report as Markdown: machine, command, then one table per scene."""
     points = report["points"]
     varied = varied_axes(points)
     lines = [f"Sweep `{report['sweep']}`: {report['description']}", "",
-             f"Machine: {report['machine']['renderer']}, OpenGL {report['machine']['version']}; "
+             f"Machine: {machine_line(report['machine'])}; "
              f"median of {report['repeats']} frames with every stage redone (warm-up excluded), "
              f"spread min-max, no image read back; errors of the indirect image against the CM-LPV reference "
              f"(cube map 2048², 65,536 VPLs, the same grid and steps)"
@@ -66,7 +134,11 @@ def markdown_report(report, command=None):
         head = ["method", *varied, "frame ms (spread)", *STAGE_LABELS, "GPU MB",
                 *(f"{metric} vs {ERROR_SOURCES[source]}" for source in sources for metric in ("PSNR dB", "relMSE", "FLIP")),
                 "Pareto"]
-        lines += ["", f"### {scene_label(scene)} ({group[0]['triangles']:,} triangles)", "",
+        sizes = {tuple(p.get("error_size", (p["settings"]["width"], p["settings"]["height"]))) for p in group}
+        timed = {(p["settings"]["width"], p["settings"]["height"]) for p in group}
+        measured = (f", errors measured at {' / '.join(f'{w}×{h}' for w, h in sorted(sizes))}, times at "
+                    f"{' / '.join(f'{w}×{h}' for w, h in sorted(timed))}" if sizes != timed else "")
+        lines += ["", f"### {scene_label(scene)} ({group[0]['triangles']:,} triangles{measured})", "",
                   "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
         for p in group:
             t = p["timings_ms"]
@@ -78,7 +150,16 @@ def markdown_report(report, command=None):
             cells += [f"{t['total_ms']:.2f} ({low:.2f}-{high:.2f})", *(f"{t.get(s, 0.0):.2f}" for s in STAGES),
                       f"{p['gpu_bytes'] / 2**20:.0f}", *errors, "yes" if id(p) in front else ""]
             lines.append("| " + " | ".join(cells) + " |")
+    if report.get("choose_presets"):
+        lines += ["", "### Presets from this sweep (gpu/sweep_report.py choose_presets)", "",
+                  *presets_table(choose_presets(report))]
     return "\n".join(lines) + "\n"
+
+
+def machine_line(machine):
+    """The machine of a report in words: GPU (renderer), OpenGL and driver version, CPU."""
+    line = f"{machine['renderer']}, OpenGL {machine['version']}"
+    return line + (f"; CPU {machine['cpu']}" if machine.get("cpu") else "")
 
 
 def _figure():
@@ -138,11 +219,12 @@ def scaling_fit(xs, ys):
 
 def scaling_plots(report, folder):
     """Frame time against triangles, and against light count, per method (and light
-    kind), with the fitted line, where the report varies them. Returns {plot: fits}."""
+    kind), with the fitted line, for the axes the sweep names in `scaling`. Returns
+    {plot: fits}."""
     plt = _figure()
     results = {}
-    for axis, label, key in (("triangles", "triangles", lambda p: p["triangles"]),
-                             ("lights", "lights", lambda p: p.get("lights", 1))):
+    axes = (("triangles", "triangles", lambda p: p["triangles"]), ("lights", "lights", lambda p: p.get("lights", 1)))
+    for axis, label, key in (a for a in axes if a[0] in report.get("scaling", ())):
         series = defaultdict(list)
         for point in report["points"]:
             series[(point["method"], point.get("light_kind", ""))].append((key(point), point["timings_ms"]["total_ms"]))

@@ -1,5 +1,5 @@
-"""User actions: the comparison with Cycles."""
-from . import compare
+"""User actions: the comparison with Cycles and the settings presets."""
+from . import compare, presets
 
-MODULES = (compare,)
+MODULES = (compare, presets)
 """The modules with register()/unregister(), in registration order."""

@@ -6,7 +6,7 @@ bpy = pytest.importorskip("bpy")
 import lpv_preview  # noqa: E402
 from lpv_preview.addon import engine, ui  # noqa: E402
 from lpv_preview.addon import overlay  # noqa: E402
-from lpv_preview.operators import compare  # noqa: E402
+from lpv_preview.operators import compare, presets  # noqa: E402
 from lpv_preview.addon.properties import display_settings_from_properties, settings_from_properties  # noqa: E402
 from lpv_preview.gpu.settings import ALL_PARAMETERS, DisplaySettings, Settings  # noqa: E402
 
@@ -21,7 +21,7 @@ def registered_state():
     return {"scene property": hasattr(bpy.types.Scene, "lpv_preview"), "engine": engine.LPVPreviewEngine.is_registered,
             "panels": sorted(panels), "shared panels": len(shared) > 0, "handlers": handlers,
             "draw handlers": overlay.handler_count(),
-            "operators": [cls.__name__ for cls in compare.CLASSES if cls.is_registered]}
+            "operators": [cls.__name__ for cls in (*compare.CLASSES, presets.LPV_OT_apply_preset) if cls.is_registered]}
 
 
 def test_register_unregister_three_times_leaves_nothing_behind():
@@ -32,7 +32,8 @@ def test_register_unregister_three_times_leaves_nothing_behind():
         lpv_preview.register()
         during = registered_state()
         assert during["scene property"] and during["engine"] and during["shared panels"]
-        assert during["draw handlers"] == 2 and during["operators"] == ["LPV_OT_compare_with_cycles"]
+        assert during["draw handlers"] == 2 and during["operators"] == ["LPV_OT_compare_with_cycles",
+                                                                                   "LPV_OT_apply_preset"]
         assert len(during["panels"]) == len(ui.CLASSES)
         lpv_preview.unregister()
         assert registered_state() == before

@@ -8,14 +8,15 @@ import numpy as np
 import pytest
 
 from lpv_preview.gpu.errors import LPVError
-from lpv_preview.gpu.sweep import load_sweep, sweep_points, with_lights
+from lpv_preview.gpu.scene import Scene
+from lpv_preview.gpu.sweep import load_sweep, stored_cycles_indirect, sweep_points, with_lights
 from lpv_preview.gpu.sweep_report import pareto_front, scaling_fit
 
 from .synthetic_scenes import room_scene
 
 bpy = pytest.importorskip("bpy")
 
-from lpv_preview.__main__ import main  # noqa: E402
+from lpv_preview.__main__ import build_parser, command_export, main  # noqa: E402
 
 POINT_KEYS = {"scene", "method", "settings", "triangles", "timings_ms", "gpu_bytes", "vpl_count", "errors_vs_cm"}
 
@@ -26,7 +27,8 @@ def test_the_tiny_sweep_writes_a_json_a_plot_and_a_table(tmp_path, capsys, monke
     assert main(["bench", "--sweep", "tiny", "--out", str(out)]) == 0
     report = json.loads((out / "sweep_tiny.json").read_text())
     assert report["schema"] == 1 and report["sweep"] == "tiny" and report["repeats"] == 2
-    assert set(report["machine"]) == {"renderer", "version"} and report["command"].endswith(f"--out {out}")
+    assert set(report["machine"]) == {"renderer", "version", "cpu", "system"} and report["date"]
+    assert report["command"].endswith(f"--out {out}")
     assert [(p["method"], p["settings"]["rsm_resolution"]) for p in report["points"]] == [
         ("cm", 64), ("cm", 128), ("wdpm", 64), ("wdpm", 128)]
     for point in report["points"]:
@@ -50,6 +52,31 @@ def test_the_tiny_sweep_writes_a_json_a_plot_and_a_table(tmp_path, capsys, monke
     (out / "sweep_tiny.md").unlink()
     assert main(["bench", "--report", str(out / "sweep_tiny.json"), "--out", str(out)]) == 0
     assert (out / "sweep_tiny.md").read_text() == table
+
+
+def test_an_export_carries_its_cycles_reference_and_the_sweep_measures_errors_at_its_size(tmp_path, monkeypatch):
+    monkeypatch.setenv("LPV_PREVIEW_CACHE", str(tmp_path / "cycles"))
+    scene = tmp_path / "box.npz"
+    assert main(["export", "cornell", "--lights", "1", "--light-kind", "spot", "--cycles-samples", "4",
+                 "--cycles-width", "24", "--out", str(scene)]) == 0
+    loaded = Scene.load(scene)
+    assert [light.kind for light in loaded.lights] == ["SPOT"]
+    made, wanted = loaded.lights[0], with_lights(Scene.load(scene), 1, "spot").lights[0]
+    for name in ("position", "direction", "power", "spot_size", "spot_blend"):
+        assert getattr(made, name) == pytest.approx(getattr(wanted, name), rel=1e-6, abs=1e-6), name
+    image, samples = stored_cycles_indirect(scene)
+    assert image.shape == (24, 24, 3) and samples == 4 and image.max() > 0
+    assert stored_cycles_indirect(tmp_path / "other.npz") is None
+    sweeps = tmp_path / "sweeps.toml"
+    sweeps.write_text(f'[s]\ncycles_samples = 4\nscenes = ["{scene}"]\nmethods = ["wdpm"]\nrsm_resolution = 64\n'
+                      'vpls_per_light = 128\nlpv_resolution = 8\nwidth = 48\nheight = 48\nrepeats = 1\n')
+    assert main(["bench", "--sweep", "s", "--sweeps", str(sweeps), "--out", str(tmp_path / "out")]) == 0
+    point, = json.loads((tmp_path / "out" / "sweep_s.json").read_text())["points"]
+    assert point["error_size"] == [24, 24] and point["settings"]["width"] == 48 and point["cycles_samples"] == 4
+    assert all(math.isfinite(point[source]["psnr"]) for source in ("errors_vs_cm", "errors_vs_cycles"))
+    assert "errors measured at 24×24, times at 48×48" in (tmp_path / "out" / "sweep_s.md").read_text()
+    with pytest.raises(LPVError, match="--cycles-width needs --cycles-samples"):
+        command_export(build_parser().parse_args(["export", "cornell", "--cycles-width", "24", "--out", str(scene)]))
 
 
 def test_the_sweep_file_is_checked(tmp_path, capsys):

@@ -242,24 +242,32 @@ def load_bench_scene(item):
 
 def sweep_cycles_indirect(name, samples, width, height):
     """A sweep scene's Cycles one-bounce indirect image and its samples: a demo scene's
-    rendered (cached) at the point's size, an .npz export's stored beside it (None if not)."""
+    rendered (cached) `width` pixels across with the scene's own aspect (its camera was
+    extracted at that aspect; the sweep measures errors at the image's size), an .npz
+    export's stored beside it (None if not)."""
     if name.endswith(".npz"):
         from .gpu.sweep import stored_cycles_indirect
         return stored_cycles_indirect(name)
     from .addon.cycles_reference import ReferenceCache, cycles_reference
+    from .addon.extract import render_resolution
     from .demo import build
-    return cycles_reference(build(name), "one_bounce", samples, 0, (width, height), ReferenceCache()).indirect, samples
+    bpy_scene = build(name)
+    scene_width, scene_height = render_resolution(bpy_scene)
+    size = (width, max(1, round(width * scene_height / scene_width)))
+    return cycles_reference(bpy_scene, "one_bounce", samples, 0, size, ReferenceCache()).indirect, samples
 
 
-def write_sweep_outputs(report, out, command=None):
-    """sweep_NAME.json (unless it is the input), .md and the plots, from a sweep report."""
+def write_sweep_outputs(report, out, command=None, write_json=True):
+    """sweep_NAME.json (unless `write_json` is false: the report was read from it), .md
+    and the plots, from a sweep report."""
     import importlib.util
     from .gpu.sweep_report import markdown_report, pareto_plots, scaling_plots
     os.makedirs(out, exist_ok=True)
     name = report["sweep"]
     json_path = os.path.join(out, f"sweep_{name}.json")
-    with open(json_path, "w") as handle:
-        json.dump(report, handle, indent=1, default=float)
+    if write_json:
+        with open(json_path, "w") as handle:
+            json.dump(report, handle, indent=1, default=float)
     if importlib.util.find_spec("matplotlib") is None:  # the GPU machine: plot here with --report
         print("bench: no matplotlib here, so no plots; run `bench --report` on the JSON where it is installed",
               file=sys.stderr)
@@ -271,16 +279,43 @@ def write_sweep_outputs(report, out, command=None):
     return {"json": json_path, "plots": plots + list(fits), "scaling": fits}
 
 
+def read_sweep_report(path):
+    """A sweep's JSON report, or one clear error."""
+    try:
+        with open(path) as handle:
+            return json.load(handle)
+    except (OSError, ValueError) as error:
+        raise LPVError(f"Cannot read the sweep report '{path}' ({error}); give a sweep_NAME.json file.")
+
+
+def write_benchmarks_page(page):
+    """Every sweep report's table and plots beside it again, then the page from them all."""
+    from pathlib import Path
+    from .gpu.benchmarks_page import benchmarks_page
+    reports = sorted((Path(page).parent / "bench").rglob("sweep_*.json"))
+    if not reports:
+        raise LPVError(f"There are no sweep reports under {Path(page).parent / 'bench'}; run `bench --sweep` first.")
+    for path in reports:
+        write_sweep_outputs(read_sweep_report(path), str(path.parent), write_json=False)
+    text = benchmarks_page(page)
+    try:
+        with open(page, "w") as handle:
+            handle.write(text)
+    except OSError as error:
+        raise LPVError(f"Cannot write the benchmarks page '{page}' ({error.strerror}); choose a writable path.")
+    return {"page": page, "reports": [str(path) for path in reports]}
+
+
 def command_bench(args):
     """Table 1 on demo scenes (built with bpy) or exported .npz scenes (no Blender needed),
-    a declared sweep (--sweep), or the outputs of a sweep report again (--report)."""
+    a declared sweep (--sweep), the outputs of a sweep report again (--report), or the
+    benchmarks page from every report (--page)."""
     if args.report:
-        try:
-            with open(args.report) as handle:
-                report = json.load(handle)
-        except (OSError, ValueError) as error:
-            raise LPVError(f"Cannot read the sweep report '{args.report}' ({error}); give a sweep_NAME.json file.")
-        return write_sweep_outputs(report, args.out)
+        report = read_sweep_report(args.report)
+        return write_sweep_outputs(report, args.out, write_json=os.path.abspath(args.out) != os.path.abspath(
+            os.path.dirname(args.report)))
+    if args.page:
+        return write_benchmarks_page(args.page)
     if args.sweep:
         from .gpu.sweep import SWEEPS_FILE, load_sweep, run_sweep
         sweep = load_sweep(args.sweep, args.sweeps or SWEEPS_FILE)
@@ -379,6 +414,8 @@ def build_parser():
     bench.add_argument("--sweep", help="run this sweep of gpu/sweeps.toml (or --sweeps FILE) instead of Table 1")
     bench.add_argument("--sweeps", help="the file of declared sweeps (default: gpu/sweeps.toml)")
     bench.add_argument("--report", help="write the Markdown and plots of this sweep_NAME.json again")
+    bench.add_argument("--page", help="write this benchmarks page (docs/benchmarks.md) from the reports in the "
+                       "folder bench beside it, their tables and plots again too")
     add_setting_flags(bench)
     bench.set_defaults(run=command_bench)
     return parser

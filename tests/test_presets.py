@@ -1,5 +1,8 @@
 """The presets of gpu/settings.py: valid, distinct and ordered, applied by the panel's
 operator, by --preset on the command line (flags given win) and as a sweep axis."""
+import json
+from pathlib import Path
+
 import pytest
 
 from lpv_preview.__main__ import build_parser, settings_from
@@ -7,6 +10,7 @@ from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.settings import (PRESET_PARAMETERS, PRESETS, Settings, describe_preset, matching_preset,
                                       preset_settings)
 from lpv_preview.gpu.sweep import load_sweep, sweep_points
+from lpv_preview.gpu.sweep_report import choose_presets
 
 
 def test_presets_are_valid_distinct_and_ordered_by_cost():
@@ -66,3 +70,12 @@ def test_a_sweep_may_vary_the_preset(tmp_path):
         load_sweep("both", path)
     with pytest.raises(LPVError, match="has preset 'quickest'"):
         load_sweep("bad", path)
+
+
+def test_the_committed_fronts_report_still_chooses_the_presets():
+    """gpu/settings.py PRESETS are what choose_presets picks from docs/bench/sweep_fronts.json."""
+    report = json.loads((Path(__file__).parents[1] / "docs" / "bench" / "sweep_fronts.json").read_text())
+    chosen = choose_presets(report)
+    assert list(chosen) == list(PRESETS)
+    for name, values in PRESETS.items():
+        assert chosen[name]["settings"] == {key: values[key] for key in PRESET_PARAMETERS}, name

@@ -1,0 +1,105 @@
+"""docs/benchmarks.md, made from the JSON reports under docs/bench alone: every figure on
+the page comes from a report, with the machine, its driver and the command that measured
+it. GPU reports lie in docs/bench, llvmpipe ones in docs/bench/llvmpipe; the page keeps
+both, labelled. `python -m lpv_preview bench --page docs/benchmarks.md` writes it again."""
+import json
+import os
+from pathlib import Path
+
+from .bench import markdown_table
+from .sweep_report import choose_presets, machine_line, markdown_report, presets_table
+
+SWEEP_ORDER = ("presets", "presets_cpu", "fronts", "methods", "triangles", "lights", "quick")
+"""The order of the sweeps on the page: what a user chooses by first, then how it scales."""
+
+
+def machine_label(renderer):
+    """'GPU' or 'CPU (llvmpipe)' for a GL renderer string."""
+    return "CPU (llvmpipe)" if "llvmpipe" in renderer.lower() else "GPU"
+
+
+def _demoted(markdown):
+    """A report's headings one level down, to sit under the page's sections."""
+    return "\n".join("#" + line if line.startswith("###") else line for line in markdown.splitlines())
+
+
+def _sweep_section(path, report, page_dir):
+    name = report["sweep"]
+    label = machine_label(report["machine"]["renderer"])
+    relative = os.path.relpath(path, page_dir)
+    folder = Path(path).parent
+    plots = sorted(folder.glob(f"pareto_{name}_*.png")) + sorted(folder.glob(f"scaling_{name}_*.png"))
+    lines = [f"## Sweep `{name}` on the {label}", "",
+             f"Measured {report.get('date', 'before reports were dated')}; report [{relative}]({relative}).", ""]
+    lines += [f"![{plot.stem}]({os.path.relpath(plot, page_dir)})" for plot in plots]
+    if plots:
+        lines.append("")
+    lines.append(_demoted(markdown_report(report, report.get("command"))))
+    return lines
+
+
+def _table1_section(path, report, page_dir):
+    relative = os.path.relpath(path, page_dir)
+    label = machine_label(report["machine"])
+    return [f"## `bench` (Table 1 of the thesis) `{Path(path).stem}` on the {label}", "",
+            f"Report [{relative}]({relative}).", "", f"    {report['command']}", "",
+            markdown_table(report["results"], report["machine"])]
+
+
+def _presets_summary(reports):
+    """The presets chosen from the fronts sweep, and each preset's figures per scene."""
+    lines = []
+    for path, report in reports:
+        if report.get("choose_presets"):
+            lines += [f"Chosen by `choose_presets` (gpu/sweep_report.py) from the `{report['sweep']}` sweep on "
+                      f"{machine_line(report['machine'])} ({report.get('date', '')}); the values live in "
+                      f"gpu/settings.py `PRESETS`. Mean over its scenes:", "", *presets_table(choose_presets(report)),
+                      ""]
+    for path, report in reports:
+        if not any("preset" in point for point in report["points"]):
+            continue
+        first = report["points"][0]["settings"]
+        lines += [f"Each preset on each scene on the {machine_label(report['machine']['renderer'])}, from the "
+                  f"`{report['sweep']}` sweep ({machine_line(report['machine'])}), frames of "
+                  f"{first['width']}×{first['height']}, errors at each scene's reference size:", "",
+                  "| scene | preset | frame ms | indirect PSNR vs Cycles dB | relMSE vs Cycles | FLIP vs Cycles | "
+                  "PSNR vs CM-LPV dB |", "|---|---|---|---|---|---|---|"]
+        for point in report["points"]:
+            cycles, cube = point.get("errors_vs_cycles", {}), point["errors_vs_cm"]
+            cell = lambda errors, key, spec: "—" if errors.get(key) is None else format(errors[key], spec)
+            lines.append(f"| {Path(point['scene']).stem} | {point['preset']} | {point['timings_ms']['total_ms']:.2f} | "
+                         f"{cell(cycles, 'psnr', '.2f')} | {cell(cycles, 'relative_mse', '.3g')} | "
+                         f"{cell(cycles, 'flip', '.3f')} | {cell(cube, 'psnr', '.2f')} |")
+        lines.append("")
+    return lines
+
+
+def benchmarks_page(page_path, reports_dir=None):
+    """The page's Markdown from every JSON report under `reports_dir` (default: the
+    folder `bench` beside the page)."""
+    page_dir = Path(page_path).parent
+    reports_dir = Path(reports_dir) if reports_dir else page_dir / "bench"
+    sweeps, tables = [], []
+    for path in sorted(reports_dir.rglob("*.json")):
+        with open(path) as handle:
+            report = json.load(handle)
+        if "sweep" in report:
+            sweeps.append((path, report))
+        elif "results" in report:
+            tables.append((path, report))
+    rank = lambda item: (SWEEP_ORDER.index(item[1]["sweep"]) if item[1]["sweep"] in SWEEP_ORDER else len(SWEEP_ORDER),
+                         str(item[0]))
+    sweeps.sort(key=rank)
+    lines = ["# Benchmarks", "",
+             "Generated from the JSON reports under docs/bench by `python -m lpv_preview bench --page "
+             "docs/benchmarks.md`; do not edit by hand. Each section names the machine, its driver and the command "
+             "that measured it. GPU figures are timings; llvmpipe figures only compare settings with each other on "
+             "the CPU. Analysis, and timings measured by scripts: docs/performance.md.", "",
+             "Contents: presets; " + "; ".join(f"sweep `{r['sweep']}` ({machine_label(r['machine']['renderer'])})"
+                                               for _, r in sweeps) + "; Table 1.", "",
+             "## Presets", "", *_presets_summary(sweeps)]
+    for path, report in sweeps:
+        lines += _sweep_section(path, report, page_dir) + [""]
+    for path, report in tables:
+        lines += _table1_section(path, report, page_dir) + [""]
+    return "\n".join(lines).rstrip() + "\n"

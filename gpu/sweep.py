@@ -155,9 +155,9 @@ def settle_allocations(glc, scene, settings):
 
     On the H100 (driver 580.159.04) the first pipeline built after a large one was
     released (the CM-LPV reference: 2048² cube atlases, 65,536 VPLs) ran three times
-    slower for its whole life, its G-buffer 12.5 ms by the timer query instead of 2.2 on
-    the Cornell box, warm-up of 0.5 or 2 s or not; a second one built with the same
-    settings did not. This one takes that hit."""
+    slower for its whole life (the Cornell box's G-buffer 12.5 ms by the timer query
+    instead of 2.2, after 0.5 s of warm-up as after 2 s); a second one built with the
+    same settings did not. This one takes that hit."""
     pipeline = Pipeline(settings, glc)
     try:
         pipeline.render(scene, passes=())
@@ -210,7 +210,7 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
         try:
             timings, stats = timed_frames(pipeline, scene, repeats, passes=())
             memory = pipeline.gpu_bytes()
-            if error_settings is not settings:
+            if error_settings != settings:
                 pipeline.release()
                 pipeline = Pipeline(error_settings, glc)
             indirect = pipeline.render(scene, passes=("indirect",)).passes["indirect"]

@@ -9,7 +9,7 @@ from pathlib import Path
 from .bench import markdown_table
 from .sweep_report import choose_presets, machine_line, markdown_report, presets_table
 
-SWEEP_ORDER = ("presets", "presets_cpu", "fronts", "methods", "triangles", "lights", "quick")
+SWEEP_ORDER = ("presets", "presets_cpu", "fronts", "methods", "texels", "triangles", "lights", "quick")
 """The order of the sweeps on the page: what a user chooses by first, then how it scales."""
 
 

@@ -218,9 +218,12 @@ class Scene:
                 lights[f"light{i}_{name}"] = np.asarray(getattr(light, name))
         camera = {} if self.camera is None else {
             "camera_view": self.camera.view, "camera_projection": self.camera.projection}
-        np.savez_compressed(path, triangles=self.triangles, normals=self.normals, albedo=self.albedo,
-                            light_count=len(self.lights), **lights, **camera,
-                            dropped=np.array([self.dropped["non_finite"], self.dropped["zero_area"]]))
+        try:
+            np.savez_compressed(path, triangles=self.triangles, normals=self.normals, albedo=self.albedo,
+                                light_count=len(self.lights), **lights, **camera,
+                                dropped=np.array([self.dropped["non_finite"], self.dropped["zero_area"]]))
+        except OSError as error:
+            raise LPVError(f"Cannot write scene file '{path}' ({error.strerror}); choose a writable path.")
 
     @staticmethod
     def load(path):

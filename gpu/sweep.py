@@ -192,6 +192,9 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
             cycles_key = (point["scene"], settings.width, settings.height)
             if cycles_key not in cycles:
                 cycles[cycles_key] = cycles_indirect(point["scene"], int(cycles_samples), *cycles_key[1:])
+                if cycles[cycles_key] is None:
+                    log(f"sweep {name}: {point['scene']} has no Cycles reference, so no errors against Cycles; "
+                        f"export it with --cycles-samples")
             cycles_reference = cycles[cycles_key]
         error_settings = settings
         if cycles_reference is not None:

@@ -124,6 +124,8 @@ def test_export_npz_round_trip(tmp_path):
     assert loaded.geometry_key() == exported.geometry_key()
     assert loaded.camera.key() == exported.camera.key()
     assert [light.key() for light in loaded.lights] == [light.key() for light in exported.lights]
+    with pytest.raises(LPVError, match="Cannot write scene file .*; choose a writable path."):
+        demo.export_npz("cornell", tmp_path / "missing" / "cornell.npz")
 
 
 def test_unknown_scene_is_a_clear_error():

@@ -15,7 +15,8 @@ import sys
 import time
 
 from .gpu.errors import LPVError
-from .gpu.settings import PARAMETERS, PRESETS, Settings, describe_preset, preset_settings
+from .gpu.scene import LIGHT_KINDS
+from .gpu.settings import PARAMETERS, PRESETS, describe_preset, preset_settings
 
 SCENE_SIZE_FLAGS = ("width", "height")  # taken from the .blend unless given
 
@@ -52,7 +53,7 @@ def settings_from(args, width, height):
     given = {name: getattr(args, name) for name in PARAMETERS if getattr(args, name) is not None}
     given.setdefault("width", width)
     given.setdefault("height", height)
-    return preset_settings(args.preset, **given) if args.preset else Settings(**given)
+    return preset_settings(args.preset, **given)
 
 
 def settings_for_blend(bpy_scene, args):
@@ -91,17 +92,13 @@ def render_bpy_scene(bpy_scene, args, extra_stats):
     """Extract the evaluated scene, render it and write the outputs."""
     import bpy
     from .addon.extract import extract_scene
-    from .gpu.pipeline import Pipeline
+    from .gpu.pipeline import render_once
     start = time.perf_counter()
     depsgraph = bpy.context.evaluated_depsgraph_get()
     settings = settings_for_blend(bpy_scene, args)
     scene = extract_scene(depsgraph, resolution=(settings.width, settings.height))
     extract_ms = (time.perf_counter() - start) * 1000
-    pipeline = Pipeline(settings)
-    try:
-        frame = pipeline.render(scene, passes=passes_for(args))
-    finally:
-        pipeline.release()
+    frame = render_once(scene, settings, passes=passes_for(args))
     return write_outputs(frame, args.out, {**extra_stats, "extract_ms": extract_ms})
 
 
@@ -150,8 +147,6 @@ def command_compare(args):
             bpy.ops.wm.open_mainfile(filepath=os.path.abspath(args.file))
         except RuntimeError as error:
             raise LPVError(f"Blender cannot open '{args.file}' ({str(error).strip()}); check that it is a .blend file.")
-    if args.samples < 1:
-        raise LPVError(f"--samples is {args.samples}; give at least 1 Cycles sample per pixel.")
     methods = [m.strip() for m in args.methods.split(",") if m.strip()]
     cache = None if args.no_cache else ReferenceCache(args.cache)
     steps = comparison_steps(bpy.context.scene, methods, args.samples, settings_for_blend(bpy.context.scene, args),
@@ -252,8 +247,7 @@ def sweep_cycles_indirect(name, samples, width, height):
     from .addon.extract import render_resolution
     from .demo import build
     bpy_scene = build(name)
-    scene_width, scene_height = render_resolution(bpy_scene)
-    size = (width, max(1, round(width * scene_height / scene_width)))
+    size = render_resolution(bpy_scene, width)
     return cycles_reference(bpy_scene, "one_bounce", samples, 0, size, ReferenceCache()).indirect, samples
 
 
@@ -279,31 +273,23 @@ def write_sweep_outputs(report, out, command=None, write_json=True):
     return {"json": json_path, "plots": plots + list(fits), "scaling": fits}
 
 
-def read_sweep_report(path):
-    """A sweep's JSON report, or one clear error."""
-    try:
-        with open(path) as handle:
-            return json.load(handle)
-    except (OSError, ValueError) as error:
-        raise LPVError(f"Cannot read the sweep report '{path}' ({error}); give a sweep_NAME.json file.")
-
-
 def write_benchmarks_page(page):
     """Every sweep report's table and plots beside it again, then the page from them all."""
-    from pathlib import Path
-    from .gpu.benchmarks_page import benchmarks_page
-    reports = sorted((Path(page).parent / "bench").rglob("sweep_*.json"))
-    if not reports:
-        raise LPVError(f"There are no sweep reports under {Path(page).parent / 'bench'}; run `bench --sweep` first.")
-    for path in reports:
-        write_sweep_outputs(read_sweep_report(path), str(path.parent), write_json=False)
-    text = benchmarks_page(page)
+    from .gpu.benchmarks_page import benchmarks_page, read_reports
+    reports = read_reports(page)
+    sweeps = [(path, report) for path, report in reports if "sweep" in report]
+    if not sweeps:
+        raise LPVError(f"There are no sweep reports under {os.path.join(os.path.dirname(page), 'bench')}; run "
+                       f"`bench --sweep` first.")
+    for path, report in sweeps:
+        write_sweep_outputs(report, str(path.parent), write_json=False)
+    text = benchmarks_page(page, reports)
     try:
         with open(page, "w") as handle:
             handle.write(text)
     except OSError as error:
         raise LPVError(f"Cannot write the benchmarks page '{page}' ({error.strerror}); choose a writable path.")
-    return {"page": page, "reports": [str(path) for path in reports]}
+    return {"page": page, "reports": [str(path) for path, _ in sweeps]}
 
 
 def command_bench(args):
@@ -311,7 +297,8 @@ def command_bench(args):
     a declared sweep (--sweep), the outputs of a sweep report again (--report), or the
     benchmarks page from every report (--page)."""
     if args.report:
-        report = read_sweep_report(args.report)
+        from .gpu.sweep_report import read_report
+        report = read_report(args.report)
         return write_sweep_outputs(report, args.out, write_json=os.path.abspath(args.out) != os.path.abspath(
             os.path.dirname(args.report)))
     if args.page:
@@ -384,7 +371,7 @@ def build_parser():
     compare = commands.add_parser("compare", help="measure the methods against Cycles references")
     compare.add_argument("file", help="a .blend file, or a demo scene name (cornell, atrium, city)")
     compare.add_argument("--methods", default="cm,wdpm", help="comma-separated methods (default: cm,wdpm)")
-    compare.add_argument("--samples", type=int, default=256, help="Cycles samples per pixel (default: 256)")
+    compare.add_argument("--samples", type=positive_int, default=256, help="Cycles samples per pixel (default: 256)")
     compare.add_argument("--out", default="out/compare", help="output folder (default: out/compare)")
     compare.add_argument("--cache", help="folder of cached Cycles references (default: ~/.cache/lpv_preview/cycles)")
     compare.add_argument("--no-cache", action="store_true", help="render the references even when cached")
@@ -397,7 +384,7 @@ def build_parser():
     export.add_argument("--triangles", type=int, help="triangle count of the atrium or the city")
     export.add_argument("--out", required=True, help="the .npz file to write")
     export.add_argument("--lights", type=positive_int, help="replace the lights by this many of --light-kind")
-    export.add_argument("--light-kind", choices=("point", "spot", "area", "sun"), default="point")
+    export.add_argument("--light-kind", choices=[kind.lower() for kind in LIGHT_KINDS], default="point")
     export.add_argument("--cycles-samples", type=positive_int,
                         help="also store the Cycles one-bounce indirect image beside it (NAME.cycles.npz) for sweeps")
     export.add_argument("--cycles-width", type=positive_int, help="its width in pixels (default: the scene's)")

@@ -23,11 +23,13 @@ UPSTREAM_IMAGE_SEARCH_DEPTH = 8
 """How many nodes back from a colour socket an Image Texture is still looked for."""
 
 
-def render_resolution(scene):
-    """The final render's size in pixels, as Blender computes it (percentage applied)."""
+def render_resolution(scene, width=None):
+    """The final render's size in pixels, as Blender computes it (percentage applied), or
+    with `width` that many pixels across at the same aspect."""
     render = scene.render
     percent = render.resolution_percentage
-    return (max(1, render.resolution_x * percent // 100), max(1, render.resolution_y * percent // 100))
+    size = (max(1, render.resolution_x * percent // 100), max(1, render.resolution_y * percent // 100))
+    return size if width is None else (width, max(1, round(width * size[1] / size[0])))
 
 
 def extract_scene(depsgraph, resolution=None, view3d=None):

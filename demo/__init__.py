@@ -37,8 +37,7 @@ def export_npz(name, path, lights=None, light_kind="point", cycles_samples=None,
     scene.save(path)
     if cycles_samples:
         from ..addon.cycles_reference import ReferenceCache, cycles_reference
-        width, height = render_resolution(bpy_scene)
-        size = (cycles_width, max(1, round(cycles_width * height / width))) if cycles_width else (width, height)
+        size = render_resolution(bpy_scene, cycles_width)
         reference = cycles_reference(bpy_scene, "one_bounce", cycles_samples, 0, size, ReferenceCache())
         store_cycles_indirect(path, reference.indirect, cycles_samples)
     return scene

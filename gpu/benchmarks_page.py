@@ -2,12 +2,12 @@
 the page comes from a report, with the machine, its driver and the command that measured
 it. GPU reports lie in docs/bench, llvmpipe ones in docs/bench/llvmpipe; the page keeps
 both, labelled. `python -m lpv_preview bench --page docs/benchmarks.md` writes it again."""
-import json
 import os
 from pathlib import Path
 
 from .bench import markdown_table
-from .sweep_report import choose_presets, machine_line, markdown_report, presets_table
+from .sweep_report import (choose_presets, error_cell, machine_line, markdown_report, presets_table, read_report,
+                           scene_label)
 
 SWEEP_ORDER = ("presets", "presets_cpu", "fronts", "methods", "texels", "triangles", "lights", "quick")
 """The order of the sweeps on the page: what a user chooses by first, then how it scales."""
@@ -66,27 +66,25 @@ def _presets_summary(reports):
                   "PSNR vs CM-LPV dB |", "|---|---|---|---|---|---|---|"]
         for point in report["points"]:
             cycles, cube = point.get("errors_vs_cycles", {}), point["errors_vs_cm"]
-            cell = lambda errors, key, spec: "—" if errors.get(key) is None else format(errors[key], spec)
-            lines.append(f"| {Path(point['scene']).stem} | {point['preset']} | {point['timings_ms']['total_ms']:.2f} | "
-                         f"{cell(cycles, 'psnr', '.2f')} | {cell(cycles, 'relative_mse', '.3g')} | "
-                         f"{cell(cycles, 'flip', '.3f')} | {cell(cube, 'psnr', '.2f')} |")
+            lines.append(f"| {scene_label(point['scene'])} | {point['preset']} | {point['timings_ms']['total_ms']:.2f} | "
+                         f"{error_cell(cycles, 'psnr', '.2f')} | {error_cell(cycles, 'relative_mse', '.3g')} | "
+                         f"{error_cell(cycles, 'flip', '.3f')} | {error_cell(cube, 'psnr', '.2f')} |")
         lines.append("")
     return lines
 
 
-def benchmarks_page(page_path, reports_dir=None):
-    """The page's Markdown from every JSON report under `reports_dir` (default: the
-    folder `bench` beside the page)."""
+def read_reports(page_path):
+    """(path, report) of every JSON report in the folder `bench` beside the page."""
+    return [(path, read_report(path)) for path in sorted((Path(page_path).parent / "bench").rglob("*.json"))]
+
+
+def benchmarks_page(page_path, reports=None):
+    """The page's Markdown from `reports` (default: `read_reports(page_path)`): sweep
+    reports and Table 1 reports."""
     page_dir = Path(page_path).parent
-    reports_dir = Path(reports_dir) if reports_dir else page_dir / "bench"
-    sweeps, tables = [], []
-    for path in sorted(reports_dir.rglob("*.json")):
-        with open(path) as handle:
-            report = json.load(handle)
-        if "sweep" in report:
-            sweeps.append((path, report))
-        elif "results" in report:
-            tables.append((path, report))
+    reports = read_reports(page_path) if reports is None else reports
+    sweeps = [(path, report) for path, report in reports if "sweep" in report]
+    tables = [(path, report) for path, report in reports if "results" in report]
     rank = lambda item: (SWEEP_ORDER.index(item[1]["sweep"]) if item[1]["sweep"] in SWEEP_ORDER else len(SWEEP_ORDER),
                          str(item[0]))
     sweeps.sort(key=rank)

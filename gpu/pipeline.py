@@ -28,6 +28,15 @@ AUTO_TESSELLATION_SHARE = 0.10
 AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 
 
+def render_once(scene, settings, glc=None, **render_args):
+    """One frame of `scene` by a pipeline built for it and released after."""
+    pipeline = Pipeline(settings, glc)
+    try:
+        return pipeline.render(scene, **render_args)
+    finally:
+        pipeline.release()
+
+
 @dataclass(frozen=True)
 class MapRecipe:
     """How a method makes a light's map: the projection rendered ("cm" or "dpm"), the

@@ -128,7 +128,10 @@ PRESET_PARAMETERS = ("method", "rsm_resolution", "vpls_per_light", "lpv_resoluti
 
 
 def preset_settings(name, **changes):
-    """Settings of the preset `name`, with `changes` (given flags, the image size) on top."""
+    """Settings of the preset `name` (None: the defaults), with `changes` (given flags,
+    the image size) on top."""
+    if name is None:
+        return Settings(**changes)
     if name not in PRESETS:
         raise LPVError(f"There is no preset '{name}'; choose one of {', '.join(PRESETS)}.")
     return Settings(**{**PRESETS[name], **changes})
@@ -136,9 +139,9 @@ def preset_settings(name, **changes):
 
 def describe_preset(name):
     """A preset's values in a few words, like 'WDPM, RSM 512², 2048 VPLs, 16³, 8 steps'."""
-    values = {**{key: PARAMETERS[key].default for key in PRESET_PARAMETERS}, **PRESETS[name]}
-    return (f"{values['method'].upper()}, RSM {values['rsm_resolution']}², {values['vpls_per_light']} VPLs, "
-            f"{values['lpv_resolution']}³, {values['propagation_iterations']} steps")
+    s = preset_settings(name)
+    return (f"{s.method.upper()}, RSM {s.rsm_resolution}², {s.vpls_per_light} VPLs, {s.lpv_resolution}³, "
+            f"{s.propagation_iterations} steps")
 
 
 def matching_preset(settings):

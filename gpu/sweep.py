@@ -29,16 +29,18 @@ import numpy as np
 from .bench import timed_frames
 from .errors import LPVError
 from .metrics import flip, psnr, relative_mse
-from .pipeline import Pipeline
-from .scene import Light
-from .settings import PARAMETERS, PRESETS, Settings, preset_settings
+from .pipeline import Pipeline, render_once
+from .scene import LIGHT_KINDS as BLENDER_LIGHT_KINDS, Light
+from .settings import PARAMETERS, PRESETS, preset_settings
+from .sweep_report import SCALING_AXES
 
 SWEEPS_FILE = Path(__file__).parent / "sweeps.toml"
 SWEEP_KEYS = {"description", "mode", "scenes", "methods", "preset", "lights", "light_kind", "repeats", "cycles_samples",
               "scaling", "choose_presets"}
-SCALING_AXES = ("triangles", "lights")
+LIGHT_KINDS = {kind.lower(): kind for kind in BLENDER_LIGHT_KINDS}  # a sweep's names -> Blender's
+SWEEP_CHOICES = {"preset": PRESETS, "scaling": SCALING_AXES, "light_kind": LIGHT_KINDS}
+"""The sweep keys whose values come from a fixed set."""
 REFERENCE_CHANGES = {"method": "cm", "rsm_resolution": 2048, "vpls_per_light": 65536}
-LIGHT_KINDS = {"point": "POINT", "spot": "SPOT", "area": "AREA", "sun": "SUN"}
 SCHEMA_VERSION = 1
 
 
@@ -55,15 +57,11 @@ def load_sweep(name, path=SWEEPS_FILE):
                        f"or {', '.join(sorted(SWEEP_KEYS))}.")
     if ("methods" in sweep) == ("preset" in sweep):
         raise LPVError(f"Sweep '{name}' needs either 'methods' or 'preset' (a preset sets the method).")
-    for preset in _as_list(sweep.get("preset", [])):
-        if preset not in PRESETS:
-            raise LPVError(f"Sweep '{name}' has preset '{preset}'; choose from {', '.join(PRESETS)}.")
-    for axis in _as_list(sweep.get("scaling", [])):
-        if axis not in SCALING_AXES:
-            raise LPVError(f"Sweep '{name}' has scaling axis '{axis}'; choose from {', '.join(SCALING_AXES)}.")
-    for kind in _as_list(sweep.get("light_kind", [])):
-        if kind not in LIGHT_KINDS:
-            raise LPVError(f"Sweep '{name}' has light kind '{kind}'; choose from {', '.join(LIGHT_KINDS)}.")
+    for key, choices in SWEEP_CHOICES.items():
+        for value in _as_list(sweep.get(key, [])):
+            if value not in choices:
+                raise LPVError(f"Sweep '{name}' has {key.replace('_', ' ')} '{value}'; choose from "
+                               f"{', '.join(choices)}.")
     return sweep
 
 
@@ -158,11 +156,7 @@ def settle_allocations(glc, scene, settings):
     slower for its whole life (the Cornell box's G-buffer 12.5 ms by the timer query
     instead of 2.2, after 0.5 s of warm-up as after 2 s); a second one built with the
     same settings did not. This one takes that hit."""
-    pipeline = Pipeline(settings, glc)
-    try:
-        pipeline.render(scene, passes=())
-    finally:
-        pipeline.release()
+    render_once(scene, settings, glc, passes=())
 
 
 def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
@@ -183,12 +177,12 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
         if point["scene"] not in scenes:
             scenes = {point["scene"]: load_scene(point["scene"])}  # one scene in memory at a time
         scene = scenes[point["scene"]]
-        if "lights" in point or "light_kind" in point:
+        own_lights = "lights" not in point and "light_kind" not in point
+        if not own_lights:
             scene = with_lights(scene, int(point.get("lights", 1)), point.get("light_kind", "point"))
-        given = {key: value for key, value in point.items() if key in PARAMETERS}
-        settings = preset_settings(point["preset"], **given) if "preset" in point else Settings(**given)
+        settings = preset_settings(point.get("preset"), **{k: v for k, v in point.items() if k in PARAMETERS})
         cycles_reference = None
-        if cycles_samples and cycles_indirect is not None and "lights" not in point and "light_kind" not in point:
+        if cycles_samples and cycles_indirect is not None and own_lights:
             cycles_key = (point["scene"], settings.width, settings.height)
             if cycles_key not in cycles:
                 cycles[cycles_key] = cycles_indirect(point["scene"], int(cycles_samples), *cycles_key[1:])
@@ -203,11 +197,8 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
         reference_key = (point["scene"], point.get("lights"), point.get("light_kind"), settings.lpv_resolution,
                          settings.propagation_iterations, error_settings.width, error_settings.height)
         if reference_key not in references:
-            reference_pipeline = Pipeline(error_settings.with_changes(**REFERENCE_CHANGES), glc)
-            try:
-                references[reference_key] = reference_pipeline.render(scene, passes=("indirect",)).passes["indirect"]
-            finally:
-                reference_pipeline.release()
+            references[reference_key] = render_once(scene, error_settings.with_changes(**REFERENCE_CHANGES), glc,
+                                                    passes=("indirect",)).passes["indirect"]
         settle_allocations(glc, scene, settings)
         pipeline = Pipeline(settings, glc)
         try:

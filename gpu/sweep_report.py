@@ -1,10 +1,14 @@
 """What a sweep's JSON report shows: a Markdown table, Pareto plots of time against error
 per scene, and scaling plots of frame time against triangles and lights with the fitted
 line. Made from the JSON alone, so a sweep run on the GPU machine is reported here."""
+import json
 import os
 from collections import defaultdict
 
 import numpy as np
+
+from .errors import LPVError
+from .settings import PRESET_PARAMETERS
 
 ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
 ERROR_SOURCES = {"errors_vs_cycles": "Cycles one bounce", "errors_vs_cm": "CM-LPV"}
@@ -12,8 +16,34 @@ STAGES = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms", "gbuffer_m
 STAGE_LABELS = ("RSM", "warp", "VPL", "inject", "propagate", "G-buffer", "direct", "indirect")
 
 
+SCALING_AXES = {"triangles": lambda point: point["triangles"], "lights": lambda point: point.get("lights", 1)}
+"""What a sweep's `scaling` may name: the plots of frame time against each, and its x value."""
+
+
+def read_report(path):
+    """A sweep's (or Table 1's) JSON report, or one clear error."""
+    try:
+        with open(path) as handle:
+            return json.load(handle)
+    except (OSError, ValueError) as error:
+        raise LPVError(f"Cannot read the sweep report '{path}' ({error}); give a sweep_NAME.json file.")
+
+
 def scene_label(scene):
     return os.path.splitext(os.path.basename(scene))[0]
+
+
+def points_by_scene(points):
+    """The points grouped by scene, in their order."""
+    groups = defaultdict(list)
+    for point in points:
+        groups[point["scene"]].append(point)
+    return groups
+
+
+def error_cell(errors, key, spec):
+    """One error figure of a table ("—" where there is none)."""
+    return "—" if errors.get(key) is None else format(errors[key], spec)
 
 
 def varied_axes(points):
@@ -30,21 +60,26 @@ def error_source(points):
     return "errors_vs_cycles" if all("errors_vs_cycles" in p for p in points) else "errors_vs_cm"
 
 
-def pareto_front(points):
-    """The points no other point beats in both time and error, fastest first."""
-    source = error_source(points)
-    ranked = sorted((p for p in points if p[source][ERROR_METRIC] is not None),
-                    key=lambda p: (p["timings_ms"]["total_ms"], p[source][ERROR_METRIC]))
+def lowest_error_front(items, time, error):
+    """The items no other beats in both `time` and `error` (functions of an item), fastest
+    first."""
     front, best = [], float("inf")
-    for point in ranked:
-        if point[source][ERROR_METRIC] < best:
-            front.append(point)
-            best = point[source][ERROR_METRIC]
+    for item in sorted(items, key=lambda item: (time(item), error(item))):
+        if error(item) < best:
+            front.append(item)
+            best = error(item)
     return front
 
 
+def pareto_front(points):
+    """The points no other point beats in both frame time and error, fastest first."""
+    source = error_source(points)
+    return lowest_error_front([p for p in points if p[source][ERROR_METRIC] is not None],
+                              lambda p: p["timings_ms"]["total_ms"], lambda p: p[source][ERROR_METRIC])
+
+
 GRID_KEYS = ("lpv_resolution", "propagation_iterations")
-LIGHT_SIDE_KEYS = ("method", "rsm_resolution", "vpls_per_light")
+LIGHT_SIDE_KEYS = tuple(key for key in PRESET_PARAMETERS if key not in GRID_KEYS)
 
 
 def _geometric_mean(values):
@@ -89,11 +124,7 @@ def choose_presets(report):
             "relative_mse_vs_cm": _geometric_mean([p["errors_vs_cm"]["relative_mse"] for p in group]),
             "relative_mse_vs_cycles": _geometric_mean([p["errors_vs_cycles"]["relative_mse"] for p in group]),
             "worst_grid_ratio": worst[grid]})
-    front, lowest = [], float("inf")
-    for candidate in sorted(candidates, key=lambda c: (c["frame_ms"], c["relative_mse_vs_cm"])):
-        if candidate["relative_mse_vs_cm"] < lowest:
-            front.append(candidate)
-            lowest = candidate["relative_mse_vs_cm"]
+    front = lowest_error_front(candidates, lambda c: c["frame_ms"], lambda c: c["relative_mse_vs_cm"])
     fastest, most_accurate = front[0]["frame_ms"], front[-1]["relative_mse_vs_cm"]
     balanced = min(front, key=lambda c: c["frame_ms"] / fastest * c["relative_mse_vs_cm"] / most_accurate)
     return {"fast": front[0], "balanced": balanced, "accurate": front[-1]}
@@ -125,10 +156,7 @@ def markdown_report(report, command=None):
                 if report.get("cycles_samples") else ".")]
     if command:
         lines += ["", f"    {command}"]
-    by_scene = defaultdict(list)
-    for point in points:
-        by_scene[point["scene"]].append(point)
-    for scene, group in by_scene.items():
+    for scene, group in points_by_scene(points).items():
         front = {id(p) for p in pareto_front(group)}
         sources = [source for source in ERROR_SOURCES if any(source in p for p in group)][::-1]
         head = ["method", *varied, "frame ms (spread)", *STAGE_LABELS, "GPU MB",
@@ -145,7 +173,7 @@ def markdown_report(report, command=None):
             values = [str(p["settings"].get(k, p.get(k))) for k in varied]
             cells = [p["method"].upper(), *values]
             low, high = t["total_ms_spread"]
-            errors = ["—" if source not in p or p[source][k] is None else format(p[source][k], f)
+            errors = [error_cell(p.get(source, {}), k, f)
                       for source in sources for k, f in (("psnr", ".2f"), (ERROR_METRIC, ".3g"), ("flip", ".3f"))]
             cells += [f"{t['total_ms']:.2f} ({low:.2f}-{high:.2f})", *(f"{t.get(s, 0.0):.2f}" for s in STAGES),
                       f"{p['gpu_bytes'] / 2**20:.0f}", *errors, "yes" if id(p) in front else ""]
@@ -185,11 +213,8 @@ def pareto_plots(report, folder):
     """One PNG per scene: frame time against the error, one series per method, the
     Pareto front drawn through its points. Returns the files written."""
     plt = _figure()
-    by_scene = defaultdict(list)
-    for point in report["points"]:
-        by_scene[point["scene"]].append(point)
     written = []
-    for scene, group in by_scene.items():
+    for scene, group in points_by_scene(report["points"]).items():
         source = error_source(group)
         figure, axes = plt.subplots(figsize=(6.4, 4.4), dpi=100)
         for method in sorted({p["method"] for p in group}):
@@ -212,7 +237,7 @@ def pareto_plots(report, folder):
 def scaling_fit(xs, ys):
     """Least-squares line ys = intercept + slope · xs, and the exponent of ys ∝ xs^k
     (1 is linear growth)."""
-    slope, intercept = np.polyfit(xs, ys, 1)[0], np.polyfit(xs, ys, 1)[1]
+    slope, intercept = np.polyfit(xs, ys, 1)
     exponent = np.polyfit(np.log(xs), np.log(ys), 1)[0] if min(xs) > 0 and min(ys) > 0 else float("nan")
     return float(intercept), float(slope), float(exponent)
 
@@ -223,8 +248,8 @@ def scaling_plots(report, folder):
     {plot: fits}."""
     plt = _figure()
     results = {}
-    axes = (("triangles", "triangles", lambda p: p["triangles"]), ("lights", "lights", lambda p: p.get("lights", 1)))
-    for axis, label, key in (a for a in axes if a[0] in report.get("scaling", ())):
+    for axis in report.get("scaling", ()):
+        key = SCALING_AXES[axis]
         series = defaultdict(list)
         for point in report["points"]:
             series[(point["method"], point.get("light_kind", ""))].append((key(point), point["timings_ms"]["total_ms"]))
@@ -238,9 +263,9 @@ def scaling_plots(report, folder):
             intercept, slope, exponent = scaling_fit(xs, ys)
             name = f"{method.upper()} {kind}".strip()
             fits[name] = {"intercept_ms": intercept, "slope_ms": slope, "exponent": exponent}
-            axes.scatter(xs, ys, s=18, label=f"{name}: {slope:.3g} ms per {label[:-1]}, exponent {exponent:.2f}")
+            axes.scatter(xs, ys, s=18, label=f"{name}: {slope:.3g} ms per {axis[:-1]}, exponent {exponent:.2f}")
             axes.plot(xs, intercept + slope * xs, linewidth=1)
-        path = _save(plt, figure, axes, (label, "frame ms"), f"{report['sweep']}: {report['machine']['renderer']}",
+        path = _save(plt, figure, axes, (axis, "frame ms"), f"{report['sweep']}: {report['machine']['renderer']}",
                      os.path.join(folder, f"scaling_{report['sweep']}_{axis}.png"), legend_size=7)
         results[path] = fits
     return results

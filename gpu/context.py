@@ -75,6 +75,13 @@ class GLContext:
                 key = ("depth", tuple(resource.size), 1, "f4")
             self._free.setdefault(key, []).append(resource)
 
+    def clear(self, *textures):
+        """Zero colour textures, each through a framebuffer made for it and released."""
+        for texture in textures:
+            framebuffer = self.gl.framebuffer(color_attachments=[texture])
+            framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+            framebuffer.release()
+
     def compute(self, name, **defines):
         """The compute shader `shaders/<name>.comp`, compiled once per set of defines."""
         key = (name, tuple(sorted(defines.items())))

@@ -114,15 +114,10 @@ def warp_status_image(warp):
 def render_debug_passes(glc, targets, camera, light_maps, point_size):
     """Fill the VPL Splats and Warp Status images of `targets` for this frame."""
     gl = glc.gl
-    splats, status = targets.debug_images()
-    for image in (splats, status):
-        cleared = gl.framebuffer(color_attachments=[image])
-        cleared.clear(0.0, 0.0, 0.0, 0.0)
-        cleared.release()
-    framebuffer = gl.framebuffer(color_attachments=[splats], depth_attachment=targets.depth)
+    splats, status, framebuffer = targets.debug_images()
+    glc.clear(splats, status)
     framebuffer.use()
     framebuffer.viewport = (0, 0, *targets.size)
-    framebuffer.depth_mask = False  # test against the G-buffer's depth, never write it
     program = glc.program("vpl_splat", "vpl_splat")
     set_uniforms(program, view_projection=camera.projection @ camera.view,
                  camera_position=tuple(float(v) for v in camera.position), point_size=float(point_size),
@@ -135,7 +130,6 @@ def render_debug_passes(glc, targets, camera, light_maps, point_size):
         points.render(moderngl.POINTS, vertices=maps.vpls.count)
     gl.disable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
     points.release()
-    framebuffer.release()
     program = glc.compute("warp_status_pass")
     bind_gbuffer(targets)
     status.bind_to_image(0, read=True, write=True)

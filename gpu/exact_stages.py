@@ -17,9 +17,7 @@ def gathered_indirect(pipeline, camera, intensity=1.0):
     LPV: (height, width, 3) float32, top row first."""
     glc, targets = pipeline.glc, pipeline.targets
     image = glc.texture(targets.size, 4)
-    cleared = glc.gl.framebuffer(color_attachments=[image])
-    cleared.clear(0.0, 0.0, 0.0, 0.0)
-    cleared.release()
+    glc.clear(image)
     program = glc.compute("vpl_gather_indirect")
     bind_gbuffer(targets)
     image.bind_to_image(0, read=True, write=True)

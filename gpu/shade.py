@@ -29,11 +29,17 @@ class FrameTargets:
         self.direct_framebuffer = gl.framebuffer(color_attachments=[self.direct])
         self.display = None  # the composite as RGBA rows, made on a viewport's first request
         self.vpl_splats = self.warp_status = None  # debug passes (gpu/debug_views.py), made on first use
+        self.splat_framebuffer = None
 
     def debug_images(self):
+        """The VPL Splats and Warp Status images, and the framebuffer the splats are drawn
+        into (tested against the G-buffer's depth, never writing it), made on first use."""
         if self.vpl_splats is None:
             self.vpl_splats, self.warp_status = (self.gl.texture(self.size, 4, dtype="f4") for _ in range(2))
-        return self.vpl_splats, self.warp_status
+            self.splat_framebuffer = self.gl.framebuffer(color_attachments=[self.vpl_splats],
+                                                         depth_attachment=self.depth)
+            self.splat_framebuffer.depth_mask = False
+        return self.vpl_splats, self.warp_status, self.splat_framebuffer
 
     def display_buffer(self):
         if self.display is None:
@@ -63,6 +69,8 @@ class FrameTargets:
     def release(self):
         self.framebuffer.release()
         self.direct_framebuffer.release()
+        if self.splat_framebuffer is not None:
+            self.splat_framebuffer.release()
         for resource in self.resources():
             resource.release()
 

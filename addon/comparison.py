@@ -9,15 +9,13 @@ noise floor is the same figures between two Cycles renders that differ only in t
 from dataclasses import dataclass, field
 
 import bpy
-import numpy as np
 
 from ..gpu.errors import LPVError
 from ..gpu.metrics import error_map, heat_map, image_errors
+from ..gpu.passes import COMPARED_PASS_NAMES as IMAGES
 from ..gpu.settings import METHODS
 from .cycles_reference import REFERENCE_BOUNCES, cycles_reference
 from .extract import extract_scene
-
-IMAGES = ("indirect", "combined")
 
 _last = []  # the last comparison the operator finished, for the panel
 
@@ -190,51 +188,3 @@ def write_report(comparison, folder):
     with open(os.path.join(folder, "comparison.md"), "w") as handle:
         handle.write(markdown_table(comparison))
     return rows
-
-
-@dataclass
-class EqualError:
-    """The Cycles samples and seconds whose error (MSE against a high-sample reference)
-    equals our preview's. `ladder` holds the measured (samples, seconds, MSE) rungs;
-    `samples` comes from the line log MSE = a - b log samples fitted through them, and
-    `seconds` from seconds = c + d samples (Cycles' fixed cost per render and per sample);
-    both are None where one sample of Cycles is already closer than the preview."""
-
-    image: str
-    our_ms: float
-    our_mse: float
-    ladder: list
-    slope: float = 0.0
-    samples: float = None
-    seconds: float = None
-
-    @property
-    def extrapolated(self):
-        return self.samples is not None and self.samples > max(rung[0] for rung in self.ladder)
-
-
-def time_to_equal_error(scene, settings, reference_samples, ladder, kind="full_gi", cache=None):
-    """For our combined and indirect images (`settings`' method, the scene's camera and
-    frame), the Cycles samples and render seconds at which Cycles' MSE against a
-    `reference_samples` reference of `kind` equals ours, from Cycles renders at each of
-    `ladder` samples with another seed than the reference's."""
-    from ..gpu.metrics import mse
-    resolution = (settings.width, settings.height)
-    lpv_scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=resolution)
-    reference = cycles_reference(scene, kind, reference_samples, 0, resolution, cache, lpv_scene)
-    rungs = [cycles_reference(scene, kind, samples, 1, resolution, cache, lpv_scene) for samples in ladder]
-    frame = full_frame(settings, lpv_scene)
-    seconds = [rung.settings["render_seconds"] for rung in rungs]
-    fixed, per_sample = np.polynomial.polynomial.polyfit(ladder, seconds, 1)
-    results = []
-    for image in IMAGES:
-        target = getattr(reference, image)
-        errors = [mse(getattr(rung, image), target) for rung in rungs]
-        ours = mse(frame.passes[image], target)
-        intercept, slope = np.polynomial.polynomial.polyfit(np.log(ladder), np.log(errors), 1)
-        result = EqualError(image, frame.stats["total_ms"], ours, list(zip(ladder, seconds, errors)), -slope)
-        samples = float(np.exp((np.log(ours) - intercept) / slope))
-        if samples >= 1.0:
-            result.samples, result.seconds = samples, float(fixed + per_sample * samples)
-        results.append(result)
-    return results

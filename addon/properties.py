@@ -19,10 +19,24 @@ def redraw_views(properties, context):
             area.tag_redraw()
 
 
+def refresh_render_passes(properties, context):
+    """"Debug passes" changed: every view layer of the scene registers its passes again
+    (the engine's update_render_passes), as the Cycles add-on does for its passes, so
+    the compositor and the EXR see the new set before the next render."""
+    for view_layer in properties.id_data.view_layers:
+        view_layer.update_render_passes()
+    redraw_views(properties, context)
+
+
+UPDATES = {"debug_passes": refresh_render_passes}
+"""Settings whose change needs more than a redraw of the views."""
+
+
 def _property(name, field):
     meta = field.metadata
     label = name.replace("_", " ").capitalize()
-    common = {"name": label, "description": meta["description"], "default": field.default, "update": redraw_views}
+    common = {"name": label, "description": meta["description"], "default": field.default,
+              "update": UPDATES.get(name, redraw_views)}
     if meta["choices"] is not None:
         items = [(choice, choice.upper(), "") for choice in meta["choices"]]
         return bpy.props.EnumProperty(items=items, **common)

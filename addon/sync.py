@@ -1,8 +1,8 @@
 """Keep the viewport's Scene in step with Blender's edits, re-reading only what changed.
 
 A depsgraph update names the data blocks it touched. `changed_parts` sorts them into the
-three parts the pipeline's caches depend on (ARCHITECTURE.md, "What each stage depends
-on"): the camera, the lights, the geometry (triangles and albedo). `SceneSync` then
+three parts the pipeline's caches depend on (docs/architecture.md, "A viewport update:
+what each edit redoes"): the camera, the lights, the geometry (triangles and albedo). `SceneSync` then
 re-extracts just those parts, so a camera move costs no extraction and keeps every
 cached light map and the LPV; the pipeline's content keys decide the rest.
 """

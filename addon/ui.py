@@ -5,7 +5,8 @@ import bpy
 
 from ..gpu.settings import ALL_PARAMETERS, PRESETS, matching_preset
 from .comparison import last_comparison
-from .engine import ENGINE_ID, last_stats
+from .engine import ENGINE_ID
+from .frame_stats import last_stats
 from .properties import settings_from_properties
 
 SETTING_GROUPS = {

@@ -7,7 +7,7 @@ import gpu
 import numpy as np
 from gpu_extras.presets import draw_texture_2d
 
-from .engine import DisplayRows
+from .viewport import DisplayRows
 
 
 class ViewportImage(DisplayRows):

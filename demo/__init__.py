@@ -1,43 +1,63 @@
-"""Built-in demo scenes, built with bpy: `build("cornell")`, `export_npz("city", path)`."""
-import bpy
+"""Built-in demo scenes, built with bpy: `build("cornell")`, `export_npz("city", path)`.
 
-from ..addon.extract import extract_scene, render_resolution
+Each scene is the module of its name here, whose `build()` makes it in the current
+Blender file. Importing this package does not import bpy, so the command line can list
+the scenes where Blender is missing (the GPU machine).
+"""
+import importlib
+
 from ..gpu.errors import LPVError
-from ..gpu.sweep import store_cycles_indirect, with_lights
-from .atrium import build_atrium
-from .builder import replace_lights
-from .city import build_city
-from .cornell import build_cornell_box
 
-SCENES = {"cornell": build_cornell_box, "atrium": build_atrium, "city": build_city}
+SCENES = ("cornell", "atrium", "city")
 
 
 def build(name, **params):
     """Reset Blender to an empty file, build the demo scene `name` and return the bpy scene."""
     if name not in SCENES:
         raise LPVError(f"Unknown demo scene '{name}'; choose one of {', '.join(SCENES)}.")
+    import bpy
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    return SCENES[name](**params)
+    return importlib.import_module(f".{name}", __name__).build(**params)
+
+
+def extracted(name, **params):
+    """The demo scene `name` built and extracted as a gpu Scene."""
+    import bpy
+    from ..addon.extract import extract_scene
+    build(name, **params)
+    return extract_scene(bpy.context.evaluated_depsgraph_get())
+
+
+def one_bounce_indirect(bpy_scene, samples, width=None):
+    """A built scene's Cycles one-bounce indirect image (top row first) at `width` pixels
+    across (None: its own render width) with the scene's own aspect, rendered or taken
+    from the reference cache."""
+    from ..addon.cycles_reference import ReferenceCache, cycles_reference
+    from ..addon.extract import render_resolution
+    size = render_resolution(bpy_scene, width)
+    return cycles_reference(bpy_scene, "one_bounce", samples, 0, size, ReferenceCache()).indirect
 
 
 def export_npz(name, path, lights=None, light_kind="point", cycles_samples=None, cycles_width=None, **params):
-    """Build the demo scene `name`, extract it and save it to `path` for `Scene.load`.
+    """Build the demo scene `name`, extract it and save it to `path` (gpu/scene_file.py).
 
-    With `lights`, its lights are replaced by that many of `light_kind` (gpu/sweep.py
+    With `lights`, its lights are replaced by that many of `light_kind` (gpu/scene_edits.py
     `with_lights`) in Blender too. With `cycles_samples`, its Cycles one-bounce indirect
     image at `cycles_width` pixels across (the scene's aspect) is stored beside it for
-    sweeps on machines without Cycles (gpu/sweep.py `stored_cycles_indirect`).
+    sweeps on machines without Cycles (gpu/scene_file.py `stored_cycles_indirect`).
     Returns the extracted `Scene`.
     """
+    import bpy
+    from ..addon.extract import extract_scene
+    from ..gpu.scene_edits import with_lights
+    from ..gpu.scene_file import save_scene, store_cycles_indirect
+    from .builder import replace_lights
     bpy_scene = build(name, **params)
     scene = extract_scene(bpy.context.evaluated_depsgraph_get())
     if lights:
         replace_lights(bpy_scene, with_lights(scene, lights, light_kind).lights)
         scene = extract_scene(bpy.context.evaluated_depsgraph_get())
-    scene.save(path)
+    save_scene(scene, path)
     if cycles_samples:
-        from ..addon.cycles_reference import ReferenceCache, cycles_reference
-        size = render_resolution(bpy_scene, cycles_width)
-        reference = cycles_reference(bpy_scene, "one_bounce", cycles_samples, 0, size, ReferenceCache())
-        store_cycles_indirect(path, reference.indirect, cycles_samples)
+        store_cycles_indirect(path, one_bounce_indirect(bpy_scene, cycles_samples, cycles_width), cycles_samples)
     return scene

@@ -44,7 +44,7 @@ class Storey:
 STOREYS = (Storey(0.0, 4.0, 0.32, (0.9, 0.3), 6.5), Storey(6.5, 9.6, 0.26, (0.8, 0.25), 12.1))
 
 
-def build_atrium(triangles=250_000, resolution=(640, 360)):
+def build(triangles=250_000, resolution=(640, 360)):
     """Build the atrium into the current scene with about `triangles` triangles (the
     coarsest level has about 4,400) and return the scene."""
     scene = bpy.context.scene

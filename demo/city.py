@@ -27,7 +27,7 @@ CURB = 0.15  # sidewalk height
 PANEL = 3.0  # facade panel size at detail 1, metres
 
 
-def build_city(triangles=130_000, seed=7, resolution=(640, 360)):
+def build(triangles=130_000, seed=7, resolution=(640, 360)):
     """Build the city into the current scene with about `triangles` triangles and return
     the scene."""
     scene = bpy.context.scene

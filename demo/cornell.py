@@ -22,7 +22,7 @@ SHORT_BOX = ([(130, 65), (82, 225), (240, 272), (290, 114)], 165)
 TALL_BOX = ([(423, 247), (265, 296), (314, 456), (472, 406)], 330)
 
 
-def build_cornell_box(subdivisions=8, light_power=60.0, light_height=1.8, resolution=(512, 512)):
+def build(subdivisions=8, light_power=60.0, light_height=1.8, resolution=(512, 512)):
     """Build the Cornell box into the current scene and return the scene.
 
     Each wall is a `subdivisions` x `subdivisions` grid and each box face half that, so

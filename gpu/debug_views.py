@@ -15,8 +15,6 @@ from .context import dispatch, set_uniforms
 from .lpv import LightPropagationVolume
 from .shade import bind_gbuffer, gbuffer_uniforms
 
-DEBUG_PASS_NAMES = ("vpl_splats", "warp_status")
-
 STATUS_COLOURS = np.array([
     (0.0, 0.0, 0.0),     # no warped map sees it / background texel in the map overlay
     (0.10, 0.75, 0.20),  # converged

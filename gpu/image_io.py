@@ -8,7 +8,7 @@ import os
 import numpy as np
 
 from .errors import LPVError
-from .metrics import LUMINANCE_WEIGHTS
+from .colour import LUMINANCE_WEIGHTS
 
 CHANNELS = ("R", "G", "B")
 

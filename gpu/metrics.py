@@ -12,9 +12,8 @@ images; `image_errors` gives every metric of a comparison in one dict.
 """
 import numpy as np
 
+from .colour import LUMINANCE_WEIGHTS
 from .errors import LPVError
-
-LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])  # Rec. 709, linear RGB
 
 SSIM_RADIUS = 5          # 11x11 window
 SSIM_SIGMA = 1.5

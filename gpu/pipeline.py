@@ -1,21 +1,23 @@
 """Runs the stages RSM -> VPL -> LPV -> shade, caching each by what it depends on.
 
-A stage is redone only when its inputs change (ARCHITECTURE.md, "What each stage depends
-on"): a camera move reuses every light's RSM and VPLs and the LPV; a light change redoes
-that light's RSM and VPLs and the LPV; a geometry change redoes everything.
+A stage is redone only when its inputs change (docs/architecture.md, "A viewport update:
+what each edit redoes"): a camera move reuses every light's RSM and VPLs and the LPV; a
+light change redoes that light's RSM and VPLs and the LPV; a geometry change redoes
+everything.
 """
 import math
 import time
 from dataclasses import dataclass
 
 from .context import GLContext, resource_bytes
-from .debug_views import DEBUG_PASS_NAMES, render_debug_passes
+from .debug_views import render_debug_passes
 from .errors import LPVError
 from .lpv import LightPropagationVolume, fit_grid
 from .mesh_buffer import MeshBuffer
+from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import PROJECTION_PARABOLOID, render_rsm
 from .settings import DisplaySettings, Settings
-from .shade import PASS_NAMES, FrameTargets, render_gbuffer, shade_direct, shade_indirect
+from .shade import FrameTargets, render_gbuffer, shade_direct, shade_indirect
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES, warp_paraboloid_map
 

@@ -2,8 +2,8 @@
 
 Everything the GPU stages need, in world space, with Blender's light units already
 turned into radiometric quantities (see `Light`). `addon/extract.py` builds one from a
-depsgraph; `Scene.load` reads one saved by `Scene.save` (for the GPU machine, which has
-no Blender).
+depsgraph; gpu/scene_file.py saves and loads one (for the GPU machine, which has no
+Blender).
 """
 import hashlib
 import math
@@ -208,38 +208,3 @@ class Scene:
             h.update(np.ascontiguousarray(array).tobytes())
         self._geometry_key = h.hexdigest()[:16]
         return self._geometry_key
-
-    def save(self, path):
-        """Write the scene to an .npz file that `Scene.load` reads without Blender."""
-        lights = {}
-        for i, light in enumerate(self.lights):
-            for name in ("kind", "position", "direction", "up", "color", "power", "radius",
-                         "spot_size", "spot_blend", "size", "name"):
-                lights[f"light{i}_{name}"] = np.asarray(getattr(light, name))
-        camera = {} if self.camera is None else {
-            "camera_view": self.camera.view, "camera_projection": self.camera.projection}
-        try:
-            np.savez_compressed(path, triangles=self.triangles, normals=self.normals, albedo=self.albedo,
-                                light_count=len(self.lights), **lights, **camera,
-                                dropped=np.array([self.dropped["non_finite"], self.dropped["zero_area"]]))
-        except OSError as error:
-            raise LPVError(f"Cannot write scene file '{path}' ({error.strerror}); choose a writable path.")
-
-    @staticmethod
-    def load(path):
-        try:
-            data = np.load(path)
-        except (OSError, ValueError) as error:
-            raise LPVError(f"Cannot read scene file '{path}' ({error}); export it again with 'lpv_preview export'.")
-        lights = []
-        for i in range(int(data["light_count"])):
-            get = lambda name: data[f"light{i}_{name}"]
-            lights.append(Light(kind=str(get("kind")), position=get("position"), direction=get("direction"),
-                                up=get("up"), color=get("color"), power=float(get("power")),
-                                radius=float(get("radius")), spot_size=float(get("spot_size")),
-                                spot_blend=float(get("spot_blend")), size=tuple(get("size").tolist()),
-                                name=str(get("name"))))
-        camera = Camera(data["camera_view"], data["camera_projection"]) if "camera_view" in data else None
-        dropped = data["dropped"]
-        return Scene(data["triangles"], data["normals"], data["albedo"], lights, camera,
-                     {"non_finite": int(dropped[0]), "zero_area": int(dropped[1])})

@@ -120,7 +120,7 @@ PRESETS = {
     "accurate": {"method": "wdpm", "rsm_resolution": 1024, "vpls_per_light": 65536, "lpv_resolution": 16,
                  "propagation_iterations": 4},
 }
-"""Named quality levels, each a set of Settings values: what `choose_presets` (gpu/
+"""Named quality levels, each a set of Settings values: what `choose_presets` (bench/
 sweep_report.py) picked from the Pareto fronts of the `fronts` sweep on the H100, the
 method from the `methods` sweep (docs/benchmarks.md, "Presets"). The panel's buttons and
 the command line's --preset apply them; other settings keep their values."""

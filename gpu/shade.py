@@ -4,8 +4,6 @@ import numpy as np
 
 from .context import dispatch, set_uniforms
 
-PASS_NAMES = ("combined", "direct", "indirect")
-
 
 class FrameTargets:
     """The camera's G-buffer and the output images of one resolution.

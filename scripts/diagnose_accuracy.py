@@ -19,7 +19,7 @@ import bpy
 from lpv_preview.addon.cycles_reference import ReferenceCache, cycles_reference
 from lpv_preview.addon.extract import extract_scene
 from lpv_preview.demo import build
-from lpv_preview.gpu.exact_stages import gathered_indirect
+from lpv_preview.bench.exact_stages import gathered_indirect
 from lpv_preview.gpu.metrics import image_errors
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.settings import Settings

@@ -17,21 +17,20 @@ import time
 
 import numpy as np
 
-from lpv_preview.gpu.bench import camera_path
-from lpv_preview.gpu.scene import Scene
 from lpv_preview.gpu.pipeline import Pipeline
+from lpv_preview.gpu.scene_edits import camera_path, with_lights
+from lpv_preview.gpu.scene_file import load_scene
 from lpv_preview.gpu.settings import Settings
-from lpv_preview.gpu.sweep import with_lights
 
 parser = argparse.ArgumentParser(description="whole-frame and camera-only timings of exported scenes")
 parser.add_argument("folder")
 parser.add_argument("names", nargs="+")
 parser.add_argument("--method", default="cm")
-parser.add_argument("--point-light", action="store_true", help="replace the lights by one point light (gpu/sweep.py)")
+parser.add_argument("--point-light", action="store_true", help="replace the lights by one point light (gpu/scene_edits.py)")
 args = parser.parse_args()
 results = {}
 for name in args.names:
-    scene = Scene.load(f"{args.folder}/{name}.npz")
+    scene = load_scene(f"{args.folder}/{name}.npz")
     if args.point_light:
         scene = with_lights(scene, 1, "point")
     size = (1024, 1024) if name == "cornell" else (1920, 1080)

@@ -6,14 +6,28 @@
 For each demo scene: a high-sample Cycles reference of the current camera and frame, Cycles
 at each sample count of the ladder (another seed), our preview at default settings; the
 MSE of each against the reference, and where Cycles' fitted MSE line meets ours
-(addon/comparison.py time_to_equal_error). Prints a Markdown row per scene and image.
+(bench/equal_error.py). Prints a Markdown row per scene and image.
 """
 import argparse
 
-from lpv_preview.addon.comparison import time_to_equal_error
-from lpv_preview.addon.cycles_reference import ReferenceCache
+import bpy
+
+from lpv_preview.addon.comparison import full_frame
+from lpv_preview.addon.cycles_reference import ReferenceCache, cycles_reference
+from lpv_preview.addon.extract import extract_scene
+from lpv_preview.bench.equal_error import time_to_equal_error
 from lpv_preview.demo import build
 from lpv_preview.gpu.settings import Settings
+
+
+def equal_error_of(scene, settings, reference_samples, ladder, kind, cache):
+    """Cycles' reference and rungs of `scene`'s camera and frame, our preview with
+    `settings`, and where their errors meet."""
+    resolution = (settings.width, settings.height)
+    lpv_scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=resolution)
+    reference = cycles_reference(scene, kind, reference_samples, 0, resolution, cache, lpv_scene)
+    rungs = [cycles_reference(scene, kind, samples, 1, resolution, cache, lpv_scene) for samples in ladder]
+    return time_to_equal_error(full_frame(settings, lpv_scene), reference, ladder, rungs)
 
 
 def main():
@@ -34,7 +48,7 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|---|")
     for name in args.scenes:
         scene = build(name)
-        for result in time_to_equal_error(scene, settings, args.reference, ladder, args.kind, cache):
+        for result in equal_error_of(scene, settings, args.reference, ladder, args.kind, cache):
             first, last = result.ladder[0], result.ladder[-1]
             if result.samples is None:
                 samples, seconds, speedup = f"< {ladder[0]}", f"< {first[1]:.2f}", "—"

@@ -16,7 +16,7 @@ import bpy
 
 import lpv_preview
 from lpv_preview import demo
-from lpv_preview.addon.engine import ViewportSession
+from lpv_preview.addon.viewport import ViewportSession
 from lpv_preview.addon.extract import extract_camera
 from lpv_preview.addon.sync import CAMERA, EVERYTHING, GEOMETRY, LIGHTS
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from lpv_preview.gpu.benchmarks_page import benchmarks_page, machine_label
+from lpv_preview.bench.page import benchmarks_page, machine_label
 
 DOCS = Path(__file__).parents[1] / "docs"
 

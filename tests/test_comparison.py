@@ -148,9 +148,9 @@ def test_the_operator_reports_one_error_when_no_method_is_ticked(registered):
 
 
 def test_time_to_equal_error_fits_cycles_error_and_time_against_samples(cornell, tmp_path):
-    from lpv_preview.addon.comparison import time_to_equal_error
+    from lpv_preview.scripts.time_to_equal_error import equal_error_of
     settings = Settings(width=32, height=32, rsm_resolution=64, vpls_per_light=256, lpv_resolution=16, method="wdpm")
-    results = time_to_equal_error(cornell, settings, 64, [1, 4, 16], "one_bounce", ReferenceCache(str(tmp_path)))
+    results = equal_error_of(cornell, settings, 64, [1, 4, 16], "one_bounce", ReferenceCache(str(tmp_path)))
     assert [r.image for r in results] == ["indirect", "combined"]
     for result in results:
         samples = [rung[0] for rung in result.ladder]

@@ -149,7 +149,7 @@ def room_hits(camera, size, half=(2.0, 2.0), height=3.0):
 
 
 def test_the_exact_transfer_matches_the_sum_over_vpls_done_in_numpy(glc, room):
-    from lpv_preview.gpu.exact_stages import gathered_indirect
+    from lpv_preview.bench.exact_stages import gathered_indirect
     size = 24
     pipeline = Pipeline(Settings(width=size, height=size, rsm_resolution=32, vpls_per_light=128, lpv_resolution=8),
                         glc)

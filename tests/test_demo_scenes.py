@@ -8,7 +8,7 @@ from lpv_preview import demo
 from lpv_preview.addon.extract import extract_scene
 from lpv_preview.demo.cornell import GREEN, RED, WHITE
 from lpv_preview.gpu.errors import LPVError
-from lpv_preview.gpu.scene import Scene
+from lpv_preview.gpu.scene_file import load_scene
 
 CORNELL_TRIANGLES = 10 * 8 ** 2 + 16 * 4 ** 2 + 4  # five 8x8 walls; two boxes: 4x4 sides and a top
 
@@ -119,7 +119,7 @@ def test_city_is_deterministic(city):
 def test_export_npz_round_trip(tmp_path):
     path = tmp_path / "cornell.npz"
     exported = demo.export_npz("cornell", path)
-    loaded = Scene.load(path)
+    loaded = load_scene(path)
     assert loaded.triangle_count == CORNELL_TRIANGLES
     assert loaded.geometry_key() == exported.geometry_key()
     assert loaded.camera.key() == exported.camera.key()

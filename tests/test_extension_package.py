@@ -63,7 +63,7 @@ def test_the_zip_bundles_the_wheels_of_every_platform(extension_zip):
                          if tag in wheel and ("macosx" in wheel) == platform.startswith("macos"))
         assert bundled == ["flip_evaluator", "glcontext", "moderngl"], (platform, wheels)
     assert "blender_manifest.toml" in names and "gpu/shaders/warp.comp" in names
-    assert not any(name.startswith(("tests/", ".venv/", ".git/")) for name in names)
+    assert not any(name.startswith(("tests/", ".venv/", ".git/", "bench/", "docs/")) for name in names)
 
 
 def test_the_installed_extension_renders_f12_with_our_passes(extension_zip, tmp_path):

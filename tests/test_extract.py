@@ -14,7 +14,7 @@ from mathutils import Matrix
 
 from lpv_preview.addon.extract import extract_scene, render_resolution
 from lpv_preview.gpu.errors import LPVError
-from lpv_preview.gpu.scene import Scene
+from lpv_preview.gpu.scene_file import load_scene, save_scene
 
 CELL = 10.0  # every test object sits in its own 10 m cell along x
 RED = (0.9, 0.1, 0.05)
@@ -371,8 +371,8 @@ def test_render_resolution_applies_the_percentage():
 def test_save_and_load_round_trip(mixed, tmp_path):
     scene = mixed["viewport"]
     path = tmp_path / "mixed.npz"
-    scene.save(path)
-    loaded = Scene.load(path)
+    save_scene(scene, path)
+    loaded = load_scene(path)
     assert loaded.geometry_key() == scene.geometry_key()
     assert loaded.camera.key() == scene.camera.key()
     assert [light.key() for light in loaded.lights] == [light.key() for light in scene.lights]

@@ -9,8 +9,8 @@ from lpv_preview.__main__ import build_parser, settings_from
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.settings import (PRESET_PARAMETERS, PRESETS, Settings, describe_preset, matching_preset,
                                       preset_settings)
-from lpv_preview.gpu.sweep import load_sweep, sweep_points
-from lpv_preview.gpu.sweep_report import choose_presets
+from lpv_preview.bench.sweep import load_sweep, sweep_points
+from lpv_preview.bench.sweep_report import choose_presets
 
 
 def test_presets_are_valid_distinct_and_ordered_by_cost():

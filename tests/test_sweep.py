@@ -1,16 +1,18 @@
-"""Benchmark sweeps (gpu/sweep.py, gpu/sweep_report.py): the tiny sweep end to end through
+"""Benchmark sweeps (bench/sweep.py, bench/sweep_report.py): the tiny sweep end to end through
 the command line, its JSON's schema, the plot and the Markdown table; the sweep file's
 checks; the light sets and the scaling fit."""
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from lpv_preview.gpu.errors import LPVError
-from lpv_preview.gpu.scene import Scene
-from lpv_preview.gpu.sweep import load_sweep, stored_cycles_indirect, sweep_points, with_lights
-from lpv_preview.gpu.sweep_report import pareto_front, scaling_fit
+from lpv_preview.bench.sweep import load_sweep, sweep_points
+from lpv_preview.bench.sweep_report import pareto_front, scaling_fit
+from lpv_preview.gpu.scene_edits import with_lights
+from lpv_preview.gpu.scene_file import load_scene, stored_cycles_indirect
 
 from .synthetic_scenes import room_scene
 
@@ -18,13 +20,14 @@ bpy = pytest.importorskip("bpy")
 
 from lpv_preview.__main__ import build_parser, command_export, main  # noqa: E402
 
+TEST_SWEEPS = str(Path(__file__).parent / "sweeps.toml")
 POINT_KEYS = {"scene", "method", "settings", "triangles", "timings_ms", "gpu_bytes", "vpl_count", "errors_vs_cm"}
 
 
 def test_the_tiny_sweep_writes_a_json_a_plot_and_a_table(tmp_path, capsys, monkeypatch):
     monkeypatch.setenv("LPV_PREVIEW_CACHE", str(tmp_path / "cycles"))
     out = tmp_path / "sweep"
-    assert main(["bench", "--sweep", "tiny", "--out", str(out)]) == 0
+    assert main(["bench", "--sweep", "tiny", "--sweeps", TEST_SWEEPS, "--out", str(out)]) == 0
     report = json.loads((out / "sweep_tiny.json").read_text())
     assert report["schema"] == 1 and report["sweep"] == "tiny" and report["repeats"] == 2
     assert set(report["machine"]) == {"renderer", "version", "cpu", "system"} and report["date"]
@@ -59,9 +62,9 @@ def test_an_export_carries_its_cycles_reference_and_the_sweep_measures_errors_at
     scene = tmp_path / "box.npz"
     assert main(["export", "cornell", "--lights", "1", "--light-kind", "spot", "--cycles-samples", "4",
                  "--cycles-width", "24", "--out", str(scene)]) == 0
-    loaded = Scene.load(scene)
+    loaded = load_scene(scene)
     assert [light.kind for light in loaded.lights] == ["SPOT"]
-    made, wanted = loaded.lights[0], with_lights(Scene.load(scene), 1, "spot").lights[0]
+    made, wanted = loaded.lights[0], with_lights(load_scene(scene), 1, "spot").lights[0]
     for name in ("position", "direction", "power", "spot_size", "spot_blend"):
         assert getattr(made, name) == pytest.approx(getattr(wanted, name), rel=1e-6, abs=1e-6), name
     image, samples = stored_cycles_indirect(scene)

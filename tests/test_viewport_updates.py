@@ -1,5 +1,5 @@
 """The viewport's update logic: real depsgraph updates, recorded from real edits, decide
-what is extracted again, and the pipeline reruns exactly the stages ARCHITECTURE.md lists."""
+what is extracted again, and the pipeline reruns exactly the stages docs/architecture.md lists."""
 import numpy as np
 import pytest
 
@@ -7,7 +7,7 @@ bpy = pytest.importorskip("bpy")
 
 import lpv_preview  # noqa: E402
 from lpv_preview import demo  # noqa: E402
-from lpv_preview.addon.engine import ViewportSession  # noqa: E402
+from lpv_preview.addon.viewport import ViewportSession  # noqa: E402
 from lpv_preview.addon.extract import extract_camera  # noqa: E402
 from lpv_preview.addon.sync import CAMERA, EVERYTHING, GEOMETRY, LIGHTS, changed_parts, record_updates  # noqa: E402
 

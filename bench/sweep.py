@@ -1,6 +1,6 @@
 """Benchmark sweeps: run time against error for every point of a declared sweep.
 
-A sweep (gpu/sweeps.toml) names scenes, methods and axes of settings. For each point the
+A sweep (bench/sweeps.toml) names scenes, methods and axes of settings. For each point the
 pipeline renders the scene's camera view; `timed_frames` gives the median per-stage and
 frame milliseconds with every stage redone (warm-up excluded, no image read back: what
 the GPU does for a frame) and their spread, and the
@@ -9,36 +9,33 @@ same LPV grid and steps fed by a cube map of 2048² and 65,536 VPLs, so the erro
 the method's light side costs. With `cycles_samples`, points that keep the scene's own
 lights are also compared with its Cycles one-bounce reference, which `cycles_indirect`
 (a callback: bpy lives above this module) supplies; those errors compare grids and steps
-too. An .npz export may carry its Cycles reference beside it (`stored_cycles_indirect`,
-written by `python -m lpv_preview export --cycles-samples`): the GPU machine has no
+too. An .npz export may carry its Cycles reference beside it (gpu/scene_file.py
+`stored_cycles_indirect`, written by `python -m lpv_preview export --cycles-samples`): the GPU machine has no
 Cycles, and a reference of a 1920x1080 image would take the CPU machine an hour, so the
 points of such a scene are timed at their own size and compared, with both references,
 in a render at the stored reference's smaller size. The GPU memory is what the pipeline
 holds. No bpy: this runs on the GPU machine from .npz scene exports.
 """
 import itertools
-import math
 import os
 import platform
 import time
 import tomllib
 from pathlib import Path
 
-import numpy as np
-
-from .bench import timed_frames
-from .errors import LPVError
-from .metrics import flip, psnr, relative_mse
-from .pipeline import Pipeline, render_once
-from .scene import LIGHT_KINDS as BLENDER_LIGHT_KINDS, Light
-from .settings import PARAMETERS, PRESETS, preset_settings
+from ..gpu.context import GLContext
+from ..gpu.errors import LPVError
+from ..gpu.metrics import flip, psnr, relative_mse
+from ..gpu.pipeline import Pipeline, render_once
+from ..gpu.scene_edits import LIGHT_KIND_NAMES, with_lights
+from ..gpu.settings import PARAMETERS, PRESETS, preset_settings
 from .sweep_report import SCALING_AXES
+from .timing import timed_frames
 
 SWEEPS_FILE = Path(__file__).parent / "sweeps.toml"
 SWEEP_KEYS = {"description", "mode", "scenes", "methods", "preset", "lights", "light_kind", "repeats", "cycles_samples",
               "scaling", "choose_presets"}
-LIGHT_KINDS = {kind.lower(): kind for kind in BLENDER_LIGHT_KINDS}  # a sweep's names -> Blender's
-SWEEP_CHOICES = {"preset": PRESETS, "scaling": SCALING_AXES, "light_kind": LIGHT_KINDS}
+SWEEP_CHOICES = {"preset": PRESETS, "scaling": SCALING_AXES, "light_kind": LIGHT_KIND_NAMES}
 """The sweep keys whose values come from a fixed set."""
 REFERENCE_CHANGES = {"method": "cm", "rsm_resolution": 2048, "vpls_per_light": 65536}
 SCHEMA_VERSION = 1
@@ -86,28 +83,6 @@ def sweep_points(sweep):
             for variation in variations]
 
 
-def with_lights(scene, count, kind):
-    """The scene with its lights replaced by `count` lights of `kind` ("point", "spot",
-    "area", "sun") on a square grid a quarter of the height under the top of its bounds,
-    pointing down; their powers add up to the power that gives the floor about 1 W/m²
-    from one light (a sun: 1 W/m² in all)."""
-    low, high = scene.bounds()
-    side = math.ceil(math.sqrt(count))
-    height = 0.75 * (high[2] - low[2])
-    lights = []
-    for i in range(count):
-        u, v = (i % side + 0.5) / side, (i // side + 0.5) / side
-        position = np.array([low[0] + (0.25 + 0.5 * u) * (high[0] - low[0]),
-                             low[1] + (0.25 + 0.5 * v) * (high[1] - low[1]), low[2] + height])
-        blender_kind = LIGHT_KINDS[kind]
-        power = 1.0 / count if blender_kind == "SUN" else 4 * math.pi * max(height, 1e-3) ** 2 / count
-        direction = (0.3 * (u - 0.5), 0.3 * (v - 0.5), -1.0) if blender_kind == "SUN" else (0.0, 0.0, -1.0)
-        lights.append(Light(blender_kind, position, direction, (0, 1, 0), (1, 1, 1), power, spot_size=math.radians(90),
-                            size=(0.5, 0.5), name=f"sweep {kind} {i}"))
-    scene.lights = lights
-    return scene
-
-
 def machine_description(glc):
     """What a report was measured on: the GL renderer, its version (the driver's on
     NVIDIA and Mesa), the CPU and its cores."""
@@ -119,26 +94,6 @@ def machine_description(glc):
         pass
     return {"renderer": glc.renderer, "version": glc.version, "cpu": f"{cpu}, {os.cpu_count()} cores",
             "system": platform.platform()}
-
-
-def cycles_reference_path(scene_path):
-    """Where the Cycles reference of an .npz scene export is stored: NAME.cycles.npz."""
-    return Path(scene_path).with_suffix(".cycles.npz")
-
-
-def store_cycles_indirect(scene_path, indirect, samples):
-    """Keep a Cycles one-bounce indirect image (top row first) beside an .npz export."""
-    np.savez_compressed(cycles_reference_path(scene_path), indirect=np.asarray(indirect, dtype=np.float32),
-                        samples=int(samples))
-
-
-def stored_cycles_indirect(scene_path):
-    """(indirect image, samples) stored beside an .npz export, or None."""
-    path = cycles_reference_path(scene_path)
-    if not path.is_file():
-        return None
-    with np.load(path) as data:
-        return data["indirect"], int(data["samples"])
 
 
 def _indirect_errors(image, reference):
@@ -166,7 +121,6 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
     indirect image (top row first) and its samples, or None where there is none. Where
     the image is smaller than the point's (a reference stored beside an .npz export),
     both errors are measured in a render at the image's size."""
-    from .context import GLContext
     glc = GLContext.shared()
     repeats = int(sweep.get("repeats", 3))
     points = sweep_points(sweep)

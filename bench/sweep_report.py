@@ -1,14 +1,16 @@
 """What a sweep's JSON report shows: a Markdown table, Pareto plots of time against error
 per scene, and scaling plots of frame time against triangles and lights with the fitted
 line. Made from the JSON alone, so a sweep run on the GPU machine is reported here."""
+import importlib.util
 import json
 import os
+import sys
 from collections import defaultdict
 
 import numpy as np
 
-from .errors import LPVError
-from .settings import PRESET_PARAMETERS
+from ..gpu.errors import LPVError
+from ..gpu.settings import PRESET_PARAMETERS
 
 ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
 ERROR_SOURCES = {"errors_vs_cycles": "Cycles one bounce", "errors_vs_cm": "CM-LPV"}
@@ -179,7 +181,7 @@ def markdown_report(report, command=None):
                       f"{p['gpu_bytes'] / 2**20:.0f}", *errors, "yes" if id(p) in front else ""]
             lines.append("| " + " | ".join(cells) + " |")
     if report.get("choose_presets"):
-        lines += ["", "### Presets from this sweep (gpu/sweep_report.py choose_presets)", "",
+        lines += ["", "### Presets from this sweep (bench/sweep_report.py choose_presets)", "",
                   *presets_table(choose_presets(report))]
     return "\n".join(lines) + "\n"
 
@@ -269,3 +271,23 @@ def scaling_plots(report, folder):
                      os.path.join(folder, f"scaling_{report['sweep']}_{axis}.png"), legend_size=7)
         results[path] = fits
     return results
+
+
+def write_sweep_outputs(report, out, command=None, write_json=True):
+    """sweep_NAME.json (unless `write_json` is false: the report was read from it), .md
+    and the plots, from a sweep report, in the folder `out`."""
+    os.makedirs(out, exist_ok=True)
+    name = report["sweep"]
+    json_path = os.path.join(out, f"sweep_{name}.json")
+    if write_json:
+        with open(json_path, "w") as handle:
+            json.dump(report, handle, indent=1, default=float)
+    if importlib.util.find_spec("matplotlib") is None:  # the GPU machine: plot here with --report
+        print("bench: no matplotlib here, so no plots; run `bench --report` on the JSON where it is installed",
+              file=sys.stderr)
+        plots, fits = [], {}
+    else:
+        plots, fits = pareto_plots(report, out), scaling_plots(report, out)
+    with open(os.path.join(out, f"sweep_{name}.md"), "w") as handle:
+        handle.write(markdown_report(report, command or report.get("command")))
+    return {"json": json_path, "plots": plots + list(fits), "scaling": fits}

@@ -5,9 +5,10 @@ both, labelled. `python -m lpv_preview bench --page docs/benchmarks.md` writes i
 import os
 from pathlib import Path
 
-from .bench import markdown_table
+from ..gpu.errors import LPVError
 from .sweep_report import (choose_presets, error_cell, machine_line, markdown_report, presets_table, read_report,
-                           scene_label)
+                           scene_label, write_sweep_outputs)
+from .table1 import markdown_table
 
 SWEEP_ORDER = ("presets", "presets_cpu", "fronts", "methods", "texels", "triangles", "lights", "quick")
 """The order of the sweeps on the page: what a user chooses by first, then how it scales."""
@@ -51,7 +52,7 @@ def _presets_summary(reports):
     lines = []
     for path, report in reports:
         if report.get("choose_presets"):
-            lines += [f"Chosen by `choose_presets` (gpu/sweep_report.py) from the `{report['sweep']}` sweep on "
+            lines += [f"Chosen by `choose_presets` (bench/sweep_report.py) from the `{report['sweep']}` sweep on "
                       f"{machine_line(report['machine'])} ({report.get('date', '')}); the values live in "
                       f"gpu/settings.py `PRESETS`. Mean over its scenes:", "", *presets_table(choose_presets(report)),
                       ""]
@@ -101,3 +102,21 @@ def benchmarks_page(page_path, reports=None):
     for path, report in tables:
         lines += _table1_section(path, report, page_dir) + [""]
     return "\n".join(lines).rstrip() + "\n"
+
+
+def write_benchmarks_page(page):
+    """Every sweep report's table and plots beside it again, then the page from them all."""
+    reports = read_reports(page)
+    sweeps = [(path, report) for path, report in reports if "sweep" in report]
+    if not sweeps:
+        raise LPVError(f"There are no sweep reports under {os.path.join(os.path.dirname(page), 'bench')}; run "
+                       f"`bench --sweep` first.")
+    for path, report in sweeps:
+        write_sweep_outputs(report, str(path.parent), write_json=False)
+    text = benchmarks_page(page, reports)
+    try:
+        with open(page, "w") as handle:
+            handle.write(text)
+    except OSError as error:
+        raise LPVError(f"Cannot write the benchmarks page '{page}' ({error.strerror}); choose a writable path.")
+    return {"page": page, "reports": [str(path) for path, _ in sweeps]}

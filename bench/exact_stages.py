@@ -4,12 +4,13 @@
 VPL's light at every pixel directly: the same VPLs, no grid, no SH, no visibility. With
 the VPL count raised to the RSM's texel count it also stands in for the VPL sampling.
 What is left between it and Cycles' one-bounce reference is the RSM itself and the
-visibility between a VPL and the surfaces it lights.
+visibility between a VPL and the surfaces it lights. Its shader lives with the others
+in gpu/shaders (vpl_gather_indirect.comp), where the GL context loads shaders from.
 """
 import numpy as np
 
-from .context import dispatch, set_uniforms
-from .shade import bind_gbuffer, gbuffer_uniforms
+from ..gpu.context import dispatch, set_uniforms
+from ..gpu.shade import bind_gbuffer, gbuffer_uniforms
 
 
 def gathered_indirect(pipeline, camera, intensity=1.0):

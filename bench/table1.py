@@ -12,54 +12,26 @@ Beside them, the sampling reference: the LPV PSNR of CM against CM with the ligh
 turned 45° about its axis (the same map quality, the VPLs elsewhere). A method near it
 differs from CM about as much as CM's own VPL pattern makes it differ from itself.
 """
-import dataclasses
+import json
 import math
-import statistics
-import time
+import os
 
 import numpy as np
 
-from .mesh_buffer import MeshBuffer
-from .metrics import psnr
-from .pipeline import Pipeline, map_recipe
-from .rsm import PROJECTION_PARABOLOID, render_rsm
-from .scene import Camera, Light
-from .warp import STATUS_NAMES, reference_paraboloid_map, warp_paraboloid_map
+from ..gpu.context import GLContext
+from ..gpu.mesh_buffer import MeshBuffer
+from ..gpu.metrics import psnr
+from ..gpu.pipeline import Pipeline, map_recipe
+from ..gpu.rsm import PROJECTION_PARABOLOID, render_rsm
+from ..gpu.scene_edits import camera_path, turned_about_its_axis, with_point_light
+from ..gpu.settings import METHODS
+from ..gpu.warp import STATUS_NAMES, reference_paraboloid_map, warp_paraboloid_map
+from .timing import THROUGHPUT_RUNS, throughput_ms, timed_frames
+
+TABLE1_METHODS = tuple(method for method in METHODS if method != "auto")
+"""The RSM methods Table 1 measures against CM (`auto` chooses among them per light)."""
 
 STATUS_ITERATIONS = (1, 4, 8, 16)
-
-
-def with_point_light(scene):
-    """The thesis measures one point light. A scene without a point light gets one at the
-    centre of its bounds, a quarter of the height below the top, of a power that gives
-    the bounds' floor about 1 W/m² (the scene's own lights are replaced)."""
-    if any(light.kind == "POINT" for light in scene.lights):
-        scene.lights = [next(light for light in scene.lights if light.kind == "POINT")]
-        return scene
-    low, high = scene.bounds()
-    position = (low + high) / 2
-    position[2] = high[2] - 0.25 * (high[2] - low[2])
-    height = position[2] - low[2]
-    power = 4 * math.pi * max(height, 1e-3) ** 2
-    scene.lights = [Light("POINT", position, (0, 0, -1), (0, 1, 0), (1, 1, 1), power, name="bench point light")]
-    return scene
-
-
-def camera_path(camera, frames, degrees=10.0):
-    """The scene camera turned about its own vertical axis from -degrees to +degrees."""
-    cameras = []
-    for angle in np.linspace(-degrees, degrees, frames) if frames > 1 else [0.0]:
-        a = math.radians(angle)
-        turn = np.array([[math.cos(a), 0, math.sin(a), 0], [0, 1, 0, 0], [-math.sin(a), 0, math.cos(a), 0], [0, 0, 0, 1]])
-        cameras.append(Camera(turn @ camera.view, camera.projection))
-    return cameras
-
-
-def turned_about_its_axis(light, degrees=45.0):
-    """The light with its frame (its up vector) turned about its direction."""
-    a, d, up = math.radians(degrees), light.direction, light.up
-    turned = up * math.cos(a) + np.cross(d, up) * math.sin(a) + d * np.dot(d, up) * (1 - math.cos(a))
-    return dataclasses.replace(light, up=turned)
 
 
 def sampling_reference(settings, scene, cameras, reference_images):
@@ -73,57 +45,6 @@ def sampling_reference(settings, scene, cameras, reference_images):
         scene.lights = lights
         turned.release()
     return [psnr(image, reference) for image, reference in zip(images, reference_images)]
-
-
-WARM_UP_FRAMES = 5
-THROUGHPUT_WARM_UP_SECONDS = 0.5  # of work before timing: brings the GPU's clocks up
-
-
-def timed_frames(pipeline, scene, repeats, passes=None):
-    """Median stage and frame milliseconds with every stage redone, after full warm-up
-    frames for at least THROUGHPUT_WARM_UP_SECONDS: the GPU's clocks drop while the CPU
-    measures quality between points (the H100 idles at 345 MHz against 1980 under load).
-    `passes` are read back each frame (None: every pass; () times the GPU work alone)."""
-    kwargs = {} if passes is None else {"passes": passes}
-    warm_up_until = time.perf_counter() + THROUGHPUT_WARM_UP_SECONDS
-    frames = 0
-    while frames < WARM_UP_FRAMES or time.perf_counter() < warm_up_until:
-        pipeline.invalidate()
-        pipeline.render(scene, **kwargs)
-        frames += 1
-    samples = []
-    for _ in range(repeats):
-        pipeline.invalidate()
-        samples.append(pipeline.render(scene, **kwargs).stats)
-    keys = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms", "gbuffer_ms", "direct_ms", "indirect_ms",
-            "total_ms")
-    keys += tuple("gpu_" + key for key in keys[:-1] if any("gpu_" + key in s for s in samples))
-    result = {key: statistics.median(s.get(key, 0.0) for s in samples) for key in keys}
-    result["total_ms_spread"] = [min(s["total_ms"] for s in samples), max(s["total_ms"] for s in samples)]
-    return result, samples[-1]
-
-
-THROUGHPUT_RUNS = 20
-
-
-def throughput_ms(glc, work, runs=THROUGHPUT_RUNS):
-    """Milliseconds per call of `work`, run `runs` times back to back, by the wall clock
-    with the GPU finished before and after. A single call timed alone (even by GPU timer
-    queries) also counts the GPU idling while Python submits. Before timing, `work` runs
-    for THROUGHPUT_WARM_UP_SECONDS: after the CPU-side quality measurements the GPU's
-    clocks are down, and one call does not bring them back (the same DPM render timed
-    4.1 and 8.3 ms in two bench runs with a single warm-up call)."""
-    warm_up_until = time.perf_counter() + THROUGHPUT_WARM_UP_SECONDS
-    while True:
-        work()
-        glc.gl.finish()
-        if time.perf_counter() >= warm_up_until:
-            break
-    start = time.perf_counter()
-    for _ in range(runs):
-        work()
-    glc.gl.finish()
-    return (time.perf_counter() - start) * 1000.0 / runs
 
 
 def map_measurements(glc, scene, settings, method):
@@ -281,3 +202,28 @@ def markdown_table(results, machine):
                 lines.append(f"| {result['scene']} | {method.upper()} | {iterations} | {shares['converged']:.3f} | "
                              f"{shares['approximate']:.3f} | {shares['failed']:.3f} |")
     return "\n".join(lines) + "\n"
+
+
+BUDGETS = ("equal-resolution", "equal-texel-budget")
+"""Table 1 at the same RSM resolution for every method, or at the same texel count."""
+
+
+def run_table1(scenes, settings, methods, frames, repeats, budgets, command, log=print):
+    """Table 1's report over `scenes`, (name, load) pairs whose `load()` gives the Scene."""
+    results = []
+    for name, load in scenes:
+        for budget in budgets:
+            results.append(benchmark_scene(name, load(), settings, methods, frames, repeats, budget))
+            log(f"bench: {name} ({budget}) done")
+    glc = GLContext.shared()
+    return {"machine": f"{glc.renderer}, OpenGL {glc.version}", "command": command, "settings": vars(settings),
+            "results": results}
+
+
+def write_table1(report, out):
+    """table1.json and table1.md in the folder `out`."""
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, "table1.json"), "w") as handle:
+        json.dump(report, handle, indent=1, default=float)
+    with open(os.path.join(out, "table1.md"), "w") as handle:
+        handle.write(f"Command: `{report['command']}`\n\n" + markdown_table(report["results"], report["machine"]))

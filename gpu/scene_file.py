@@ -1,0 +1,69 @@
+"""The .npz scene file: a Scene saved where Blender builds it and loaded where there is no
+Blender (the GPU machine), with the Cycles one-bounce indirect image of its camera stored
+beside it (NAME.cycles.npz) for the sweeps' errors against Cycles.
+"""
+from pathlib import Path
+
+import numpy as np
+
+from .errors import LPVError
+from .scene import Camera, Light, Scene
+
+LIGHT_FIELDS = ("kind", "position", "direction", "up", "color", "power", "radius", "spot_size", "spot_blend", "size",
+                "name")
+
+
+def save_scene(scene, path):
+    """Write `scene` to an .npz file that `load_scene` reads without Blender."""
+    lights = {f"light{i}_{name}": np.asarray(getattr(light, name))
+              for i, light in enumerate(scene.lights) for name in LIGHT_FIELDS}
+    camera = {} if scene.camera is None else {
+        "camera_view": scene.camera.view, "camera_projection": scene.camera.projection}
+    try:
+        np.savez_compressed(path, triangles=scene.triangles, normals=scene.normals, albedo=scene.albedo,
+                            light_count=len(scene.lights), **lights, **camera,
+                            dropped=np.array([scene.dropped["non_finite"], scene.dropped["zero_area"]]))
+    except OSError as error:
+        raise LPVError(f"Cannot write scene file '{path}' ({error.strerror}); choose a writable path.")
+
+
+def load_scene(path):
+    """The Scene of an .npz file written by `save_scene`."""
+    if not Path(path).is_file():
+        raise LPVError(f"There is no scene file '{path}'; make it with `python -m lpv_preview export`.")
+    try:
+        data = np.load(path)
+    except (OSError, ValueError) as error:
+        raise LPVError(f"Cannot read scene file '{path}' ({error}); export it again with 'lpv_preview export'.")
+    lights = []
+    for i in range(int(data["light_count"])):
+        get = lambda name: data[f"light{i}_{name}"]
+        lights.append(Light(kind=str(get("kind")), position=get("position"), direction=get("direction"),
+                            up=get("up"), color=get("color"), power=float(get("power")),
+                            radius=float(get("radius")), spot_size=float(get("spot_size")),
+                            spot_blend=float(get("spot_blend")), size=tuple(get("size").tolist()),
+                            name=str(get("name"))))
+    camera = Camera(data["camera_view"], data["camera_projection"]) if "camera_view" in data else None
+    dropped = data["dropped"]
+    return Scene(data["triangles"], data["normals"], data["albedo"], lights, camera,
+                 {"non_finite": int(dropped[0]), "zero_area": int(dropped[1])})
+
+
+def cycles_reference_path(scene_path):
+    """Where the Cycles reference of an .npz scene file is stored: NAME.cycles.npz."""
+    return Path(scene_path).with_suffix(".cycles.npz")
+
+
+def store_cycles_indirect(scene_path, indirect, samples):
+    """Keep a Cycles one-bounce indirect image (top row first) beside an .npz scene file."""
+    np.savez_compressed(cycles_reference_path(scene_path), indirect=np.asarray(indirect, dtype=np.float32),
+                        samples=int(samples))
+
+
+def stored_cycles_indirect(scene_path):
+    """(indirect image, samples) stored beside an .npz scene file, or None."""
+    path = cycles_reference_path(scene_path)
+    if not path.is_file():
+        return None
+    with np.load(path) as data:
+        return data["indirect"], int(data["samples"])

@@ -5,8 +5,8 @@ pipeline renders the scene's camera view; `timed_frames` gives the median per-st
 frame milliseconds with every stage redone (warm-up excluded, no image read back: what
 the GPU does for a frame) and their spread, and the
 indirect image is compared (PSNR, relative MSE, FLIP) with the CM-LPV reference: the
-same LPV grid and steps fed by a cube map of 2048² and 65,536 VPLs, so the error is what
-the method's light side costs. With `cycles_samples`, points that keep the scene's own
+same LPV grid and steps fed by a cube map of 2048² and 65,536 VPLs (a sweep's `reference`
+may set others), so the error is what the method's light side costs. With `cycles_samples`, points that keep the scene's own
 lights are also compared with its Cycles one-bounce reference, which `cycles_indirect`
 (a callback: bpy lives above this module) supplies; those errors compare grids and steps
 too. An .npz export may carry its Cycles reference beside it (gpu/scene_file.py
@@ -29,15 +29,14 @@ from ..gpu.metrics import flip, psnr, relative_mse
 from ..gpu.pipeline import Pipeline, render_once
 from ..gpu.scene_edits import LIGHT_KIND_NAMES, with_lights
 from ..gpu.settings import PARAMETERS, PRESETS, preset_settings
-from .sweep_report import SCALING_AXES
+from .sweep_report import REFERENCE_CHANGES, SCALING_AXES
 from .timing import timed_frames
 
 SWEEPS_FILE = Path(__file__).parent / "sweeps.toml"
 SWEEP_KEYS = {"description", "mode", "scenes", "methods", "preset", "lights", "light_kind", "repeats", "cycles_samples",
-              "scaling", "choose_presets"}
+              "scaling", "choose_presets", "reference"}
 SWEEP_CHOICES = {"preset": PRESETS, "scaling": SCALING_AXES, "light_kind": LIGHT_KIND_NAMES}
 """The sweep keys whose values come from a fixed set."""
-REFERENCE_CHANGES = {"method": "cm", "rsm_resolution": 2048, "vpls_per_light": 65536}
 SCHEMA_VERSION = 1
 
 
@@ -54,6 +53,10 @@ def load_sweep(name, path=SWEEPS_FILE):
                        f"or {', '.join(sorted(SWEEP_KEYS))}.")
     if ("methods" in sweep) == ("preset" in sweep):
         raise LPVError(f"Sweep '{name}' needs either 'methods' or 'preset' (a preset sets the method).")
+    unknown = set(sweep.get("reference", {})) - set(REFERENCE_CHANGES)
+    if unknown:
+        raise LPVError(f"Sweep '{name}' has reference setting '{sorted(unknown)[0]}'; a reference sets "
+                       f"{', '.join(REFERENCE_CHANGES)}.")
     for key, choices in SWEEP_CHOICES.items():
         for value in _as_list(sweep.get(key, [])):
             if value not in choices:
@@ -123,6 +126,7 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
     both errors are measured in a render at the image's size."""
     glc = GLContext.shared()
     repeats = int(sweep.get("repeats", 3))
+    reference_changes = {**REFERENCE_CHANGES, **sweep.get("reference", {})}
     points = sweep_points(sweep)
     scenes, references, cycles, results = {}, {}, {}, []
     cycles_samples = sweep.get("cycles_samples")
@@ -151,7 +155,7 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
         reference_key = (point["scene"], point.get("lights"), point.get("light_kind"), settings.lpv_resolution,
                          settings.propagation_iterations, error_settings.width, error_settings.height)
         if reference_key not in references:
-            references[reference_key] = render_once(scene, error_settings.with_changes(**REFERENCE_CHANGES), glc,
+            references[reference_key] = render_once(scene, error_settings.with_changes(**reference_changes), glc,
                                                     passes=("indirect",)).passes["indirect"]
         settle_allocations(glc, scene, settings)
         pipeline = Pipeline(settings, glc)
@@ -177,5 +181,6 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
     return {"schema": SCHEMA_VERSION, "sweep": name, "description": sweep.get("description", ""),
             "cycles_samples": cycles_samples, "scaling": _as_list(sweep.get("scaling", [])),
             "choose_presets": bool(sweep.get("choose_presets", False)),
-            "machine": machine_description(glc), "date": time.strftime("%Y-%m-%d"), "repeats": repeats,
+            "reference": reference_changes, "machine": machine_description(glc), "date": time.strftime("%Y-%m-%d"),
+            "repeats": repeats,
             "seconds": time.perf_counter() - started, "points": results}

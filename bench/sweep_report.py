@@ -18,6 +18,9 @@ STAGES = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms", "gbuffer_m
 STAGE_LABELS = ("RSM", "warp", "VPL", "inject", "propagate", "G-buffer", "direct", "indirect")
 
 
+REFERENCE_CHANGES = {"method": "cm", "rsm_resolution": 2048, "vpls_per_light": 65536}
+"""The CM-LPV reference's settings over a point's (a sweep's `reference` may change them)."""
+
 SCALING_AXES = {"triangles": lambda point: point["triangles"], "lights": lambda point: point.get("lights", 1)}
 """What a sweep's `scaling` may name: the plots of frame time against each, and its x value."""
 
@@ -152,7 +155,7 @@ def markdown_report(report, command=None):
              f"Machine: {machine_line(report['machine'])}; "
              f"median of {report['repeats']} frames with every stage redone (warm-up excluded), "
              f"spread min-max, no image read back; errors of the indirect image against the CM-LPV reference "
-             f"(cube map 2048², 65,536 VPLs, the same grid and steps)"
+             f"({reference_words(report.get('reference', REFERENCE_CHANGES))}, the same grid and steps)"
              + (f" and against Cycles' one bounce at {report['cycles_samples']} samples (points with the scene's own "
                 f"lights); the Pareto front is drawn on the Cycles errors where every point has them."
                 if report.get("cycles_samples") else ".")]
@@ -184,6 +187,11 @@ def markdown_report(report, command=None):
         lines += ["", "### Presets from this sweep (bench/sweep_report.py choose_presets)", "",
                   *presets_table(choose_presets(report))]
     return "\n".join(lines) + "\n"
+
+
+def reference_words(reference):
+    """The CM-LPV reference's settings in words, like 'cube map 2048², 65,536 VPLs'."""
+    return f"cube map {reference['rsm_resolution']}², {reference['vpls_per_light']:,} VPLs"
 
 
 def machine_line(machine):

@@ -141,3 +141,24 @@ def test_debug_passes_are_written_only_when_asked_for(cornell, tmp_path):
     palette = {tuple(np.round(colour, 4)) for colour in STATUS_COLOURS}
     assert {tuple(np.round(colour, 4)) for colour in status.reshape(-1, 3)} <= palette
     assert (status.sum(axis=-1) > 0).mean() > 0.5  # the point light's warped maps see most of the box
+
+
+def test_toggling_debug_passes_refreshes_the_view_layers_passes(cornell):
+    """As the Cycles add-on's pass toggles do: the compositor's Render Layers node shows
+    the debug passes as soon as "Debug passes" is ticked, and drops them when it is not."""
+    tree = bpy.data.node_groups.new("LPV test compositor", "CompositorNodeTree")
+    saved = cornell.compositing_node_group
+    cornell.compositing_node_group = tree
+    try:
+        node = tree.nodes.new("CompositorNodeRLayers")
+        node.scene = cornell
+        shown = lambda: {output.name for output in node.outputs if output.enabled}
+        assert {"Direct", "Indirect"} <= shown() and not {"VPL Splats", "Warp Status"} & shown()
+        cornell.lpv_preview.debug_passes = True
+        assert {"Direct", "Indirect", "VPL Splats", "Warp Status"} <= shown()
+        cornell.lpv_preview.debug_passes = False
+        assert not {"VPL Splats", "Warp Status"} & shown()
+    finally:
+        cornell.lpv_preview.debug_passes = False
+        cornell.compositing_node_group = saved
+        bpy.data.node_groups.remove(tree)

@@ -72,7 +72,8 @@ def test_an_export_carries_its_cycles_reference_and_the_sweep_measures_errors_at
     assert stored_cycles_indirect(tmp_path / "other.npz") is None
     sweeps = tmp_path / "sweeps.toml"
     sweeps.write_text(f'[s]\ncycles_samples = 4\nscenes = ["{scene}"]\nmethods = ["wdpm"]\nrsm_resolution = 64\n'
-                      'vpls_per_light = 128\nlpv_resolution = 8\nwidth = 48\nheight = 48\nrepeats = 1\n')
+                      'vpls_per_light = 128\nlpv_resolution = 8\nwidth = 48\nheight = 48\nrepeats = 1\n'
+                      'reference = { rsm_resolution = 128, vpls_per_light = 1024 }\n')
     assert main(["bench", "--sweep", "s", "--sweeps", str(sweeps), "--out", str(tmp_path / "out")]) == 0
     point, = json.loads((tmp_path / "out" / "sweep_s.json").read_text())["points"]
     assert point["error_size"] == [24, 24] and point["settings"]["width"] == 48 and point["cycles_samples"] == 4
@@ -91,6 +92,9 @@ def test_the_sweep_file_is_checked(tmp_path, capsys):
         load_sweep("typo", bad)
     assert main(["bench", "--sweep", "typo", "--sweeps", str(bad)]) == 2
     assert capsys.readouterr().err.count("\n") == 1
+    bad.write_text('[ref]\nscenes = ["cornell"]\nmethods = ["cm"]\nreference = { width = 8 }\n')
+    with pytest.raises(LPVError, match="reference setting 'width'"):
+        load_sweep("ref", bad)
 
 
 def test_one_at_a_time_varies_each_axis_around_the_first_values(tmp_path):

@@ -102,3 +102,47 @@ def test_no_module_outside_bench_names_it_in_an_import():
     for folder in ("gpu", "addon", "operators"):
         for path in (ROOT / folder).rglob("*.py"):
             assert not pattern.search(path.read_text()), path
+
+
+def module_edges(path):
+    """The modules of ours that the module at `path` imports, at any depth of its code
+    (a lazy import inside a function makes a circle all the same), as repository paths."""
+    relative = path.relative_to(ROOT)
+    package = list(relative.parent.parts)
+    edges = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if not isinstance(node, ast.ImportFrom) or node.level == 0:
+            continue
+        base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
+        target = base + (node.module.split(".") if node.module else [])
+        candidates = [target + [alias.name] for alias in node.names] + [target]
+        for parts in candidates:
+            module = ROOT.joinpath(*parts).with_suffix(".py") if parts else None
+            if module is not None and module.is_file():
+                edges.add(module)
+                break
+    return edges
+
+
+def test_no_modules_import_each_other_in_a_circle():
+    rule = import_rule(RULE_PAGE.read_text())
+    modules = list(checked_modules(rule))
+    graph = {path: module_edges(path) for path in modules}
+    visiting, done, circles = [], set(), []
+
+    def visit(path):
+        if path in done:
+            return
+        if path in visiting:
+            circles.append(" -> ".join(str(p.relative_to(ROOT)) for p in visiting[visiting.index(path):] + [path]))
+            return
+        visiting.append(path)
+        for target in graph.get(path, ()):
+            visit(target)
+        visiting.pop()
+        done.add(path)
+
+    for path in modules:
+        visit(path)
+    assert graph[ROOT / "addon" / "viewport_draw.py"] == {ROOT / "addon" / "viewport.py"}
+    assert not circles, "\n".join(circles)

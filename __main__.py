@@ -115,7 +115,7 @@ def command_demo(args):
     start = time.perf_counter()
     bpy_scene = demo.build(args.scene, **({"triangles": args.triangles} if args.triangles else {}))
     build_ms = (time.perf_counter() - start) * 1000
-    stats = render_to_files(settings_for_blend(bpy_scene, args), pass_names(args), args.out,
+    stats = render_to_files(bpy_scene, settings_for_blend(bpy_scene, args), pass_names(args), args.out,
                             {"scene": args.scene, "build_ms": build_ms})
     stats["command_ms"] = (time.perf_counter() - start) * 1000
     return stats
@@ -130,7 +130,7 @@ def command_render(args):
     bpy_scene = open_blend(args.file)
     settings, file = settings_for_blend(bpy_scene, args), os.path.abspath(args.file)
     if frames is None:
-        stats = render_to_files(settings, pass_names(args), args.out, {"file": file})
+        stats = render_to_files(bpy_scene, settings, pass_names(args), args.out, {"file": file})
     else:
         stats = {"file": file, **render_animation(bpy_scene, frames, settings, pass_names(args), args.out,
                                                   args.overwrite)}

@@ -11,7 +11,7 @@ import bpy
 from ..gpu.errors import LPVError
 from ..gpu.image_io import write_exr, write_png
 from ..gpu.pipeline import Pipeline, render_once
-from .extract import extract_scene
+from .render_scene import scene_to_render
 
 
 def open_blend(path):
@@ -36,11 +36,11 @@ def write_outputs(frame, out_dir, extra_stats):
     return stats
 
 
-def render_to_files(settings, passes, out_dir, extra_stats):
-    """Extract the current scene, render its `passes` with `settings` and write them to
+def render_to_files(bpy_scene, settings, passes, out_dir, extra_stats):
+    """Render `passes` of what F12 shows of `bpy_scene` with `settings` and write them to
     `out_dir`; returns the statistics written."""
     start = time.perf_counter()
-    scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=(settings.width, settings.height))
+    scene = scene_to_render(bpy_scene, (settings.width, settings.height))
     extract_ms = (time.perf_counter() - start) * 1000
     frame = render_once(scene, settings, passes=passes)
     return write_outputs(frame, out_dir, {**extra_stats, "extract_ms": extract_ms})
@@ -64,7 +64,7 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
         for done, frame in enumerate(todo):
             started = time.perf_counter()
             bpy_scene.frame_set(frame)
-            scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=(settings.width, settings.height))
+            scene = scene_to_render(bpy_scene, (settings.width, settings.height))
             result = pipeline.render(scene, passes=passes)
             partial = frame_path(out_dir, frame) + ".partial.exr"
             write_exr(partial, result.passes)

@@ -8,14 +8,12 @@ noise floor is the same figures between two Cycles renders that differ only in t
 """
 from dataclasses import dataclass, field
 
-import bpy
-
 from ..gpu.errors import LPVError
 from ..gpu.metrics import error_map, heat_map, image_errors
 from ..gpu.passes import COMPARED_PASS_NAMES as IMAGES
 from ..gpu.settings import METHODS
 from .cycles_reference import REFERENCE_BOUNCES, cycles_reference
-from .extract import extract_scene
+from .render_scene import scene_to_render
 
 _last = []  # the last comparison the operator finished, for the panel
 
@@ -105,7 +103,7 @@ def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(
     comparison = Comparison(samples=samples, resolution=resolution)
     steps = len(kinds) * (2 if noise_floor else 1) + len(methods)
     done = 0
-    lpv_scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=resolution)
+    lpv_scene = scene_to_render(scene, resolution)
     for kind in kinds:
         yield done / steps, f"Cycles {kind.replace('_', ' ')} reference, {samples} samples"
         comparison.references[kind] = cycles_reference(scene, kind, samples, 0, resolution, cache, lpv_scene)

@@ -28,6 +28,7 @@ import addon_utils  # on the path only once bpy is imported
 
 from ..gpu.errors import LPVError
 from ..gpu.image_io import read_exr_channels
+from .render_scene import scene_to_render, view_layer_to_render
 
 ColourPass = namedtuple("ColourPass", "view_layer_flag exr_layer")
 
@@ -130,7 +131,7 @@ def render_cycles_passes(scene, passes=("Combined", "DiffDir", "DiffCol"), sampl
     `describe_reference_settings`. The scene's settings are all given back afterwards.
     """
     _enable_cycles()
-    view_layer = _view_layer_to_render(scene)
+    view_layer = view_layer_to_render(scene)
     wanted_layers = {name: _PASS_BY_NAME[name].exr_layer if name in _PASS_BY_NAME else name for name in passes}
     with _temporary_folder() as folder, temporary_render_settings(scene, view_layer):
         exr_path = os.path.join(folder, "cycles_reference.exr")
@@ -157,13 +158,6 @@ def describe_reference_settings(settings):
 def _enable_cycles():
     if not addon_utils.check("cycles")[1] and addon_utils.enable("cycles", default_set=True) is None:
         raise LPVError("The Cycles add-on could not be enabled; enable it in Preferences > Add-ons.")
-
-
-def _view_layer_to_render(scene):
-    """The view layer the user is looking at, when `scene` is the current one."""
-    if bpy.context.scene == scene and bpy.context.view_layer is not None:
-        return bpy.context.view_layer
-    return scene.view_layers[0]
 
 
 @contextmanager
@@ -375,10 +369,10 @@ def cycles_reference(scene, kind, samples, seed=0, resolution=None, cache=None, 
     `content` is the scene extracted at that resolution, when the caller has it already."""
     if kind not in REFERENCE_BOUNCES:
         raise LPVError(f"Unknown Cycles reference '{kind}'; choose one of {', '.join(REFERENCE_BOUNCES)}.")
-    from .extract import extract_scene, render_resolution
+    from .extract import render_resolution
     resolution = tuple(resolution or render_resolution(scene))
     if content is None:
-        content = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=resolution)
+        content = scene_to_render(scene, resolution)
     key = reference_key(content, scene.world, kind, samples, seed, resolution)
     if cache is not None:
         cached = cache.load(key)

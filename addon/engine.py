@@ -30,7 +30,10 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         self.region = None  # the 3D view region whose overlays this engine's session feeds
 
     def __del__(self):
-        session = getattr(self, "session", None)
+        try:
+            session = self.session
+        except (AttributeError, ReferenceError):  # never initialised, or its class unregistered since
+            return
         if session is not None:
             overlay.show(self.region, None)
             session.release()

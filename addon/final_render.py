@@ -3,6 +3,8 @@ written into the RenderResult as Combined and our passes (gpu/passes.py), so the
 the compositor and multi-layer EXRs. Blender 5.0 writes a multi-layer EXR as one part
 per pass: a reader must walk every part.
 """
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..gpu.errors import LPVError
@@ -11,6 +13,32 @@ from ..gpu.pipeline import render_once
 from . import frame_stats
 from .extract import extract_scene, render_resolution
 from .properties import display_settings_from_properties, settings_from_properties
+
+
+@dataclass
+class ExtractionRequest:
+    """A render asked for its Scene only (render_scene.py): the camera's resolution in,
+    the extracted Scene or the error out."""
+
+    resolution: tuple = None
+    scene: object = None
+    error: LPVError = None
+
+
+pending_extractions = []
+"""The ExtractionRequests waiting for the render Blender is starting."""
+
+
+def take_extraction(depsgraph):
+    """Fulfil the newest ExtractionRequest from `depsgraph`; False when none is waiting."""
+    if not pending_extractions:
+        return False
+    request = pending_extractions[-1]
+    try:
+        request.scene = extract_scene(depsgraph, resolution=request.resolution)
+    except LPVError as error:
+        request.error = error
+    return True
 
 
 def result_pixels(image, alpha=None):
@@ -25,12 +53,15 @@ def result_pixels(image, alpha=None):
 def scene_passes(scene):
     """The render passes of `scene` (None: a view layer without one): ours, and the debug
     ones when its "Debug passes" is on."""
-    debug = scene is not None and display_settings_from_properties(scene.lpv_preview).debug_passes
-    return render_passes(debug)
+    properties = getattr(scene, "lpv_preview", None)  # None: only the engine is registered (render_scene.py)
+    return render_passes(properties is not None and display_settings_from_properties(properties).debug_passes)
 
 
 def render_final(engine, depsgraph):
-    """Render `depsgraph`'s scene from its camera into `engine`'s RenderResult."""
+    """Render `depsgraph`'s scene from its camera into `engine`'s RenderResult, or hand
+    the extracted Scene to a waiting ExtractionRequest."""
+    if take_extraction(depsgraph):
+        return
     scene = depsgraph.scene_eval
     width, height = render_resolution(scene)
     engine.update_stats("", "LPV Preview: reading the scene")

@@ -22,10 +22,8 @@ def build(name, **params):
 
 def extracted(name, **params):
     """The demo scene `name` built and extracted as a gpu Scene."""
-    import bpy
-    from ..addon.extract import extract_scene
-    build(name, **params)
-    return extract_scene(bpy.context.evaluated_depsgraph_get())
+    from ..addon.render_scene import scene_to_render
+    return scene_to_render(build(name, **params))
 
 
 def one_bounce_indirect(bpy_scene, samples, width=None):
@@ -47,16 +45,15 @@ def export_npz(name, path, lights=None, light_kind="point", cycles_samples=None,
     sweeps on machines without Cycles (gpu/scene_file.py `stored_cycles_indirect`).
     Returns the extracted `Scene`.
     """
-    import bpy
-    from ..addon.extract import extract_scene
+    from ..addon.render_scene import scene_to_render
     from ..gpu.scene_edits import with_lights
     from ..gpu.scene_file import save_scene, store_cycles_indirect
     from .builder import replace_lights
     bpy_scene = build(name, **params)
-    scene = extract_scene(bpy.context.evaluated_depsgraph_get())
+    scene = scene_to_render(bpy_scene)
     if lights:
         replace_lights(bpy_scene, with_lights(scene, lights, light_kind).lights)
-        scene = extract_scene(bpy.context.evaluated_depsgraph_get())
+        scene = scene_to_render(bpy_scene)
     save_scene(scene, path)
     if cycles_samples:
         store_cycles_indirect(path, one_bounce_indirect(bpy_scene, cycles_samples, cycles_width), cycles_samples)

@@ -17,7 +17,7 @@ import argparse
 import bpy
 
 from lpv_preview.addon.cycles_reference import ReferenceCache, cycles_reference
-from lpv_preview.addon.extract import extract_scene
+from lpv_preview.addon.render_scene import scene_to_render
 from lpv_preview.demo import build
 from lpv_preview.bench.exact_stages import gathered_indirect
 from lpv_preview.gpu.metrics import image_errors
@@ -35,7 +35,7 @@ def row(label, image, reference):
 
 
 def method_rows(scene_label, settings, reference):
-    scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=(settings.width, settings.height))
+    scene = scene_to_render(bpy.context.scene, (settings.width, settings.height))
     for vpls in (settings.vpls_per_light, ALL_TEXELS):
         pipeline = Pipeline(settings.with_changes(vpls_per_light=vpls))
         try:
@@ -54,7 +54,7 @@ LPV_VARIANTS = ({}, {"propagation_iterations": 16}, {"propagation_iterations": 3
 
 def lpv_alone_rows(settings):
     """The LPV for each of LPV_VARIANTS against the exact transfer from the same VPLs."""
-    scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=(settings.width, settings.height))
+    scene = scene_to_render(bpy.context.scene, (settings.width, settings.height))
     print("\n| LPV settings | PSNR dB against the exact transfer | mean / exact | quarters of rows / exact |\n"
           "|---|---|---|---|")
     for changes in LPV_VARIANTS:

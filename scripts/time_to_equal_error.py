@@ -10,11 +10,9 @@ MSE of each against the reference, and where Cycles' fitted MSE line meets ours
 """
 import argparse
 
-import bpy
-
 from lpv_preview.addon.comparison import full_frame
 from lpv_preview.addon.cycles_reference import ReferenceCache, cycles_reference
-from lpv_preview.addon.extract import extract_scene
+from lpv_preview.addon.render_scene import scene_to_render
 from lpv_preview.bench.equal_error import time_to_equal_error
 from lpv_preview.demo import build
 from lpv_preview.gpu.settings import Settings
@@ -24,7 +22,7 @@ def equal_error_of(scene, settings, reference_samples, ladder, kind, cache):
     """Cycles' reference and rungs of `scene`'s camera and frame, our preview with
     `settings`, and where their errors meet."""
     resolution = (settings.width, settings.height)
-    lpv_scene = extract_scene(bpy.context.evaluated_depsgraph_get(), resolution=resolution)
+    lpv_scene = scene_to_render(scene, resolution)
     reference = cycles_reference(scene, kind, reference_samples, 0, resolution, cache, lpv_scene)
     rungs = [cycles_reference(scene, kind, samples, 1, resolution, cache, lpv_scene) for samples in ladder]
     return time_to_equal_error(full_frame(settings, lpv_scene), reference, ladder, rungs)

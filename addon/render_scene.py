@@ -1,0 +1,63 @@
+"""The Scene that F12 renders, for every entry point that is not F12 itself.
+
+Blender evaluates a scene for rendering only while it renders: object and collection
+render visibility, collections excluded from the view layer, instancers shown or hidden
+in renders make that depsgraph differ from the viewport's that
+`bpy.context.evaluated_depsgraph_get()` returns. So the command line, the comparison and
+the Cycles references' cache keys ask for a render of our own engine, whose `render()`
+extracts the Scene from the depsgraph Blender hands it and renders nothing
+(final_render.py `take_extraction`). The engine is given back as it was, also on error.
+"""
+from contextlib import contextmanager
+
+import bpy
+
+from ..gpu.errors import LPVError
+from .engine import ENGINE_ID, LPVPreviewEngine
+from .final_render import ExtractionRequest, pending_extractions
+
+
+def view_layer_to_render(scene):
+    """The view layer the user is looking at when `scene` is the current one, else its first."""
+    if bpy.context.scene == scene and bpy.context.view_layer is not None:
+        return bpy.context.view_layer
+    return scene.view_layers[0]
+
+
+@contextmanager
+def _our_engine(scene):
+    """`scene` renders with our engine (registered for the while when the add-on is not)."""
+    registered_here = not LPVPreviewEngine.is_registered
+    if registered_here:
+        bpy.utils.register_class(LPVPreviewEngine)
+    saved = scene.render.engine
+    try:
+        scene.render.engine = ENGINE_ID
+        yield
+    finally:
+        scene.render.engine = saved
+        if registered_here:
+            bpy.utils.unregister_class(LPVPreviewEngine)
+
+
+def scene_to_render(scene, resolution=None):
+    """The sanitized gpu Scene that F12 renders of `scene`'s current frame, its camera
+    projected for `resolution` (None: the render resolution)."""
+    request = ExtractionRequest(resolution)
+    with _our_engine(scene):
+        pending_extractions.append(request)
+        try:
+            bpy.ops.render.render(scene=scene.name, layer=view_layer_to_render(scene).name)
+        except RuntimeError as error:  # Blender refused to start: no camera, say
+            if scene.camera is None:
+                raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
+            reason = str(error).splitlines()[0].removeprefix("Error: ").rstrip(".")
+            raise LPVError(f"Blender cannot render scene '{scene.name}': {reason}.") from None
+        finally:
+            pending_extractions.remove(request)
+    if request.error is not None:
+        raise request.error
+    if request.scene is None:
+        raise LPVError(f"Blender did not render scene '{scene.name}'; check that its view layer "
+                       f"'{view_layer_to_render(scene).name}' is enabled for rendering.")
+    return request.scene

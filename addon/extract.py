@@ -6,7 +6,7 @@ one read of that mesh and one batched transform.
 """
 import numpy as np
 
-from ..gpu.scene import Camera, Light, Scene
+from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene
 
 DEFAULT_ALBEDO = (0.8, 0.8, 0.8)
 """Blender's colour for a surface without a material."""
@@ -43,13 +43,14 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     Raises LPVError when nothing with triangles or no light is visible.
     """
     geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
-    return Scene(*geometry, lights, extract_camera(depsgraph, resolution)).sanitize()
+    return Scene(**geometry, lights=lights, camera=extract_camera(depsgraph, resolution)).sanitize()
 
 
 def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
-    """One pass over the depsgraph's instances reading what is asked for: the world-space
-    (triangles, normals, albedo) of everything visible (unsanitized; empty arrays when not
-    asked) and the visible lights (empty when not asked)."""
+    """One pass over the depsgraph's instances reading what is asked for: the Scene's
+    geometry fields (world-space triangles, normals, albedo, visibility) of everything
+    visible (unsanitized; empty arrays when not asked) and the visible lights (empty when
+    not asked)."""
     materials = MaterialAlbedo()
     meshes = {}
     batches = {}
@@ -62,26 +63,43 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
             if lights:
                 found_lights.append(_light(obj, np.array(instance.matrix_world, dtype=np.float64)))
         elif geometry and obj.type in MESH_LIKE_TYPES:
+            seen = _ray_visibility(instance)
+            if not seen:
+                continue
             key = _mesh_key(obj)
             if key not in meshes:
                 meshes[key] = LocalMesh.read(obj)
             mesh = meshes[key]
             if mesh.triangle_count:
                 palette = materials.palette(obj, mesh.material_count)
-                batch = batches.setdefault(key, ([], []))
+                batch = batches.setdefault(key, ([], [], []))
                 batch[0].append(np.array(instance.matrix_world, dtype=np.float64))
                 batch[1].append(palette)
-    total = sum(len(matrices) * meshes[key].triangle_count for key, (matrices, _) in batches.items())
+                batch[2].append(seen)
+    total = sum(len(matrices) * meshes[key].triangle_count for key, (matrices, _, _) in batches.items())
     triangles = np.empty((total, 3, 3), dtype=np.float32)
     normals = np.empty((total, 3, 3), dtype=np.float32)
     albedo = np.empty((total, 3), dtype=np.float32)
+    visibility = np.empty(total, dtype=np.uint8)
     start = 0
-    for key, (matrices, palettes) in batches.items():
+    for key, (matrices, palettes, seen) in batches.items():
         end = start + len(matrices) * meshes[key].triangle_count
         meshes[key].write_world(np.stack(matrices), np.stack(palettes),
                                 triangles[start:end], normals[start:end], albedo[start:end])
+        visibility[start:end] = np.repeat(np.array(seen, dtype=np.uint8), meshes[key].triangle_count)
         start = end
-    return (triangles, normals, albedo), found_lights
+    return {"triangles": triangles, "normals": normals, "albedo": albedo, "visibility": visibility}, found_lights
+
+
+def _ray_visibility(instance):
+    """SEEN_BY_CAMERA and SEEN_BY_LIGHTS bits of an instance, from its object's ray
+    visibility "Camera" and "Shadow" and, for an instance, its instancer's too, as Cycles
+    combines them."""
+    owners = (instance.object, instance.parent) if instance.is_instance and instance.parent else (instance.object,)
+    seen = SEEN_BY_CAMERA | SEEN_BY_LIGHTS
+    for owner in owners:
+        seen &= (SEEN_BY_CAMERA if owner.visible_camera else 0) | (SEEN_BY_LIGHTS if owner.visible_shadow else 0)
+    return seen
 
 
 def _visible_in_view3d(instance, view3d):

@@ -89,7 +89,7 @@ class SceneSync:
         if not read_lights:
             lights = self._scene.lights
         if read_geometry:
-            self._scene = Scene(*geometry, lights, camera).sanitize()
+            self._scene = Scene(**geometry, lights=lights, camera=camera).sanitize()
         else:
             self._scene = replace(self._scene, lights=lights, camera=camera)
             self._scene.require_lights()

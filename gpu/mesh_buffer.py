@@ -10,7 +10,9 @@ RIM_COMMAND_BYTES = 2 * 5 * 4
 
 
 class MeshBuffer:
-    """One interleaved vertex buffer (position, normal, albedo) and its vertex arrays."""
+    """One interleaved vertex buffer (position, normal, albedo) and its vertex arrays;
+    the camera draws its `camera_triangles` and the lights' maps its `light_triangles`
+    ((first, count) ranges of a sanitized Scene's ordering)."""
 
     def __init__(self, glc, scene):
         count = scene.triangle_count
@@ -19,6 +21,8 @@ class MeshBuffer:
         self.glc = glc
         self.triangle_count = count
         self.vertex_count = count * 3
+        self.camera_triangles = scene.camera_triangles or (0, count)
+        self.light_triangles = scene.light_triangles or (0, count)
         self.buffer = glc.gl.buffer(interleaved.tobytes())
         self._arrays = {}
         self.rim_lists = {}
@@ -30,12 +34,18 @@ class MeshBuffer:
                 index_buffer=indices, index_element_size=4)
         return self._arrays[program, indices]
 
+    def draw(self, program, mode, triangles):
+        """Draw the (first, count) range `triangles` with `program`."""
+        first, count = triangles
+        if count:
+            self.vertex_array(program).render(mode, vertices=3 * count, first=3 * first)
+
     def split_at_rim(self, hemisphere_view, hemisphere):
         """Sort the triangles by a paraboloid hemisphere's rim plane on the GPU
         (shaders/rim_split.comp): returns one index buffer holding the triangles wholly in
         front and those crossing it, and the indirect draw commands (FRONT, CROSSING) that
         draw each list. Triangles wholly behind are in neither, so each hemisphere draws
-        only its own. Each hemisphere (0 or 1) has its own buffers: drawing one never
+        only its own; only the lights' triangles are sorted. Each hemisphere (0 or 1) has its own buffers: drawing one never
         waits on sorting the other."""
         gl = self.glc.gl
         capacity = self.vertex_count
@@ -46,11 +56,13 @@ class MeshBuffer:
         for binding, buffer in enumerate((self.buffer, commands, lists)):
             buffer.bind_to_storage_buffer(binding)
         program = self.glc.compute("rim_split")
-        set_uniforms(program, hemisphere_view=hemisphere_view, triangle_count=self.triangle_count,
+        first, count = self.light_triangles
+        set_uniforms(program, hemisphere_view=hemisphere_view, first_triangle=first, triangle_count=count,
                      capacity=capacity, reset=True)
         dispatch(program, 10, local=(64, 1, 1))
-        set_uniforms(program, reset=False)
-        dispatch(program, self.triangle_count, local=(64, 1, 1))
+        if count:
+            set_uniforms(program, reset=False)
+            dispatch(program, count, local=(64, 1, 1))
         return lists, commands
 
     def resources(self):

@@ -180,7 +180,7 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
             for program, command in zip(programs, (FRONT, CROSSING)):
                 mesh.vertex_array(program, lists).render_indirect(commands, mode, count=1, first=command)
         else:
-            mesh.vertex_array(programs[0]).render(mode)
+            mesh.draw(programs[0], mode, mesh.light_triangles)
     framebuffer.release()
     glc.recycle(depth)
     return ReflectiveShadowMap(glc, light, resolution, kind, np.array(faces), origins, atlas_size, *textures,

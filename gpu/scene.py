@@ -15,6 +15,12 @@ from .errors import LPVError
 
 LIGHT_KINDS = ("POINT", "SPOT", "AREA", "SUN")
 
+SEEN_BY_CAMERA, SEEN_BY_LIGHTS = 1, 2
+"""Bits of a triangle's visibility (Blender's ray visibility "Camera" and "Shadow"): the
+camera draws it; the lights' maps hold it (it casts shadows and reflects light)."""
+SEEN_BY_ALL = SEEN_BY_CAMERA | SEEN_BY_LIGHTS
+_VISIBILITY_ORDER = np.array([0, 0, 2, 1], dtype=np.int8)  # camera only, both, lights only
+
 
 @dataclass
 class Light:
@@ -129,7 +135,11 @@ class Scene:
 
     `triangles` is (T, 3, 3) float32 vertex positions, `normals` (T, 3, 3) float32 unit
     vertex normals (flat or smooth as the mesh says), `albedo` (T, 3) float32 linear
-    diffuse colour. `dropped` counts what `sanitize` removed, by reason.
+    diffuse colour, `visibility` (T,) uint8 bits SEEN_BY_CAMERA and SEEN_BY_LIGHTS (None:
+    seen by both). `dropped` counts what `sanitize` removed, by reason. Once sanitized,
+    the triangles the camera sees are the range `camera_triangles` (first, count) and those
+    the lights see `light_triangles`: the camera-only ones come first, then those both
+    see, then the lights-only ones.
     """
 
     triangles: np.ndarray
@@ -138,7 +148,10 @@ class Scene:
     lights: list
     camera: Camera = None
     dropped: dict = field(default_factory=lambda: {"non_finite": 0, "zero_area": 0})
+    visibility: np.ndarray = None
     sanitized: bool = False
+    camera_triangles: tuple = None
+    light_triangles: tuple = None
     _bounds: tuple = field(default=None, repr=False, compare=False)
     _geometry_key: str = field(default=None, repr=False, compare=False)
 
@@ -162,6 +175,8 @@ class Scene:
         tri = np.asarray(self.triangles, dtype=np.float32).reshape(-1, 3, 3)
         nrm = np.asarray(self.normals, dtype=np.float32).reshape(-1, 3, 3)
         alb = np.asarray(self.albedo, dtype=np.float32).reshape(-1, 3)
+        seen = (np.full(len(tri), SEEN_BY_ALL, dtype=np.uint8) if self.visibility is None
+                else np.asarray(self.visibility, dtype=np.uint8).reshape(-1) & SEEN_BY_ALL)
         finite = np.isfinite(tri).all(axis=(1, 2)) & np.isfinite(alb).all(axis=1)
         with np.errstate(invalid="ignore", over="ignore"):
             cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
@@ -169,13 +184,16 @@ class Scene:
             extent = np.abs(tri).max(axis=(1, 2)).astype(np.float64)
             # An area below float32 resolution at the triangle's own scale is no area.
             has_area = doubled_area_squared > (extent ** 4 + 1e-60) * 1e-24
-        keep = finite & has_area
+        keep = finite & has_area & (seen != 0)
         self.dropped = {
             "non_finite": self.dropped.get("non_finite", 0) + int((~finite).sum()),
             "zero_area": self.dropped.get("zero_area", 0) + int((finite & ~has_area).sum()),
         }
         if not keep.all():
-            tri, nrm, alb, cross = tri[keep], nrm[keep], alb[keep], cross[keep]
+            tri, nrm, alb, cross, seen = tri[keep], nrm[keep], alb[keep], cross[keep], seen[keep]
+        if np.any(seen != SEEN_BY_ALL):
+            order = np.argsort(_VISIBILITY_ORDER[seen], kind="stable")
+            tri, nrm, alb, cross, seen = tri[order], nrm[order], alb[order], cross[order], seen[order]
         # Vertex normals that are missing or broken fall back to the face normal.
         with np.errstate(invalid="ignore", over="ignore"):
             length = np.sqrt(np.einsum("ijk,ijk->ij", nrm, nrm))[..., None]
@@ -188,6 +206,10 @@ class Scene:
         self.triangles = np.ascontiguousarray(tri)
         self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
+        self.visibility = None if np.all(seen == SEEN_BY_ALL) else seen
+        camera_only, both = int(np.sum(seen == SEEN_BY_CAMERA)), int(np.sum(seen == SEEN_BY_ALL))
+        self.camera_triangles = (0, camera_only + both)
+        self.light_triangles = (camera_only, len(seen) - camera_only)
         if self.triangle_count == 0:
             raise LPVError("The scene has no renderable triangles; add a visible mesh object.")
         self.require_lights()
@@ -199,12 +221,15 @@ class Scene:
             raise LPVError("The scene has no lights; add a point, spot, area or sun light.")
 
     def geometry_key(self):
-        """A content key of the triangles, normals and albedo (kept once sanitized: a
-        sanitized scene's arrays are not to be changed in place; make a new Scene)."""
+        """A content key of the triangles, normals, albedo and visibility (kept once
+        sanitized: a sanitized scene's arrays are not to be changed in place; make a new
+        Scene)."""
         if self.sanitized and self._geometry_key is not None:
             return self._geometry_key
         h = hashlib.sha1()
         for array in (self.triangles, self.normals, self.albedo):
             h.update(np.ascontiguousarray(array).tobytes())
+        if self.visibility is not None:
+            h.update(np.ascontiguousarray(self.visibility, dtype=np.uint8).tobytes())
         self._geometry_key = h.hexdigest()[:16]
         return self._geometry_key

@@ -19,9 +19,10 @@ def save_scene(scene, path):
               for i, light in enumerate(scene.lights) for name in LIGHT_FIELDS}
     camera = {} if scene.camera is None else {
         "camera_view": scene.camera.view, "camera_projection": scene.camera.projection}
+    visibility = {} if scene.visibility is None else {"visibility": scene.visibility}
     try:
         np.savez_compressed(path, triangles=scene.triangles, normals=scene.normals, albedo=scene.albedo,
-                            light_count=len(scene.lights), **lights, **camera,
+                            light_count=len(scene.lights), **lights, **camera, **visibility,
                             dropped=np.array([scene.dropped["non_finite"], scene.dropped["zero_area"]]))
     except OSError as error:
         raise LPVError(f"Cannot write scene file '{path}' ({error.strerror}); choose a writable path.")
@@ -46,7 +47,8 @@ def load_scene(path):
     camera = Camera(data["camera_view"], data["camera_projection"]) if "camera_view" in data else None
     dropped = data["dropped"]
     return Scene(data["triangles"], data["normals"], data["albedo"], lights, camera,
-                 {"non_finite": int(dropped[0]), "zero_area": int(dropped[1])})
+                 {"non_finite": int(dropped[0]), "zero_area": int(dropped[1])},
+                 data["visibility"] if "visibility" in data else None)
 
 
 def cycles_reference_path(scene_path):

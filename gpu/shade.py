@@ -95,7 +95,7 @@ def render_gbuffer(glc, mesh, camera, targets):
     gl.disable(moderngl.CULL_FACE)
     set_uniforms(program, view_projection=camera.projection @ camera.view,
                  camera_position=tuple(float(v) for v in camera.position))
-    mesh.vertex_array(program).render(moderngl.TRIANGLES)
+    mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles)
     targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
 
 

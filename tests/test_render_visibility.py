@@ -153,3 +153,24 @@ def test_the_render_shows_the_viewport_hidden_cubes_and_not_the_render_hidden_on
 
     assert cube_at(-1.5, 0) and cube_at(1.5, 0) and cube_at(1.5, 1.5)  # shown, viewport-hidden, eye off
     assert not cube_at(0, 0) and not cube_at(0, 1.5) and not cube_at(-1.5, 1.5)  # render-hidden three
+
+
+def test_ray_visibility_reaches_the_scene_per_triangle(scene):
+    from lpv_preview.gpu.scene import SEEN_BY_ALL, SEEN_BY_CAMERA, SEEN_BY_LIGHTS
+    root = scene.collection
+    cube("Shadow only", (-2.5, -1.5, 0.2), root).visible_camera = False
+    cube("Camera only", (2.5, -1.5, 0.2), root).visible_shadow = False
+    neither = cube("Neither", (2.5, 1.5, 0.2), root)
+    neither.visible_camera = neither.visible_shadow = False
+    bpy.data.objects["Instancer"].visible_camera = False  # its instances inherit it, as in Cycles
+    rendered = scene_to_render(scene)
+    centres = rendered.triangles.mean(axis=1)
+
+    def seen_at(x, y, radius=0.25):
+        near = np.linalg.norm(centres[:, :2] - (x, y), axis=1) < radius
+        return set(np.unique(rendered.visibility[near & (centres[:, 2] > 0.05)]).tolist())
+
+    assert seen_at(-2.5, -1.5) == {SEEN_BY_LIGHTS} and seen_at(2.5, -1.5) == {SEEN_BY_CAMERA}
+    assert seen_at(2.5, 1.5) == set() and seen_at(-1.5, 0) == {SEEN_BY_ALL}
+    assert seen_at(0, -1.5, radius=0.5) == {SEEN_BY_LIGHTS}
+    assert rendered.triangle_count == RENDERED + 4 * CUBE + 2 * CUBE

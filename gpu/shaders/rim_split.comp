@@ -11,6 +11,7 @@ layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // 
 layout(std430, binding = 1) buffer Commands { uint commands[]; };  // front, then crossing: 5 uints each
 layout(std430, binding = 2) writeonly buffer Lists { uint lists[]; };
 uniform mat4 hemisphere_view;
+uniform int first_triangle;  // the lights' triangles: first_triangle .. + triangle_count
 uniform int triangle_count;
 uniform uint capacity;  // indices per list: 3 per triangle
 uniform bool reset;
@@ -22,8 +23,8 @@ void main() {
         if (i < 10u) commands[i] = i % 5u == 1u ? 1u : (i == 7u ? capacity : 0u);
         return;
     }
-    int triangle = int(i);
-    if (triangle >= triangle_count) return;
+    if (int(i) >= triangle_count) return;
+    int triangle = first_triangle + int(i);
     int in_front = 0;
     for (int k = 0; k < 3; ++k) {
         int v = (triangle * 3 + k) * 9;

@@ -137,7 +137,8 @@ DTYPE_BYTES = {"f1": 1, "f2": 2, "f4": 4, "u1": 1, "u2": 2, "u4": 4, "i1": 1, "i
 
 
 def resource_bytes(*resources):
-    """GPU memory of moderngl buffers and textures (2D and 3D), as allocated."""
+    """GPU memory of moderngl buffers and textures (2D, 3D and arrays, an array's mip
+    chain counted as the third more it takes), as allocated."""
     import moderngl
     total = 0
     for resource in resources:
@@ -146,7 +147,10 @@ def resource_bytes(*resources):
             continue
         # A 2D texture's `depth` says whether it is a depth texture; a 3D one's is its depth.
         layers = resource.depth if isinstance(resource, moderngl.Texture3D) else 1
-        total += resource.width * resource.height * layers * resource.components * DTYPE_BYTES[resource.dtype]
+        texels = resource.width * resource.height * layers
+        if isinstance(resource, moderngl.TextureArray):
+            texels = resource.width * resource.height * resource.layers * 4 // 3
+        total += texels * resource.components * DTYPE_BYTES[resource.dtype]
     return total
 
 

@@ -2,6 +2,7 @@
 import numpy as np
 
 from .context import dispatch, set_uniforms
+from .surface_images import SurfaceImages
 
 # The two DrawElementsIndirect commands (count, instances, first index, base vertex, base
 # instance) of split_at_rim, in this order.
@@ -10,15 +11,26 @@ RIM_COMMAND_BYTES = 2 * 5 * 4
 
 
 class MeshBuffer:
-    """One interleaved vertex buffer (position, normal, albedo) and its vertex arrays;
-    the camera draws its `camera_triangles` and the lights' maps its `light_triangles`
+    """One interleaved vertex buffer and its vertex arrays, and the scene's images.
+
+    A vertex is its position, normal, albedo (the triangle's times its corner's vertex
+    colour) and surface coordinate (u, v, image layer; layer -1: no image), twelve floats.
+    The camera draws its `camera_triangles` and the lights' maps its `light_triangles`
     ((first, count) ranges of a sanitized Scene's ordering)."""
 
     def __init__(self, glc, scene):
         count = scene.triangle_count
         albedo = np.repeat(scene.albedo[:, None, :], 3, axis=1)
-        interleaved = np.concatenate([scene.triangles, scene.normals, albedo], axis=2).astype(np.float32)
+        if scene.vertex_colors is not None:
+            albedo = albedo * scene.vertex_colors
+        surface = np.zeros((count, 3, 3), dtype=np.float32)
+        surface[..., 2] = -1.0
+        if scene.image_layers is not None:
+            surface[..., :2] = scene.uvs
+            surface[..., 2] = scene.image_layers[:, None]
+        interleaved = np.concatenate([scene.triangles, scene.normals, albedo, surface], axis=2).astype(np.float32)
         self.glc = glc
+        self.images = SurfaceImages(glc.gl, scene.images)
         self.triangle_count = count
         self.vertex_count = count * 3
         self.camera_triangles = scene.camera_triangles or (0, count)
@@ -30,8 +42,9 @@ class MeshBuffer:
     def vertex_array(self, program, indices=None):
         if (program, indices) not in self._arrays:
             self._arrays[program, indices] = self.glc.gl.vertex_array(
-                program, [(self.buffer, "3f 3f 3f", "in_position", "in_normal", "in_albedo")],
+                program, [(self.buffer, "3f 3f 3f 3f", "in_position", "in_normal", "in_albedo", "in_surface")],
                 index_buffer=indices, index_element_size=4)
+        self.images.bind(program)
         return self._arrays[program, indices]
 
     def draw(self, program, mode, triangles):
@@ -66,8 +79,10 @@ class MeshBuffer:
         return lists, commands
 
     def resources(self):
-        """The vertex buffer and each hemisphere's rim-split lists and draw commands."""
-        return (self.buffer, *(buffer for buffers in self.rim_lists.values() for buffer in buffers))
+        """The vertex buffer, the images and each hemisphere's rim-split lists and draw
+        commands."""
+        return (self.buffer, *self.images.resources(),
+                *(buffer for buffers in self.rim_lists.values() for buffer in buffers))
 
     def release(self):
         for array in self._arrays.values():

@@ -241,6 +241,8 @@ class Pipeline:
             "lights": len(scene.lights),
             "triangles": scene.triangle_count,
             "dropped_triangles": dict(scene.dropped),
+            "images": [image.name for image in scene.images],
+            "approximated_materials": list(scene.approximated_materials),
             "rsm_resolution": s.rsm_resolution,
             "rsm_faces": int(sum(m.rsm.face_count for m in maps)),
             "lpv_resolution": s.lpv_resolution,

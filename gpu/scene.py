@@ -130,14 +130,33 @@ def perspective(fov_y, aspect, near, far):
 
 
 @dataclass
+class SurfaceImage:
+    """An image a material's base colour reads: (H, W, 3) linear float32 pixels, top row
+    first, sampled with the triangles' UVs (V up, Blender's convention)."""
+
+    name: str
+    pixels: np.ndarray
+    _key: str = field(default=None, repr=False, compare=False)
+
+    def key(self):
+        if self._key is None:
+            self._key = hashlib.sha1(np.ascontiguousarray(self.pixels, dtype=np.float32).tobytes()).hexdigest()[:16]
+        return self._key
+
+
+@dataclass
 class Scene:
-    """Triangles in world space, one albedo per triangle, lights and a camera.
+    """Triangles in world space, their surfaces, lights and a camera.
 
     `triangles` is (T, 3, 3) float32 vertex positions, `normals` (T, 3, 3) float32 unit
     vertex normals (flat or smooth as the mesh says), `albedo` (T, 3) float32 linear
     diffuse colour, `visibility` (T,) uint8 bits SEEN_BY_CAMERA and SEEN_BY_LIGHTS (None:
-    seen by both). `dropped` counts what `sanitize` removed, by reason. Once sanitized,
-    the triangles the camera sees are the range `camera_triangles` (first, count) and those
+    seen by both). A textured surface's colour is its albedo times, per corner,
+    `vertex_colors` (T, 3, 3) linear (None: white) and times the image `images[layer]`
+    at the corners' `uvs` (T, 3, 2) where `image_layers` (T,) is not -1 (None: no image).
+    `approximated_materials` names the materials whose colour the extraction could only
+    approximate. `dropped` counts what `sanitize` removed, by reason. Once sanitized, the
+    triangles the camera sees are the range `camera_triangles` (first, count) and those
     the lights see `light_triangles`: the camera-only ones come first, then those both
     see, then the lights-only ones.
     """
@@ -149,6 +168,11 @@ class Scene:
     camera: Camera = None
     dropped: dict = field(default_factory=lambda: {"non_finite": 0, "zero_area": 0})
     visibility: np.ndarray = None
+    vertex_colors: np.ndarray = None
+    uvs: np.ndarray = None
+    image_layers: np.ndarray = None
+    images: list = field(default_factory=list)
+    approximated_materials: list = field(default_factory=list)
     sanitized: bool = False
     camera_triangles: tuple = None
     light_triangles: tuple = None
@@ -167,6 +191,20 @@ class Scene:
         self._bounds = flat.min(axis=0).astype(np.float64), flat.max(axis=0).astype(np.float64)
         return self._bounds
 
+    def _surface_arrays(self, count):
+        """The optional per-triangle arrays, checked and in their GPU types (None: absent)."""
+        arrays = {}
+        if self.vertex_colors is not None:
+            colors = np.asarray(self.vertex_colors, dtype=np.float32).reshape(count, 3, 3)
+            arrays["vertex_colors"] = np.clip(np.nan_to_num(colors, nan=1.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+        if self.image_layers is not None:
+            layers = np.asarray(self.image_layers, dtype=np.int16).reshape(count)
+            layers = np.where((layers >= 0) & (layers < len(self.images)), layers, -1).astype(np.int16)
+            uvs = np.zeros((count, 3, 2), np.float32) if self.uvs is None else np.asarray(self.uvs, np.float32)
+            arrays["image_layers"] = layers
+            arrays["uvs"] = np.nan_to_num(uvs.reshape(count, 3, 2), nan=0.0, posinf=0.0, neginf=0.0)
+        return arrays
+
     def sanitize(self):
         """Drop triangles the GPU must never see (NaN/inf or zero area), counting them.
 
@@ -177,6 +215,7 @@ class Scene:
         alb = np.asarray(self.albedo, dtype=np.float32).reshape(-1, 3)
         seen = (np.full(len(tri), SEEN_BY_ALL, dtype=np.uint8) if self.visibility is None
                 else np.asarray(self.visibility, dtype=np.uint8).reshape(-1) & SEEN_BY_ALL)
+        surface = self._surface_arrays(len(tri))
         finite = np.isfinite(tri).all(axis=(1, 2)) & np.isfinite(alb).all(axis=1)
         with np.errstate(invalid="ignore", over="ignore"):
             cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
@@ -189,11 +228,13 @@ class Scene:
             "non_finite": self.dropped.get("non_finite", 0) + int((~finite).sum()),
             "zero_area": self.dropped.get("zero_area", 0) + int((finite & ~has_area).sum()),
         }
+        per_triangle = {"tri": tri, "nrm": nrm, "alb": alb, "cross": cross, "seen": seen, **surface}
         if not keep.all():
-            tri, nrm, alb, cross, seen = tri[keep], nrm[keep], alb[keep], cross[keep], seen[keep]
-        if np.any(seen != SEEN_BY_ALL):
-            order = np.argsort(_VISIBILITY_ORDER[seen], kind="stable")
-            tri, nrm, alb, cross, seen = tri[order], nrm[order], alb[order], cross[order], seen[order]
+            per_triangle = {name: array[keep] for name, array in per_triangle.items()}
+        if np.any(per_triangle["seen"] != SEEN_BY_ALL):
+            order = np.argsort(_VISIBILITY_ORDER[per_triangle["seen"]], kind="stable")
+            per_triangle = {name: array[order] for name, array in per_triangle.items()}
+        tri, nrm, alb, cross, seen = (per_triangle.pop(name) for name in ("tri", "nrm", "alb", "cross", "seen"))
         # Vertex normals that are missing or broken fall back to the face normal.
         with np.errstate(invalid="ignore", over="ignore"):
             length = np.sqrt(np.einsum("ijk,ijk->ij", nrm, nrm))[..., None]
@@ -207,6 +248,10 @@ class Scene:
         self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
         self.visibility = None if np.all(seen == SEEN_BY_ALL) else seen
+        for name in ("vertex_colors", "uvs", "image_layers"):
+            setattr(self, name, np.ascontiguousarray(per_triangle[name]) if name in per_triangle else None)
+        if self.image_layers is not None and not np.any(self.image_layers >= 0):
+            self.uvs = self.image_layers = None
         camera_only, both = int(np.sum(seen == SEEN_BY_CAMERA)), int(np.sum(seen == SEEN_BY_ALL))
         self.camera_triangles = (0, camera_only + both)
         self.light_triangles = (camera_only, len(seen) - camera_only)
@@ -221,15 +266,16 @@ class Scene:
             raise LPVError("The scene has no lights; add a point, spot, area or sun light.")
 
     def geometry_key(self):
-        """A content key of the triangles, normals, albedo and visibility (kept once
-        sanitized: a sanitized scene's arrays are not to be changed in place; make a new
-        Scene)."""
+        """A content key of the triangles and their surfaces: normals, albedo, visibility,
+        vertex colours, UVs and images (kept once sanitized: a sanitized scene's arrays
+        are not to be changed in place; make a new Scene)."""
         if self.sanitized and self._geometry_key is not None:
             return self._geometry_key
         h = hashlib.sha1()
-        for array in (self.triangles, self.normals, self.albedo):
-            h.update(np.ascontiguousarray(array).tobytes())
-        if self.visibility is not None:
-            h.update(np.ascontiguousarray(self.visibility, dtype=np.uint8).tobytes())
+        for array in (self.triangles, self.normals, self.albedo, self.visibility, self.vertex_colors, self.uvs,
+                      self.image_layers):
+            h.update(b"-" if array is None else np.ascontiguousarray(array).tobytes())
+        for image in self.images:
+            h.update(image.key().encode())
         self._geometry_key = h.hexdigest()[:16]
         return self._geometry_key

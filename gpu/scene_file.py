@@ -7,8 +7,10 @@ from pathlib import Path
 import numpy as np
 
 from .errors import LPVError
-from .scene import Camera, Light, Scene
+from .scene import Camera, Light, Scene, SurfaceImage
 
+SURFACE_FIELDS = ("visibility", "vertex_colors", "uvs", "image_layers")
+"""The Scene's optional per-triangle arrays, saved when present."""
 LIGHT_FIELDS = ("kind", "position", "direction", "up", "color", "power", "radius", "spot_size", "spot_blend", "size",
                 "name")
 
@@ -19,10 +21,14 @@ def save_scene(scene, path):
               for i, light in enumerate(scene.lights) for name in LIGHT_FIELDS}
     camera = {} if scene.camera is None else {
         "camera_view": scene.camera.view, "camera_projection": scene.camera.projection}
-    visibility = {} if scene.visibility is None else {"visibility": scene.visibility}
+    surface = {name: getattr(scene, name) for name in SURFACE_FIELDS if getattr(scene, name) is not None}
+    images = {f"image{i}_{part}": value for i, image in enumerate(scene.images)
+              for part, value in (("name", image.name), ("pixels", image.pixels))}
     try:
         np.savez_compressed(path, triangles=scene.triangles, normals=scene.normals, albedo=scene.albedo,
-                            light_count=len(scene.lights), **lights, **camera, **visibility,
+                            light_count=len(scene.lights), **lights, **camera, **surface,
+                            image_count=len(scene.images), **images,
+                            approximated_materials=np.array(scene.approximated_materials, dtype=str),
                             dropped=np.array([scene.dropped["non_finite"], scene.dropped["zero_area"]]))
     except OSError as error:
         raise LPVError(f"Cannot write scene file '{path}' ({error.strerror}); choose a writable path.")
@@ -46,9 +52,12 @@ def load_scene(path):
                             name=str(get("name"))))
     camera = Camera(data["camera_view"], data["camera_projection"]) if "camera_view" in data else None
     dropped = data["dropped"]
+    images = [SurfaceImage(str(data[f"image{i}_name"]), data[f"image{i}_pixels"])
+              for i in range(int(data["image_count"]) if "image_count" in data else 0)]
     return Scene(data["triangles"], data["normals"], data["albedo"], lights, camera,
                  {"non_finite": int(dropped[0]), "zero_area": int(dropped[1])},
-                 data["visibility"] if "visibility" in data else None)
+                 **{name: data[name] for name in SURFACE_FIELDS if name in data}, images=images,
+                 approximated_materials=[str(name) for name in data.get("approximated_materials", [])])
 
 
 def cycles_reference_path(scene_path):

@@ -7,12 +7,14 @@
 in vec3 in_position;
 in vec3 in_normal;
 in vec3 in_albedo;
+in vec3 in_surface;
 uniform mat4 hemisphere_view;  // world to hemisphere space (+z the hemisphere's axis)
 uniform float near;
 uniform float far;
 out vec3 world_position;
 out vec3 world_normal;
 out vec3 surface_albedo;
+out vec3 surface_coord;
 
 void main() {
     vec3 p = (hemisphere_view * vec4(in_position, 1.0)).xyz;
@@ -20,4 +22,5 @@ void main() {
     world_position = in_position;
     world_normal = in_normal;
     surface_albedo = in_albedo;
+    surface_coord = in_surface;
 }

@@ -1,15 +1,17 @@
 #version 450 core
 // Camera G-buffer: the depth, and per pixel the normal turned toward the camera (surfaces
-// are two-sided) and the albedo, packed into one texel (gbuffer.glsl).
+// are two-sided) and the albedo (the image's where it has one), packed into one texel (gbuffer.glsl).
 #include "gbuffer.glsl"
+#include "surface.glsl"
 in vec3 world_position;
 in vec3 world_normal;
 in vec3 surface_albedo;
+in vec3 surface_coord;
 uniform vec3 camera_position;
 layout(location = 0) out uvec4 out_surface;
 
 void main() {
     vec3 n = normalize(world_normal);
     if (dot(n, camera_position - world_position) < 0.0) n = -n;
-    out_surface = gbuffer_pack(n, surface_albedo);
+    out_surface = gbuffer_pack(n, surface_colour(surface_albedo, surface_coord));
 }

@@ -3,12 +3,14 @@
 #include "common.glsl"
 #include "light.glsl"
 #include "paraboloid.glsl"
+#include "surface.glsl"
 #define PROJECTION_CUBE 0
 #define PROJECTION_PARABOLOID 1
 #define PROJECTION_ORTHO 2
 in vec3 world_position;
 in vec3 world_normal;
 in vec3 surface_albedo;
+in vec3 surface_coord;
 uniform vec2 face_origin;        // this face's lower-left texel in the atlas
 uniform float resolution;        // texels along one side of a face
 uniform float ortho_texel_area;  // sun: the area one texel covers across the beam
@@ -40,5 +42,5 @@ void main() {
     }
     out_position = vec4(world_position, max(dist, 1e-30));
     out_normal = vec4(n, area);
-    out_flux = vec4(surface_albedo * power, 1.0);
+    out_flux = vec4(surface_colour(surface_albedo, surface_coord) * power, 1.0);
 }

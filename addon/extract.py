@@ -4,23 +4,18 @@ Everything is read with `foreach_get` into numpy and transformed in bulk, so a m
 million triangles costs a fraction of a second and a thousand instances of one mesh cost
 one read of that mesh and one batched transform.
 """
+from dataclasses import dataclass
+
 import numpy as np
 
-from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene
-
-DEFAULT_ALBEDO = (0.8, 0.8, 0.8)
-"""Blender's colour for a surface without a material."""
+from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene, SurfaceImage
+from .materials import MaterialSurfaces
 
 MESH_LIKE_TYPES = {"MESH", "SURFACE", "META"}
 """Object types whose evaluated geometry `Object.to_mesh` turns into triangles. Curve and
 text objects are absent on purpose: as in Cycles, their evaluated mesh reaches us as a
 separate MESH instance, so reading them too would count them twice."""
 
-NON_REFLECTING_SHADERS = {"EMISSION", "HOLDOUT", "BSDF_TRANSPARENT"}
-"""Shader nodes that reflect no light diffusely."""
-
-UPSTREAM_IMAGE_SEARCH_DEPTH = 8
-"""How many nodes back from a colour socket an Image Texture is still looked for."""
 
 
 def render_resolution(scene, width=None):
@@ -48,10 +43,11 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
 
 def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
     """One pass over the depsgraph's instances reading what is asked for: the Scene's
-    geometry fields (world-space triangles, normals, albedo, visibility) of everything
-    visible (unsanitized; empty arrays when not asked) and the visible lights (empty when
-    not asked)."""
-    materials = MaterialAlbedo()
+    geometry fields (world-space triangles, normals, albedo, visibility and the surfaces'
+    vertex colours, UVs, image layers, images and approximated materials) of everything
+    visible (unsanitized; empty when not asked) and the visible lights (empty when not
+    asked)."""
+    surfaces = MaterialSurfaces()
     meshes = {}
     batches = {}
     found_lights = []
@@ -66,29 +62,73 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
             seen = _ray_visibility(instance)
             if not seen:
                 continue
-            key = _mesh_key(obj)
+            slots = surfaces.palette(obj, max(1, len(obj.material_slots)))
+            uv_maps = tuple(sorted({colour.uv_map for colour in slots if colour.image is not None}))
+            attributes = tuple(sorted({colour.attribute for colour in slots if colour.attribute is not None}))
+            key = (_mesh_key(obj), uv_maps, attributes)
             if key not in meshes:
-                meshes[key] = LocalMesh.read(obj)
+                meshes[key] = LocalMesh.read(obj, uv_maps, attributes)
             mesh = meshes[key]
             if mesh.triangle_count:
-                palette = materials.palette(obj, mesh.material_count)
                 batch = batches.setdefault(key, ([], [], []))
                 batch[0].append(np.array(instance.matrix_world, dtype=np.float64))
-                batch[1].append(palette)
+                batch[1].append(tuple(slots + slots[-1:] * (mesh.material_count - len(slots))))
                 batch[2].append(seen)
+    return _assemble(meshes, batches, surfaces), found_lights
+
+
+def _assemble(meshes, batches, surfaces):
+    """The Scene's geometry fields from the batches of instances of each mesh."""
     total = sum(len(matrices) * meshes[key].triangle_count for key, (matrices, _, _) in batches.items())
     triangles = np.empty((total, 3, 3), dtype=np.float32)
     normals = np.empty((total, 3, 3), dtype=np.float32)
     albedo = np.empty((total, 3), dtype=np.float32)
     visibility = np.empty(total, dtype=np.uint8)
+    image_layers = np.full(total, -1, dtype=np.int16)
+    textured = any(colour.image is not None for _, palettes, _ in batches.values() for slots in palettes
+                   for colour in slots)
+    coloured = any(colour.attribute is not None for _, palettes, _ in batches.values() for slots in palettes
+                   for colour in slots)
+    uvs = np.zeros((total, 3, 2), dtype=np.float32) if textured else None
+    vertex_colors = np.ones((total, 3, 3), dtype=np.float32) if coloured else None
+    images, layers = [], {}
+
+    def layer_of(image):
+        if image.as_pointer() not in layers:
+            layers[image.as_pointer()] = len(images)
+            images.append(SurfaceImage(image.name, surfaces.pixels(image)))
+        return layers[image.as_pointer()]
+
+    approximated = set(surfaces.approximated)
     start = 0
     for key, (matrices, palettes, seen) in batches.items():
-        end = start + len(matrices) * meshes[key].triangle_count
-        meshes[key].write_world(np.stack(matrices), np.stack(palettes),
-                                triangles[start:end], normals[start:end], albedo[start:end])
-        visibility[start:end] = np.repeat(np.array(seen, dtype=np.uint8), meshes[key].triangle_count)
+        mesh = meshes[key]
+        end = start + len(matrices) * mesh.triangle_count
+        mirrored = mesh.write_world(np.stack(matrices), triangles[start:end], normals[start:end])
+        visibility[start:end] = np.repeat(np.array(seen, dtype=np.uint8), mesh.triangle_count)
+
+        def per_instance(array):
+            return array[start:end].reshape(len(matrices), mesh.triangle_count, *array.shape[1:])
+
+        for slots in dict.fromkeys(palettes):  # instances of one mesh mostly share their materials
+            which = [index for index, instance_slots in enumerate(palettes) if instance_slots == slots]
+            surface = mesh.surface(slots, surfaces, layer_of)
+            per_instance(albedo)[which] = surface.albedo
+            per_instance(image_layers)[which] = surface.layers
+            if surface.uvs is not None:
+                per_instance(uvs)[which] = surface.uvs
+            if surface.colors is not None:
+                per_instance(vertex_colors)[which] = surface.colors
+            approximated |= surface.approximated
+        if mirrored.any():
+            reversed_corners = np.flatnonzero(mirrored) + start
+            for corners in (uvs, vertex_colors):
+                if corners is not None:
+                    corners[reversed_corners] = corners[reversed_corners][:, ::-1]
         start = end
-    return {"triangles": triangles, "normals": normals, "albedo": albedo, "visibility": visibility}, found_lights
+    return {"triangles": triangles, "normals": normals, "albedo": albedo, "visibility": visibility,
+            "vertex_colors": vertex_colors, "uvs": uvs, "image_layers": image_layers if images else None,
+            "images": images, "approximated_materials": sorted(approximated)}
 
 
 def _ray_visibility(instance):
@@ -123,15 +163,33 @@ def _mesh_key(obj):
     return (obj.type, obj.original.as_pointer(), obj.data.as_pointer())
 
 
+@dataclass
+class MeshSurface:
+    """One instance's surface per triangle of a LocalMesh: albedo (T, 3), image layer
+    (T,), corner UVs (T, 3, 2) and colours (T, 3, 3) (None: not read), and the materials
+    approximated for want of a UV map or colour attribute."""
+
+    albedo: np.ndarray
+    layers: np.ndarray
+    uvs: np.ndarray
+    colors: np.ndarray
+    approximated: set
+
+
 class LocalMesh:
     """One evaluated mesh in object space: vertex positions, and per triangle its vertex
-    indices, corner normals and material slot."""
+    indices, corner normals and material slot; and the corner UVs and colours of the UV
+    maps and colour attributes its materials read ({name: array}, None for a missing one;
+    "" names the active render one)."""
 
-    def __init__(self, positions, triangle_vertices, corner_normals, material_index):
+    def __init__(self, positions, triangle_vertices, corner_normals, material_index, uvs=None, colors=None):
         self.positions = positions
         self.triangle_vertices = triangle_vertices
         self.corner_normals = corner_normals
         self.material_index = material_index
+        self.uvs = uvs or {}
+        self.colors = colors or {}
+        self._surfaces = {}
 
     @property
     def triangle_count(self):
@@ -142,8 +200,9 @@ class LocalMesh:
         return int(self.material_index.max()) + 1 if self.triangle_count else 1
 
     @staticmethod
-    def read(obj):
-        """Read the evaluated object's triangles (modifiers applied) with foreach_get."""
+    def read(obj, uv_maps=(), attributes=()):
+        """Read the evaluated object's triangles (modifiers applied) with foreach_get, and
+        the corner values of `uv_maps` and colour `attributes`."""
         mesh = obj.to_mesh()
         try:
             triangles = mesh.loop_triangles
@@ -160,18 +219,21 @@ class LocalMesh:
             normals = np.empty(len(mesh.loops) * 3, dtype=np.float32)
             mesh.corner_normals.foreach_get("vector", normals)
             material_index = _triangle_material_index(mesh, count)
+            uvs = {name: _corner_uvs(mesh, name, corners) for name in uv_maps}
+            colors = {name: _corner_colors(mesh, name, corners, triangle_vertices) for name in attributes}
         finally:
             obj.to_mesh_clear()
         return LocalMesh(positions.reshape(-1, 3), triangle_vertices.reshape(-1, 3),
-                         normals.reshape(-1, 3)[corners].reshape(-1, 3, 3), material_index)
+                         normals.reshape(-1, 3)[corners].reshape(-1, 3, 3), material_index, uvs, colors)
 
-    def write_world(self, matrices, palettes, triangles, normals, albedo):
-        """Write this mesh placed by each of `matrices` into the output slices.
+    def write_world(self, matrices, triangles, normals):
+        """Write this mesh placed by each of `matrices` into the output slices; returns
+        which triangles were mirrored.
 
-        `matrices` is (K, 4, 4) world matrices, `palettes` (K, S, 3) the albedo of each
-        instance's material slots; `triangles` and `normals` are (K*T, 3, 3) and
-        `albedo` (K*T, 3) views of the scene's arrays. Mirroring matrices get their
-        triangles' winding reversed so it keeps agreeing with the normals.
+        `matrices` is (K, 4, 4) world matrices; `triangles` and `normals` are (K*T, 3, 3)
+        views of the scene's arrays. Mirroring matrices get their triangles' winding
+        reversed so it keeps agreeing with the normals (the caller reverses the corners of
+        UVs and colours the same way).
         """
         instances = len(matrices)
         linear = matrices[:, :3, :3]
@@ -192,8 +254,68 @@ class LocalMesh:
         if mirrored.any():
             triangles[mirrored] = triangles[mirrored][:, ::-1]
             normals[mirrored] = normals[mirrored][:, ::-1]
-        slots = np.minimum(self.material_index, palettes.shape[1] - 1)
-        np.take(palettes, slots, axis=1, out=albedo.reshape(instances, -1, 3))
+        return mirrored
+
+    def surface(self, slots, surfaces, layer_of):
+        """The MeshSurface of an instance whose material slots have the BaseColours
+        `slots`; `layer_of(image)` is the image's layer in the scene. Kept per slots."""
+        if slots not in self._surfaces:
+            self._surfaces[slots] = self._surface(slots, surfaces, layer_of)
+        return self._surfaces[slots]
+
+    def _surface(self, slots, surfaces, layer_of):
+        slot = np.minimum(self.material_index, len(slots) - 1)
+        factors = np.array([colour.factor for colour in slots], dtype=np.float32)
+        layers = np.full(len(slots), -1, dtype=np.int16)
+        uvs = colors = None
+        approximated = set()
+        for index, colour in enumerate(slots):
+            triangles = slot == index
+            if colour.image is not None:
+                uv = self.uvs.get(colour.uv_map)
+                if uv is None:  # the mesh has no such UV map: Cycles reads (0, 0); we take the average
+                    factors[index] *= surfaces.average(colour.image)
+                    approximated.add(colour.material)
+                else:
+                    layers[index] = layer_of(colour.image)
+                    uvs = np.zeros((self.triangle_count, 3, 2), np.float32) if uvs is None else uvs
+                    uvs[triangles] = uv[triangles]
+            if colour.attribute is not None:
+                corner = self.colors.get(colour.attribute)
+                if corner is None:  # no such colour attribute: white, as the attribute is missing in Cycles too
+                    approximated.add(colour.material)
+                else:
+                    colors = np.ones((self.triangle_count, 3, 3), np.float32) if colors is None else colors
+                    colors[triangles] = corner[triangles]
+        return MeshSurface(factors[slot], layers[slot], uvs, colors, approximated)
+
+
+def _corner_uvs(mesh, name, corners):
+    """(T, 3, 2) UVs of the UV map `name` ("": the active render one), or None."""
+    layers = mesh.uv_layers
+    layer = next((uv for uv in layers if uv.active_render), None) if name == "" else layers.get(name)
+    if layer is None:
+        return None
+    values = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+    layer.uv.foreach_get("vector", values)
+    return values.reshape(-1, 2)[corners].reshape(-1, 3, 2)
+
+
+def _corner_colors(mesh, name, corners, triangle_vertices):
+    """(T, 3, 3) linear colours of the colour attribute `name` ("": the active render
+    one), per corner or per vertex as it is stored, or None."""
+    attributes = mesh.color_attributes
+    if name == "":
+        index = attributes.render_color_index
+        attribute = attributes[index] if 0 <= index < len(attributes) else None
+    else:
+        attribute = attributes.get(name)
+    if attribute is None or attribute.domain not in ("CORNER", "POINT"):
+        return None
+    values = np.empty(len(attribute.data) * 4, dtype=np.float32)
+    attribute.data.foreach_get("color", values)  # linear for byte and float colours alike
+    rgb = values.reshape(-1, 4)[:, :3]
+    return rgb[corners if attribute.domain == "CORNER" else triangle_vertices].reshape(-1, 3, 3)
 
 
 def _triangle_material_index(mesh, count):
@@ -205,137 +327,6 @@ def _triangle_material_index(mesh, count):
     face_of_triangle = np.empty(count, dtype=np.int32)
     mesh.loop_triangle_polygons.foreach_get("value", face_of_triangle)
     return np.maximum(per_face[face_of_triangle], 0)
-
-
-class MaterialAlbedo:
-    """Linear diffuse albedo of materials, cached per material and per image."""
-
-    def __init__(self):
-        self._materials = {}
-        self._images = {}
-
-    def palette(self, obj, size):
-        """(size, 3) albedo of the object's material slots; indices past the last slot use
-        the last slot, as Blender does."""
-        slots = [slot.material for slot in obj.material_slots] or [None]
-        colors = [self.albedo(material) for material in slots[:size]]
-        colors += [colors[-1]] * (size - len(colors))
-        return np.array(colors, dtype=np.float32)
-
-    def albedo(self, material):
-        if material is None:
-            return DEFAULT_ALBEDO
-        key = material.as_pointer()
-        if key not in self._materials:
-            self._materials[key] = self._material_albedo(material)
-        return self._materials[key]
-
-    def _material_albedo(self, material):
-        """Follow the Cycles output's Surface to a Principled or Diffuse BSDF's colour.
-
-        Mix and Add shaders combine their inputs; any other shader, or a material
-        without nodes, falls back to the material's viewport display colour.
-        """
-        fallback = tuple(material.diffuse_color[:3])
-        tree = material.node_tree
-        output = tree.get_output_node("CYCLES") if tree is not None else None
-        if output is None:
-            return fallback
-        color = self._shader_albedo(output.inputs["Surface"], fallback, depth=0)
-        return tuple(float(c) for c in np.clip(color, 0.0, 1.0))
-
-    def _shader_albedo(self, socket, fallback, depth):
-        node = _linked_node(socket)
-        if node is None:
-            return np.zeros(3)  # An unconnected surface renders black in Cycles.
-        if depth > 32:
-            return np.asarray(fallback)
-        if node.type == "BSDF_PRINCIPLED":
-            return self._color(node.inputs["Base Color"])
-        if node.type == "BSDF_DIFFUSE":
-            return self._color(node.inputs["Color"])
-        if node.type == "MIX_SHADER":
-            factor = node.inputs[0]
-            weight = 0.5 if factor.is_linked else float(np.clip(factor.default_value, 0.0, 1.0))
-            return ((1 - weight) * self._shader_albedo(node.inputs[1], fallback, depth + 1)
-                    + weight * self._shader_albedo(node.inputs[2], fallback, depth + 1))
-        if node.type == "ADD_SHADER":
-            return (self._shader_albedo(node.inputs[0], fallback, depth + 1)
-                    + self._shader_albedo(node.inputs[1], fallback, depth + 1))
-        if node.type in NON_REFLECTING_SHADERS:
-            return np.zeros(3)
-        return np.asarray(fallback)
-
-    def _color(self, socket):
-        """The socket's colour, or the average of the nearest Image Texture feeding it.
-
-        Nodes between the image and the socket (tints, mixes) are not evaluated.
-        """
-        if socket.is_linked:
-            image = _upstream_image(socket)
-            if image is not None:
-                average = self._image_average(image)
-                if average is not None:
-                    return average
-        return np.array(socket.default_value[:3], dtype=np.float64)
-
-    def _image_average(self, image):
-        key = image.as_pointer()
-        if key not in self._images:
-            self._images[key] = _image_average_linear(image)
-        return self._images[key]
-
-
-def _linked_node(socket):
-    """The node feeding `socket`, looking through reroutes, muted links and muted nodes."""
-    for _ in range(64):
-        links = [link for link in socket.links if not link.is_muted]
-        if not links:
-            return None
-        node = links[0].from_node
-        if node.type == "REROUTE":
-            socket = node.inputs[0]
-        elif node.mute:
-            passing = [link.from_socket for link in node.internal_links if link.to_socket == links[0].from_socket]
-            if not passing:
-                return None
-            socket = passing[0]
-        else:
-            return node
-    return None
-
-
-def _upstream_image(socket):
-    """The image of the nearest Image Texture node upstream of `socket`, if any."""
-    frontier = [socket]
-    for _ in range(UPSTREAM_IMAGE_SEARCH_DEPTH):
-        nodes = [node for node in (_linked_node(s) for s in frontier) if node is not None]
-        for node in nodes:
-            if node.type == "TEX_IMAGE" and node.image is not None:
-                return node.image
-        frontier = [s for node in nodes for s in node.inputs if s.is_linked]
-        if not frontier:
-            return None
-    return None
-
-
-def _image_average_linear(image):
-    """Mean linear RGB of an image, or None when it has no pixels (a missing file).
-
-    Float images hold scene-linear values; byte images hold their colour space's
-    encoding, which for anything but linear or non-colour data is taken as sRGB.
-    """
-    width, height = image.size
-    channels = image.channels
-    if width * height == 0 or channels == 0:
-        return None
-    pixels = np.empty(width * height * channels, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    rgb = pixels.reshape(-1, channels)[:, :3] if channels >= 3 else np.repeat(pixels.reshape(-1, channels)[:, :1], 3, 1)
-    colorspace = image.colorspace_settings.name.lower()
-    if not image.is_float and not ("linear" in colorspace or "non-color" in colorspace):
-        rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
-    return rgb.mean(axis=0, dtype=np.float64)
 
 
 def _light(obj, matrix):

@@ -71,6 +71,14 @@ def draw_statistics(layout, stats):
         found = max(1, status["converged"] + status["approximate"] + status["failed"])
         column.label(text="Warp: " + ", ".join(f"{name} {status[name] / found:.1%}"
                                                 for name in ("converged", "approximate", "failed")))
+    images = stats.get("images")
+    if images:
+        column.label(text=f"Images: {len(images)}")
+    approximated = stats.get("approximated_materials")
+    if approximated:
+        column.label(text="Approximated materials (colour from nodes not evaluated):", icon="ERROR")
+        for name in approximated:
+            column.label(text=f"    {name}")
 
 
 COMPARE_OPERATOR = "lpv_preview.compare_with_cycles"  # operators/compare.py

@@ -1,0 +1,300 @@
+"""A material's diffuse colour as the renderer takes it: a constant, times an image read
+at a UV map, times a colour attribute.
+
+The Cycles output's Surface is followed to a Principled BSDF (whose diffuse part Cycles
+scales by 1 - metallic and 1 - transmission) or a Diffuse BSDF; their colour input is
+evaluated exactly when it is a constant, an RGB node, an Image Texture (its Vector from
+nothing, a UV Map node or Texture Coordinate's UV), a Color Attribute or a geometry
+Attribute node, or a Mix of those with a constant factor that multiplies or picks one
+side. Anything else is approximated the way the renderer has always done it (the
+nearest upstream image's average, or the socket's or the material's display colour), and
+the material is named in `approximated`: the panel and stats.json list them.
+"""
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+DEFAULT_ALBEDO = (0.8, 0.8, 0.8)
+"""Blender's colour for a surface without a material."""
+
+NON_REFLECTING_SHADERS = {"EMISSION", "HOLDOUT", "BSDF_TRANSPARENT"}
+"""Shader nodes that reflect no light diffusely."""
+
+UPSTREAM_IMAGE_SEARCH_DEPTH = 8
+"""How many nodes back from a colour socket an Image Texture is still looked for."""
+
+LINEAR_COLOUR_SPACES = ("linear", "non-color", "raw")
+"""Image colour spaces (lower case, by prefix) whose pixel values are taken as they are."""
+
+
+@dataclass(frozen=True)
+class BaseColour:
+    """What a surface's diffuse colour is made of: the linear `factor`, times the `image`
+    (a bpy Image, None: none) at the UV map `uv_map` ("": the active render one), times
+    the colour attribute `attribute` ("": the active render one; None: none); `material`
+    names whose colour it is."""
+
+    factor: tuple
+    image: object = None
+    uv_map: str = ""
+    attribute: str = None
+    material: str = ""
+
+    @property
+    def varies(self):
+        return self.image is not None or self.attribute is not None
+
+    def scaled(self, scale):
+        return replace(self, factor=tuple(float(f) * float(s) for f, s in zip(self.factor, np.broadcast_to(scale, 3))))
+
+
+def constant(colour):
+    return BaseColour(tuple(float(c) for c in colour[:3]))
+
+
+BLACK = constant((0.0, 0.0, 0.0))
+
+
+class MaterialSurfaces:
+    """The BaseColour of every material slot, cached per material, with the images they
+    read (linear pixels, read once each) and the materials only approximated."""
+
+    def __init__(self):
+        self._materials = {}
+        self._averages = {}
+        self.images = {}            # image pointer -> (H, W, 3) linear pixels, top row first
+        self.approximated = set()   # material names
+
+    def palette(self, obj, size):
+        """The BaseColour of the object's material slots 0..size-1; indices past the last
+        slot use the last slot, as Blender does."""
+        slots = [slot.material for slot in obj.material_slots] or [None]
+        colours = [self.base_colour(material) for material in slots[:size]]
+        return colours + [colours[-1]] * (size - len(colours))
+
+    def base_colour(self, material):
+        if material is None:
+            return constant(DEFAULT_ALBEDO)
+        key = material.as_pointer()
+        if key not in self._materials:
+            evaluation = _Evaluation(self)
+            colour = evaluation.material(material)
+            if colour.image is not None and self.pixels(colour.image) is None:  # a missing file: no pixels
+                colour, evaluation.approximated = replace(colour, image=None), True
+            if evaluation.approximated:
+                self.approximated.add(material.name)
+            self._materials[key] = replace(colour, material=material.name)
+        return self._materials[key]
+
+    def pixels(self, image):
+        """The image's linear pixels, or None when it has none (a missing file)."""
+        key = image.as_pointer()
+        if key not in self.images:
+            self.images[key] = _linear_pixels(image)
+        return self.images[key]
+
+    def average(self, image):
+        key = image.as_pointer()
+        if key not in self._averages:
+            pixels = self.pixels(image)
+            self._averages[key] = None if pixels is None else pixels.reshape(-1, 3).mean(axis=0, dtype=np.float64)
+        return self._averages[key]
+
+
+class _Evaluation:
+    """One material's evaluation; notes whether it had to approximate."""
+
+    def __init__(self, surfaces):
+        self.surfaces = surfaces
+        self.approximated = False
+
+    def material(self, material):
+        fallback = constant(material.diffuse_color)
+        tree = material.node_tree
+        output = tree.get_output_node("CYCLES") if tree is not None else None
+        if output is None:
+            return fallback
+        colour = self.shader(output.inputs["Surface"], fallback, depth=0)
+        return replace(colour, factor=tuple(float(c) for c in np.clip(colour.factor, 0.0, 1.0)))
+
+    def approximate(self, colour):
+        self.approximated = True
+        return colour
+
+    def shader(self, socket, fallback, depth):
+        node = linked_node(socket)
+        if node is None:
+            return BLACK  # An unconnected surface renders black in Cycles.
+        if depth > 32:
+            return self.approximate(fallback)
+        if node.type == "BSDF_PRINCIPLED":
+            diffuse = 1.0
+            for name in ("Metallic", "Transmission Weight"):
+                weight = node.inputs[name]
+                if weight.is_linked:
+                    self.approximated = True
+                diffuse *= 1.0 - float(np.clip(weight.default_value, 0.0, 1.0))
+            return self.colour(node.inputs["Base Color"], depth).scaled(diffuse)
+        if node.type == "BSDF_DIFFUSE":
+            return self.colour(node.inputs["Color"], depth)
+        if node.type in ("MIX_SHADER", "ADD_SHADER"):
+            first, second = (node.inputs[1], node.inputs[2]) if node.type == "MIX_SHADER" else node.inputs[:2]
+            weight = 1.0
+            if node.type == "MIX_SHADER":
+                factor = node.inputs[0]
+                if factor.is_linked:
+                    self.approximated = True
+                weight = 0.5 if factor.is_linked else float(np.clip(factor.default_value, 0.0, 1.0))
+            parts = [(1.0 - weight if node.type == "MIX_SHADER" else 1.0, self.shader(first, fallback, depth + 1)),
+                     (weight, self.shader(second, fallback, depth + 1))]
+            return self.combined(parts)
+        if node.type in NON_REFLECTING_SHADERS:
+            return BLACK
+        return self.approximate(fallback)
+
+    def combined(self, parts):
+        """The weighted sum of BaseColours: exact when at most one part varies and the
+        others are black or weightless, else their averages summed (approximated)."""
+        parts = [(weight, colour) for weight, colour in parts if weight > 0 and any(colour.factor)]
+        if not parts:
+            return BLACK
+        if len(parts) == 1:
+            weight, colour = parts[0]
+            return colour.scaled(weight)
+        if not any(colour.varies for _, colour in parts):
+            return constant(sum(weight * np.array(colour.factor) for weight, colour in parts))
+        return self.approximate(constant(sum(weight * self.average_of(colour) for weight, colour in parts)))
+
+    def average_of(self, colour):
+        """A BaseColour's mean colour: its image's average times its factor."""
+        average = np.array(colour.factor, dtype=np.float64)
+        if colour.image is not None:
+            image_average = self.surfaces.average(colour.image)
+            average = average * (1.0 if image_average is None else image_average)
+        return average
+
+    def colour(self, socket, depth):
+        """The BaseColour a colour input reads."""
+        node = linked_node(socket)
+        if node is None:
+            return constant(socket.default_value)
+        if depth > 32:
+            return self.approximate(constant(socket.default_value))
+        if node.type == "RGB":
+            return constant(node.outputs[0].default_value)
+        if node.type == "TEX_IMAGE" and node.image is not None:
+            return self.image_colour(node)
+        if node.type == "VERTEX_COLOR":
+            return BaseColour((1.0, 1.0, 1.0), attribute=node.layer_name)
+        if node.type == "ATTRIBUTE" and node.attribute_type == "GEOMETRY":
+            return BaseColour((1.0, 1.0, 1.0), attribute=node.attribute_name)
+        if node.type == "MIX" and node.data_type == "RGBA" or node.type == "MIX_RGB":
+            mixed = self.mix_colour(node, depth)
+            if mixed is not None:
+                return mixed
+        image = upstream_image(socket)  # what the renderer did before it read images
+        self.approximated = True
+        if image is not None and self.surfaces.average(image) is not None:
+            return constant(self.surfaces.average(image))
+        return constant(socket.default_value)
+
+    def image_colour(self, node):
+        colour = BaseColour((1.0, 1.0, 1.0), image=node.image)
+        colour_space = node.image.colorspace_settings.name.lower()
+        if node.extension != "REPEAT" or not (colour_space.startswith("srgb") or
+                                               colour_space.startswith(LINEAR_COLOUR_SPACES)):
+            self.approximated = True  # clamped or mirrored lookups, other colour spaces: sampled as repeat, sRGB
+        vector = linked_node(node.inputs["Vector"])
+        if vector is None:
+            return colour
+        if vector.type == "UVMAP":
+            return replace(colour, uv_map=vector.uv_map)
+        if vector.type != "TEX_COORD" or linked_output(node.inputs["Vector"]) != "UV":
+            self.approximated = True  # a mapping we do not evaluate: the default UV map
+        return colour
+
+    def mix_colour(self, node, depth):
+        """A Mix (colour) node with a constant factor: MIX of two sides, or MULTIPLY by a
+        constant side; None for the rest."""
+        if node.type == "MIX":
+            factor, a, b = node.inputs["Factor"], node.inputs[6], node.inputs[7]
+        else:
+            factor, a, b = node.inputs["Fac"], node.inputs["Color1"], node.inputs["Color2"]
+        if factor.is_linked:
+            return None
+        weight = float(np.clip(factor.default_value if np.ndim(factor.default_value) == 0
+                               else factor.default_value[0], 0.0, 1.0))
+        first, second = self.colour(a, depth + 1), self.colour(b, depth + 1)
+        if node.blend_type == "MIX":
+            return self.combined([(1.0 - weight, first), (weight, second)])
+        if node.blend_type == "MULTIPLY":
+            if not second.varies:  # a ((1 - w) + w b): a scaled
+                return first.scaled((1.0 - weight) + weight * np.array(second.factor))
+            if not first.varies and weight == 1.0:  # a b: b scaled
+                return second.scaled(first.factor)
+        return None
+
+
+def linked_node(socket):
+    """The node feeding `socket`, looking through reroutes, muted links and muted nodes."""
+    link = _live_link(socket)
+    return None if link is None else link.from_node
+
+
+def linked_output(socket):
+    """The name of the output socket feeding `socket`, as linked_node finds it."""
+    link = _live_link(socket)
+    return None if link is None else link.from_socket.name
+
+
+def _live_link(socket):
+    for _ in range(64):
+        links = [link for link in socket.links if not link.is_muted]
+        if not links:
+            return None
+        node = links[0].from_node
+        if node.type == "REROUTE":
+            socket = node.inputs[0]
+        elif node.mute:
+            passing = [link.from_socket for link in node.internal_links if link.to_socket == links[0].from_socket]
+            if not passing:
+                return None
+            socket = passing[0]
+        else:
+            return links[0]
+    return None
+
+
+def upstream_image(socket):
+    """The image of the nearest Image Texture node upstream of `socket`, if any."""
+    frontier = [socket]
+    for _ in range(UPSTREAM_IMAGE_SEARCH_DEPTH):
+        nodes = [node for node in (linked_node(s) for s in frontier) if node is not None]
+        for node in nodes:
+            if node.type == "TEX_IMAGE" and node.image is not None:
+                return node.image
+        frontier = [s for node in nodes for s in node.inputs if s.is_linked]
+        if not frontier:
+            return None
+    return None
+
+
+def _linear_pixels(image):
+    """(H, W, 3) linear float32 pixels of an image, top row first, or None when it has
+    none (a missing file).
+
+    Float images hold scene-linear values; byte images hold their colour space's
+    encoding, which for anything but linear or non-colour data is taken as sRGB.
+    """
+    width, height = image.size
+    channels = image.channels
+    if width * height == 0 or channels == 0:
+        return None
+    pixels = np.empty(width * height * channels, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    pixels = pixels.reshape(height, width, channels)[::-1]  # Blender's rows start at the bottom
+    rgb = pixels[..., :3] if channels >= 3 else np.repeat(pixels[..., :1], 3, axis=2)
+    colour_space = image.colorspace_settings.name.lower()
+    if not image.is_float and not colour_space.startswith(LINEAR_COLOUR_SPACES):
+        rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+    return np.ascontiguousarray(rgb, dtype=np.float32)

@@ -172,3 +172,36 @@ def test_overlay_data_follows_the_light_side_and_the_overlay_settings(cornell_sc
         properties.method, properties.lpv_slice_axis = "cm", "z"
         properties.show_vpls = properties.show_lpv_slice = properties.show_warp_status = False
         session.release()
+
+
+def test_painting_an_image_reaches_the_next_frame():
+    """An image edit that tags the image is a geometry update: the next frame reads the new
+    pixels and the camera sees them."""
+    from .test_textures import checker_image, floor_scene, image_material
+    scene, _ = floor_scene(lambda: image_material(checker_image()))
+    session = ViewportSession()
+    try:
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        camera = extract_camera(depsgraph, (48, 48))
+        before = session.frame(depsgraph, camera, (48, 48), settings=small_settings()).display.copy()
+
+        def paint():
+            image = bpy.data.images["Checker"]
+            image.pixels.foreach_set(np.full(len(image.pixels), 1.0, dtype=np.float32))
+            image.update()
+            image.update_tag()  # a tagged image reaches the depsgraph as an IMAGE update
+
+        records = recorded_updates(paint)
+        assert GEOMETRY in changed_parts(records), records
+        session.note_updates(records)
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        after = session.frame(depsgraph, camera, (48, 48), settings=small_settings())
+        assert after.stats["extracted"] == [GEOMETRY]
+        assert after.display[16:32, 16:32, 0].min() > before[16:32, 16:32, 0].min() * 5  # the dark squares are white
+    finally:
+        session.release()
+
+
+def small_settings():
+    from lpv_preview.gpu.settings import Settings
+    return Settings(width=48, height=48, rsm_resolution=64, vpls_per_light=128, lpv_resolution=8)

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene, SurfaceImage
+from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene, SurfaceImage, local_origin
 from .materials import MaterialSurfaces
 
 MESH_LIKE_TYPES = {"MESH", "SURFACE", "META"}
@@ -38,15 +38,16 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     Raises LPVError when nothing with triangles or no light is visible.
     """
     geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
-    return Scene(**geometry, lights=lights, camera=extract_camera(depsgraph, resolution)).sanitize()
+    camera = extract_camera(depsgraph, resolution)
+    return Scene(**geometry, lights=[]).in_local_frame(lights, camera).sanitize()
 
 
 def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
     """One pass over the depsgraph's instances reading what is asked for: the Scene's
-    geometry fields (world-space triangles, normals, albedo, visibility and the surfaces'
-    vertex colours, UVs, image layers, images and approximated materials) of everything
-    visible (unsanitized; empty when not asked) and the visible lights (empty when not
-    asked)."""
+    geometry fields (triangles relative to their local origin, normals, albedo,
+    visibility, the surfaces' vertex colours, UVs, image layers, images and approximated
+    materials, and the origin) of everything visible (unsanitized; empty when not asked)
+    and the visible lights in world space (empty when not asked)."""
     surfaces = MaterialSurfaces()
     meshes = {}
     batches = {}
@@ -78,7 +79,9 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
 
 
 def _assemble(meshes, batches, surfaces):
-    """The Scene's geometry fields from the batches of instances of each mesh."""
+    """The Scene's geometry fields from the batches of instances of each mesh, placed
+    relative to the local origin of their world bounds (float64 until then)."""
+    origin = _batches_origin(meshes, batches)
     total = sum(len(matrices) * meshes[key].triangle_count for key, (matrices, _, _) in batches.items())
     triangles = np.empty((total, 3, 3), dtype=np.float32)
     normals = np.empty((total, 3, 3), dtype=np.float32)
@@ -104,7 +107,9 @@ def _assemble(meshes, batches, surfaces):
     for key, (matrices, palettes, seen) in batches.items():
         mesh = meshes[key]
         end = start + len(matrices) * mesh.triangle_count
-        mirrored = mesh.write_world(np.stack(matrices), triangles[start:end], normals[start:end])
+        placed = np.stack(matrices)
+        placed[:, :3, 3] -= origin
+        mirrored = mesh.write_world(placed, triangles[start:end], normals[start:end])
         visibility[start:end] = np.repeat(np.array(seen, dtype=np.uint8), mesh.triangle_count)
 
         def per_instance(array):
@@ -128,7 +133,25 @@ def _assemble(meshes, batches, surfaces):
         start = end
     return {"triangles": triangles, "normals": normals, "albedo": albedo, "visibility": visibility,
             "vertex_colors": vertex_colors, "uvs": uvs, "image_layers": image_layers if images else None,
-            "images": images, "approximated_materials": sorted(approximated)}
+            "images": images, "approximated_materials": sorted(approximated), "origin": origin}
+
+
+def _batches_origin(meshes, batches):
+    """local_origin of the instances' world bounds (their meshes' boxes, transformed)."""
+    corners = []
+    for key, (matrices, _, _) in batches.items():
+        positions = meshes[key].positions
+        positions = positions[np.isfinite(positions).all(axis=1)]  # broken vertices are dropped later
+        if not len(positions):
+            continue
+        low, high = positions.min(axis=0).astype(np.float64), positions.max(axis=0).astype(np.float64)
+        box = np.array([[x, y, z, 1.0] for x in (low[0], high[0]) for y in (low[1], high[1])
+                        for z in (low[2], high[2])])
+        corners.append((np.stack(matrices) @ box.T).transpose(0, 2, 1)[..., :3].reshape(-1, 3))
+    if not corners:
+        return np.zeros(3)
+    corners = np.concatenate(corners)
+    return local_origin(corners.min(axis=0), corners.max(axis=0))
 
 
 def _ray_visibility(instance):

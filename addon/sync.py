@@ -6,7 +6,7 @@ what each edit redoes"): the camera, the lights, the geometry (triangles and alb
 re-extracts just those parts, so a camera move costs no extraction and keeps every
 cached light map and the LPV; the pipeline's content keys decide the rest.
 """
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from ..gpu.scene import Scene
 from .extract import MESH_LIKE_TYPES, extract_parts
@@ -83,14 +83,14 @@ class SceneSync:
         read_geometry, read_lights = first or GEOMETRY in parts, first or LIGHTS in parts
         self.extracted = tuple(part for part, read in ((GEOMETRY, read_geometry), (LIGHTS, read_lights)) if read)
         if not self.extracted:
-            self._scene = replace(self._scene, camera=camera)
+            self._scene = self._scene.in_local_frame(camera=camera)
             return self._scene
         geometry, lights = extract_parts(depsgraph, view3d, read_geometry, read_lights)
-        if not read_lights:
-            lights = self._scene.lights
         if read_geometry:
-            self._scene = Scene(**geometry, lights=lights, camera=camera).sanitize()
+            lights = lights if read_lights else self._scene.world_lights()
+            self._scene = Scene(**geometry, lights=[]).in_local_frame(lights, camera)
+            self._scene = self._scene.sanitize()
         else:
-            self._scene = replace(self._scene, lights=lights, camera=camera)
+            self._scene = self._scene.in_local_frame(lights, camera)
             self._scene.require_lights()
         return self._scene

@@ -43,18 +43,27 @@ class Grid:
     size: int
 
 
-def fit_grid(bounds, size):
-    """A grid of size^3 cubic cells around the bounds with a cell of margin on every side.
+GRID_ANCHOR_STEPS = 16
+"""The grid's centre follows the bounds' centre in steps of about 1/GRID_ANCHOR_STEPS of a
+cell (a power of two), so it moves with the scene when the scene moves (the picture
+does not depend on where in the world the scene stands) and not when the bounds change
+by less."""
 
-    The cell size is snapped to quarter octaves and the origin to whole cells, so the grid
-    does not swim when the bounds change slightly.
+
+def fit_grid(bounds, size, shift=0.0):
+    """A grid of size^3 cubic cells around the bounds with a cell of margin on every side,
+    moved by `shift` cells along every axis.
+
+    The cell size is snapped to quarter octaves and the centre to GRID_ANCHOR_STEPS of a
+    cell, so the grid does not swim when the bounds change slightly.
     """
     low, high = (np.asarray(b, dtype=np.float64) for b in bounds)
     extent = max(float(np.max(high - low)), 1e-6)
     cell = extent / max(size - 2, 1)
     cell = 2.0 ** (math.ceil(math.log2(cell) * 4) / 4)
-    centre = np.floor((low + high) / 2 / cell) * cell
-    origin = centre - cell * (size // 2)
+    step = 2.0 ** math.floor(math.log2(cell / GRID_ANCHOR_STEPS))
+    centre = np.round((low + high) / 2 / step) * step
+    origin = centre - cell * (size // 2 - shift)
     return Grid(tuple(float(v) for v in origin), cell, size)
 
 

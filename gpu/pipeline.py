@@ -194,7 +194,7 @@ class Pipeline:
         start = time.perf_counter()
         stats = {}
         maps, keys = self.light_maps(scene, stats)
-        grid = fit_grid(scene.bounds(), s.lpv_resolution)
+        grid = fit_grid(scene.bounds(), s.lpv_resolution, s.grid_shift)
         lpv_key = (tuple(keys), grid, s.propagation_iterations, s.occlusion)
         if self._lpv is None or self._lpv[0] != lpv_key:
             lpv = self._lpv[1] if self._lpv is not None and self._lpv[1].grid == grid else None

@@ -7,7 +7,7 @@ Blender).
 """
 import hashlib
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -20,6 +20,28 @@ SEEN_BY_CAMERA, SEEN_BY_LIGHTS = 1, 2
 camera draws it; the lights' maps hold it (it casts shadows and reflects light)."""
 SEEN_BY_ALL = SEEN_BY_CAMERA | SEEN_BY_LIGHTS
 _VISIBILITY_ORDER = np.array([0, 0, 2, 1], dtype=np.int8)  # camera only, both, lights only
+
+FAR_FROM_ORIGIN = 8
+"""A scene whose centre lies farther from the world origin than this many times its size
+(rounded up to a power of two) gets a local origin; a nearer one keeps the world's,
+where float32 positions lose nothing that matters."""
+LOCAL_ORIGIN_STEPS = 1024
+"""A local origin is the bounds' centre rounded to 1/LOCAL_ORIGIN_STEPS of that size: a
+georeferenced model 1e6 m out renders like one at the world origin, and a bounds change
+below the step moves nothing."""
+
+
+def local_origin(low, high):
+    """The local origin (float64) of a scene whose world bounds are `low`, `high`."""
+    low, high = np.asarray(low, dtype=np.float64), np.asarray(high, dtype=np.float64)
+    if not (np.all(np.isfinite(low)) and np.all(np.isfinite(high))):
+        return np.zeros(3)
+    size = 2.0 ** math.ceil(math.log2(max(float(np.max(high - low)), 1e-30)))
+    centre = (low + high) / 2
+    if np.max(np.abs(centre)) <= FAR_FROM_ORIGIN * size:
+        return np.zeros(3)
+    step = size / LOCAL_ORIGIN_STEPS
+    return np.round(centre / step) * step
 
 
 @dataclass
@@ -97,6 +119,13 @@ class Camera:
     def position(self):
         return np.linalg.inv(self.view)[:3, 3]
 
+    def moved_by(self, offset):
+        """This camera with the world moved by -offset under it: for positions relative to
+        a local origin `offset` (computed in float64)."""
+        translation = np.eye(4)
+        translation[:3, 3] = offset
+        return Camera(self.view @ translation, self.projection)
+
     @staticmethod
     def look_at(eye, target, up=(0, 0, 1), fov_y=math.radians(40), aspect=1.0, near=0.05, far=100.0):
         """A perspective camera at `eye` looking at `target` (for tests and demos)."""
@@ -155,7 +184,9 @@ class Scene:
     `vertex_colors` (T, 3, 3) linear (None: white) and times the image `images[layer]`
     at the corners' `uvs` (T, 3, 2) where `image_layers` (T,) is not -1 (None: no image).
     `approximated_materials` names the materials whose colour the extraction could only
-    approximate. `dropped` counts what `sanitize` removed, by reason. Once sanitized, the
+    approximate. Positions, lights and camera are relative to the world point `origin`
+    (float64; None: the world origin), which `sanitize` moves to the scene when it is far
+    (`local_origin`) before anything becomes float32. `dropped` counts what `sanitize` removed, by reason. Once sanitized, the
     triangles the camera sees are the range `camera_triangles` (first, count) and those
     the lights see `light_triangles`: the camera-only ones come first, then those both
     see, then the lights-only ones.
@@ -173,6 +204,7 @@ class Scene:
     image_layers: np.ndarray = None
     images: list = field(default_factory=list)
     approximated_materials: list = field(default_factory=list)
+    origin: np.ndarray = None
     sanitized: bool = False
     camera_triangles: tuple = None
     light_triangles: tuple = None
@@ -190,6 +222,38 @@ class Scene:
         flat = self.triangles.reshape(-1, 3)
         self._bounds = flat.min(axis=0).astype(np.float64), flat.max(axis=0).astype(np.float64)
         return self._bounds
+
+    def in_local_frame(self, lights=None, camera=None):
+        """This scene with world-space `lights` and `camera` (those given) placed relative
+        to its origin."""
+        origin = np.zeros(3) if self.origin is None else self.origin
+        changes = {}
+        if lights is not None:
+            changes["lights"] = [replace(light, position=light.position - origin) for light in lights]
+        if camera is not None:
+            changes["camera"] = camera.moved_by(origin)
+        return replace(self, **changes)
+
+    def world_lights(self):
+        """The lights in world space."""
+        origin = np.zeros(3) if self.origin is None else self.origin
+        return [replace(light, position=light.position + origin) for light in self.lights]
+
+    def _rebase(self, triangles):
+        """Move the origin to the finite `triangles`' local_origin ((T, 3, 3), any float
+        type), lights and camera along; returns the triangles relative to it (float64
+        when they moved)."""
+        finite = np.isfinite(triangles).all(axis=(1, 2))
+        if not finite.any():
+            return triangles
+        kept = triangles[finite] if not finite.all() else triangles
+        shift = local_origin(kept.min(axis=(0, 1)), kept.max(axis=(0, 1)))
+        if not np.any(shift):
+            return triangles
+        self.origin = shift if self.origin is None else self.origin + shift
+        self.lights = [replace(light, position=light.position - shift) for light in self.lights]
+        self.camera = None if self.camera is None else self.camera.moved_by(shift)
+        return np.asarray(triangles, dtype=np.float64) - shift
 
     def _surface_arrays(self, count):
         """The optional per-triangle arrays, checked and in their GPU types (None: absent)."""
@@ -210,7 +274,7 @@ class Scene:
 
         Raises LPVError for a scene with nothing left to render or no light.
         """
-        tri = np.asarray(self.triangles, dtype=np.float32).reshape(-1, 3, 3)
+        tri = self._rebase(np.asarray(self.triangles).reshape(-1, 3, 3)).astype(np.float32, copy=False)
         nrm = np.asarray(self.normals, dtype=np.float32).reshape(-1, 3, 3)
         alb = np.asarray(self.albedo, dtype=np.float32).reshape(-1, 3)
         seen = (np.full(len(tri), SEEN_BY_ALL, dtype=np.uint8) if self.visibility is None

@@ -59,8 +59,8 @@ def test_propagation_through_an_empty_grid_moves_light_one_cell_a_step(glc, volu
 def test_many_vpls_in_one_cell_all_add_up(glc, volume):
     count = 1000
     vpls = np.zeros((count, 3, 4), dtype=np.float32)
-    vpls[:, 0] = (2.2, 2.3, 2.1, 1.0)      # position, valid
-    vpls[:, 1] = (0.0, 0.0, 1.0, 0.0)      # normal +z (shifted half a cell: stays in cell 2,2,2)
+    vpls[:, 0] = (2.5, 2.5, 2.0, 1.0)      # position, valid
+    vpls[:, 1] = (0.0, 0.0, 1.0, 0.0)      # normal +z (shifted half a cell: the centre of cell 2,2,2)
     vpls[:, 2] = (1.0, 0.5, 0.25, 0.0)     # flux
     buffer = glc.gl.buffer(vpls.tobytes())
     volume.inject([VPLSet(buffer, count)], flux_bound=count * 1.0)
@@ -71,11 +71,37 @@ def test_many_vpls_in_one_cell_all_add_up(glc, volume):
     buffer.release()
 
 
-def test_fitted_grid_encloses_the_bounds_and_snaps():
-    bounds = (np.array([-0.97, -1.02, 0.01]), np.array([1.03, 0.98, 2.01]))
+def test_a_vpl_between_cell_centres_is_shared_by_trilinear_weights(glc, volume):
+    vpls = np.zeros((1, 3, 4), dtype=np.float32)
+    vpls[0, 0] = (3.25, 3.0, 2.5, 1.0)   # with the half-cell shift along +z: (3.25, 3.0, 3.0)
+    vpls[0, 1] = (0.0, 0.0, 1.0, 0.0)
+    vpls[0, 2] = (1.0, 1.0, 1.0, 0.0)
+    buffer = glc.gl.buffer(vpls.tobytes())
+    volume.inject([VPLSet(buffer, 1)], flux_bound=1.0)
+    buffer.release()
+    red = LightPropagationVolume.read(volume.ping[0]).astype(np.float64)[..., 0]  # (z, y, x)
+    lobe = 1.0 / math.pi * lpv.LOBE_C0
+    weights = red / lobe
+    assert weights.sum() == pytest.approx(1.0, abs=1e-5)  # nothing lost
+    # x: 3.25 lies 3/4 of the way from centre 2.5 to 3.5; y and z sit halfway between centres.
+    np.testing.assert_allclose(weights[2:4, 2:4, 2], 0.25 * 0.25, atol=1e-5)
+    np.testing.assert_allclose(weights[2:4, 2:4, 3], 0.75 * 0.25, atol=1e-5)
+
+
+def test_fitted_grid_encloses_the_bounds_snaps_and_moves_with_the_scene():
+    centre = np.array([0.03125, -0.01953125, 1.0078125])  # on the anchor lattice (multiples of 2^-8)
+    bounds = (centre - 1.0, centre + 1.0)
     grid = fit_grid(bounds, 32)
     low = np.array(grid.origin)
     high = low + grid.cell_size * grid.size
     assert np.all(low <= bounds[0] - grid.cell_size) and np.all(high >= bounds[1] + grid.cell_size)
-    nudged = fit_grid((bounds[0] - 0.004, bounds[1] - 0.002), 32)
-    assert nudged == grid  # a small change of bounds does not move the grid
+    step = 2.0 ** math.floor(math.log2(grid.cell_size / lpv.GRID_ANCHOR_STEPS))
+    assert step == 2.0 ** -8
+    nudged = fit_grid((bounds[0] - 0.4 * step, bounds[1] - 0.2 * step), 32)
+    assert nudged == grid  # a change of bounds below the anchor step does not move the grid
+    offset = np.array([123.456, -7.89, 0.5])  # the scene moved: the grid moves with it, to half a step
+    moved = fit_grid((bounds[0] + offset, bounds[1] + offset), 32)
+    assert moved.cell_size == grid.cell_size
+    assert np.all(np.abs(np.array(moved.origin) - low - offset) <= step / 2 + 1e-9)
+    shifted = fit_grid(bounds, 32, shift=0.25)
+    np.testing.assert_allclose(np.array(shifted.origin) - low, 0.25 * grid.cell_size)

@@ -45,7 +45,9 @@ class VPLPoints:
     colours: np.ndarray
 
 
-def vpl_points(light_maps):
+def vpl_points(light_maps, origin=(0.0, 0.0, 0.0)):
+    """The VPLPoints of `light_maps`, positions in world space (the maps' are relative to
+    the scene's `origin`)."""
     positions, flux = [], []
     for maps in light_maps:
         vpls = maps.vpls.read()
@@ -55,7 +57,7 @@ def vpl_points(light_maps):
     flux = np.concatenate(flux) if flux else np.zeros((0, 3), np.float32)
     colours = np.ones((len(flux), 4), dtype=np.float32)
     colours[:, :3] = display_levels(flux, float(flux.max()) if len(flux) else 0.0)
-    return VPLPoints(positions.astype(np.float32), flux.astype(np.float32), colours)
+    return VPLPoints((positions + np.asarray(origin)).astype(np.float32), flux.astype(np.float32), colours)
 
 
 @dataclass
@@ -70,10 +72,11 @@ class LPVSlice:
     light: np.ndarray
 
 
-def lpv_slice(lpv, axis, position):
+def lpv_slice(lpv, axis, position, world_origin=(0.0, 0.0, 0.0)):
     """The layer of cells at `position` (0 low side .. 1 high side) across `axis`, with
     colours scaled by the brightest cell of the whole volume (the slice keeps its
-    brightness as it moves)."""
+    brightness as it moves); corners in world space (the grid's are relative to the
+    scene's `world_origin`)."""
     a = "xyz".index(axis)
     grid = lpv.grid
     n = grid.size
@@ -96,7 +99,7 @@ def lpv_slice(lpv, axis, position):
         corner[u] += du * extent
         corner[v] += dv * extent
         corners.append(corner)
-    return LPVSlice(np.array(corners, dtype=np.float32), image, light.transpose(1, 0, 2).astype(np.float32))
+    return LPVSlice((np.array(corners) + np.asarray(world_origin)).astype(np.float32), image, light.transpose(1, 0, 2).astype(np.float32))
 
 
 def warp_status_image(warp):

@@ -9,6 +9,8 @@ import math
 import time
 from dataclasses import dataclass
 
+import numpy as np
+
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
 from .errors import LPVError
@@ -108,6 +110,7 @@ class Pipeline:
         self._lpv = None           # (key, LightPropagationVolume)
         self._targets = None
         self._shown_keys = ()      # the light cache keys of the last frame
+        self.last_origin = np.zeros(3)  # the world point the last frame's positions are relative to
 
     @property
     def last_light_maps(self):
@@ -227,6 +230,7 @@ class Pipeline:
                 render_debug_passes(self.glc, targets, scene.camera, maps,
                                     (display_settings or DisplaySettings()).vpl_point_size)
         self._shown_keys = tuple(keys)
+        self.last_origin = np.zeros(3) if scene.origin is None else np.array(scene.origin, dtype=np.float64)
         with self.glc.timed(stats, "readback_ms"):
             images = {name: targets.read(name) for name in passes}
             display = None if display_into is None else targets.read_display_into(display_into)

@@ -113,7 +113,7 @@ def command_line(args):
 def command_demo(args):
     from .addon.batch import render_to_files
     start = time.perf_counter()
-    bpy_scene = demo.build(args.scene, **({"triangles": args.triangles} if args.triangles else {}))
+    bpy_scene = demo.build(args.scene, **({"triangles": args.triangles} if args.triangles is not None else {}))
     build_ms = (time.perf_counter() - start) * 1000
     stats = render_to_files(bpy_scene, settings_for_blend(bpy_scene, args), pass_names(args), args.out,
                             {"scene": args.scene, "build_ms": build_ms})
@@ -164,7 +164,7 @@ def command_export(args):
         raise LPVError("--cycles-width needs --cycles-samples: the Cycles reference is rendered only when asked.")
     options = {key: value for key, value in (("triangles", args.triangles), ("lights", args.lights),
                                              ("light_kind", args.light_kind), ("cycles_samples", args.cycles_samples),
-                                             ("cycles_width", args.cycles_width)) if value}
+                                             ("cycles_width", args.cycles_width)) if value is not None}
     scene = demo.export_npz(args.scene, args.out, **options)
     return {"scene": args.scene, "file": args.out, "triangles": scene.triangle_count, "lights": len(scene.lights),
             **({"cycles_reference": str(cycles_reference_path(args.out))} if args.cycles_samples else {})}
@@ -222,10 +222,12 @@ def build_parser():
     parser = argparse.ArgumentParser(prog="python -m lpv_preview", description=__doc__.split("\n\n")[0])
     commands = parser.add_subparsers(dest="command", required=True)
     scene_list = ", ".join(demo.SCENES)
+    triangles_help = "triangle count of " + " or ".join(f"the {name} ({low:,}..{high:,})"
+                                                        for name, (low, high) in demo.TRIANGLE_RANGES.items())
 
     command = commands.add_parser("demo", help="build a built-in scene with bpy and render it")
     command.add_argument("--scene", default=demo.SCENES[0], choices=demo.SCENES)
-    command.add_argument("--triangles", type=int, help="triangle count of the atrium or the city")
+    command.add_argument("--triangles", type=int, help=triangles_help)
     command.add_argument("--out", default="out", help="output folder (default: out)")
     add_setting_flags(command)
     add_debug_passes_flag(command)
@@ -257,7 +259,7 @@ def build_parser():
 
     command = commands.add_parser("export", help="save a demo scene as .npz for machines without Blender")
     command.add_argument("scene", choices=demo.SCENES)
-    command.add_argument("--triangles", type=int, help="triangle count of the atrium or the city")
+    command.add_argument("--triangles", type=int, help=triangles_help)
     command.add_argument("--out", required=True, help="the .npz file to write")
     command.add_argument("--lights", type=positive_int, help="replace the lights by this many of --light-kind")
     command.add_argument("--light-kind", choices=tuple(LIGHT_KIND_NAMES), default="point")
@@ -272,8 +274,8 @@ def build_parser():
     command.add_argument("--methods", type=method_list, default=list(TABLE1_METHODS),
                          help=f"comma-separated methods (default: {','.join(TABLE1_METHODS)})")
     command.add_argument("--budget", default=BUDGETS[0], choices=(*BUDGETS, "both"))
-    command.add_argument("--frames", type=int, default=5, help="camera-path frames for the LPV quality")
-    command.add_argument("--repeats", type=int, default=3, help="timed full frames per method (median)")
+    command.add_argument("--frames", type=positive_int, default=5, help="camera-path frames for the LPV quality")
+    command.add_argument("--repeats", type=positive_int, default=3, help="timed full frames per method (median)")
     command.add_argument("--out", default="out/bench", help="folder for table1.json and table1.md, or the sweep's files")
     command.add_argument("--sweep", help="run this sweep of bench/sweeps.toml (or --sweeps FILE) instead of Table 1")
     command.add_argument("--sweeps", help="the file of declared sweeps (default: bench/sweeps.toml)")

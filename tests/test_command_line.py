@@ -80,3 +80,45 @@ def test_errors_print_one_line(argv, words, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert words in err and len(err.splitlines()) == 1, err
+
+
+def refused_before_any_work(argv, capsys):
+    """main's one line of error for `argv`, checked to come before any work: Blender's
+    current file, which building a demo scene or opening a .blend replaces, keeps a marker."""
+    marker = bpy.data.texts.new("untouched").name
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1, err
+    assert marker in bpy.data.texts, f"work was done before the refusal: {err}"
+    bpy.data.texts.remove(bpy.data.texts[marker])
+    return err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["demo", "--triangles", "100"], "The demo scene 'cornell' has a fixed triangle count; give a triangle count "
+                                     "only for atrium or city."),
+    (["demo", "--scene", "atrium", "--triangles", "-5"], "The demo scene 'atrium' is built with 5,000 to "
+                                                         "10,000,000 triangles, not -5; choose a triangle count in "
+                                                         "that range."),
+    (["demo", "--scene", "atrium", "--triangles", "100000000"], "The demo scene 'atrium' is built with 5,000 to "
+                                                                "10,000,000 triangles, not 100,000,000; choose a "
+                                                                "triangle count in that range."),
+    (["demo", "--scene", "city", "--triangles", "0"], "The demo scene 'city' is built with 500 to 10,000,000 "
+                                                      "triangles, not 0; choose a triangle count in that range."),
+    (["export", "city", "--triangles", "0", "--out", "OUT/city.npz"], "The demo scene 'city' is built with 500 to "
+                                                                      "10,000,000 triangles, not 0; choose a "
+                                                                      "triangle count in that range."),
+], ids=["cornell", "atrium-negative", "atrium-huge", "city-zero", "export-city-zero"])
+def test_triangle_counts_a_scene_cannot_be_built_with_are_refused(argv, message, tmp_path, capsys):
+    argv = [arg.replace("OUT", str(tmp_path)) for arg in argv]
+    if argv[0] == "demo":
+        argv += ["--out", str(tmp_path), *SMALL]
+    assert refused_before_any_work(argv, capsys) == "lpv_preview: " + message
+
+
+@pytest.mark.parametrize("flag", ["--repeats", "--frames"])
+def test_bench_counts_below_one_are_refused_by_the_parser(flag, tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit:
+        main(["bench", "--scenes", "cornell", "--methods", "cm", "--out", str(tmp_path), *SMALL, flag, "0"])
+    assert exit.value.code == 2
+    assert f"argument {flag}: '0' is not a whole number of at least 1" in capsys.readouterr().err

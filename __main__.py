@@ -16,6 +16,7 @@ import argparse
 import json
 import os
 import sys
+import tempfile
 import time
 
 from . import demo
@@ -80,6 +81,34 @@ def settings_from(args, width, height):
     return preset_settings(args.preset, **given)
 
 
+def check_setting_flags(args):
+    """Refuse bad setting flags before any work, though the image size may yet come from
+    the scene."""
+    settings_from(args, PARAMETERS["width"].default, PARAMETERS["height"].default)
+
+
+def check_writable(folder):
+    """Refuse an output folder that cannot be made or written into, before any work: make
+    what is missing of it, write a probe file, and remove both again."""
+    folder = os.path.abspath(folder)
+    made = []  # the folders missing now, the outermost first
+    missing = folder
+    while not os.path.exists(missing):
+        made.insert(0, missing)
+        missing = os.path.dirname(missing)
+    try:
+        os.makedirs(folder, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as error:
+        raise LPVError(f"Cannot write into the output folder '{folder}' ({error.strerror}); "
+                       f"choose a writable folder.") from None
+    finally:
+        for path in reversed(made):
+            if os.path.isdir(path):
+                os.rmdir(path)
+
+
 def settings_for_blend(bpy_scene, args):
     """The flags' settings, the image size from the .blend's render resolution unless given."""
     from .addon.extract import render_resolution
@@ -112,6 +141,8 @@ def command_line(args):
 
 def command_demo(args):
     from .addon.batch import render_to_files
+    check_writable(args.out)
+    check_setting_flags(args)
     start = time.perf_counter()
     bpy_scene = demo.build(args.scene, **({"triangles": args.triangles} if args.triangles is not None else {}))
     build_ms = (time.perf_counter() - start) * 1000
@@ -126,6 +157,8 @@ def command_render(args):
     if not os.path.isfile(args.file):
         raise LPVError(f"There is no file '{args.file}'; give the path of a .blend file.")
     frames = parse_frames(args.frames) if args.frames else None
+    check_writable(args.out)
+    check_setting_flags(args)
     start = time.perf_counter()
     bpy_scene = open_blend(args.file)
     settings, file = settings_for_blend(bpy_scene, args), os.path.abspath(args.file)
@@ -143,6 +176,8 @@ def command_compare(args):
     from .addon.batch import open_blend
     from .addon.comparison import comparison_steps, run_to_end, write_report
     from .addon.cycles_reference import ReferenceCache
+    check_writable(args.out)
+    check_setting_flags(args)
     start = time.perf_counter()
     if args.file in demo.SCENES:
         bpy_scene = demo.build(args.file)
@@ -162,6 +197,7 @@ def command_export(args):
     from .gpu.scene_file import cycles_reference_path
     if args.cycles_width and not args.cycles_samples:
         raise LPVError("--cycles-width needs --cycles-samples: the Cycles reference is rendered only when asked.")
+    check_writable(os.path.dirname(args.out))
     options = {key: value for key, value in (("triangles", args.triangles), ("lights", args.lights),
                                              ("light_kind", args.light_kind), ("cycles_samples", args.cycles_samples),
                                              ("cycles_width", args.cycles_width)) if value is not None}
@@ -174,6 +210,14 @@ def bench_scene(item):
     """A bench scene: an .npz scene file (no Blender needed) or a demo scene built with bpy."""
     from .gpu.scene_file import load_scene
     return load_scene(item) if item.endswith(".npz") else demo.extracted(item)
+
+
+def check_bench_scenes(items):
+    """Refuse a bench scene that is neither a demo scene nor an .npz scene file there is."""
+    for item in items:
+        if item not in demo.SCENES and not (item.endswith(".npz") and os.path.isfile(item)):
+            raise LPVError(f"The bench scene '{item}' is neither a demo scene ({', '.join(demo.SCENES)}) nor an "
+                           f".npz scene file that exists; check --scenes.")
 
 
 def bench_cycles_indirect(item, samples, width, height):
@@ -193,14 +237,17 @@ def command_bench(args):
     log = lambda line: print(line, file=sys.stderr, flush=True)
     if args.report:
         from .bench.sweep_report import read_report, write_sweep_outputs
+        check_writable(args.out)
         same_folder = os.path.abspath(args.out) == os.path.abspath(os.path.dirname(args.report))
         return write_sweep_outputs(read_report(args.report), args.out, write_json=not same_folder)
     if args.page:
         from .bench.page import write_benchmarks_page
+        check_writable(os.path.dirname(args.page))
         return write_benchmarks_page(args.page)
     if args.sweep:
         from .bench.sweep import SWEEPS_FILE, load_sweep, run_sweep
         from .bench.sweep_report import write_sweep_outputs
+        check_writable(args.out)
         sweep = load_sweep(args.sweep, args.sweeps or SWEEPS_FILE)
         report = run_sweep(args.sweep, sweep, bench_scene, log=log, cycles_indirect=bench_cycles_indirect)
         report["command"] = command_line(args)
@@ -208,6 +255,8 @@ def command_bench(args):
                 "seconds": report["seconds"]}
     from .bench.sweep_report import scene_label
     from .bench.table1 import BUDGETS, run_table1, write_table1
+    check_writable(args.out)
+    check_bench_scenes(args.scenes.split(","))
     scenes = [(scene_label(item), lambda item=item: bench_scene(item)) for item in args.scenes.split(",")]
     budgets = BUDGETS if args.budget == "both" else (args.budget,)
     report = run_table1(scenes, settings_from(args, 960, 540), args.methods, args.frames, args.repeats, budgets,

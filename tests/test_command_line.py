@@ -82,6 +82,15 @@ def test_errors_print_one_line(argv, words, capsys):
     assert words in err and len(err.splitlines()) == 1, err
 
 
+@pytest.fixture(scope="module")
+def cornell_blend(tmp_path_factory):
+    from lpv_preview.demo import build
+    build("cornell")
+    blend = tmp_path_factory.mktemp("blend") / "cornell.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+    return blend
+
+
 def refused_before_any_work(argv, capsys):
     """main's one line of error for `argv`, checked to come before any work: Blender's
     current file, which building a demo scene or opening a .blend replaces, keeps a marker."""
@@ -92,6 +101,38 @@ def refused_before_any_work(argv, capsys):
     assert marker in bpy.data.texts, f"work was done before the refusal: {err}"
     bpy.data.texts.remove(bpy.data.texts[marker])
     return err
+
+
+@pytest.mark.parametrize("argv", [
+    ["demo", "--out", "OUT", *SMALL],
+    ["render", "BLEND", "--out", "OUT", *SMALL],
+    ["compare", "cornell", "--samples", "1", "--no-cache", "--out", "OUT", *SMALL],
+    ["export", "cornell", "--out", "OUT/scene.npz"],
+    ["bench", "--scenes", "cornell", "--methods", "cm", "--frames", "1", "--repeats", "1", "--out", "OUT", *SMALL],
+], ids=lambda argv: argv[0])
+def test_an_unwritable_out_is_refused_before_any_work(argv, cornell_blend, tmp_path, capsys):
+    blocker = tmp_path / "a_file"  # a folder cannot be made inside a file, even by root
+    blocker.write_text("")
+    out = blocker / "out"
+    argv = [arg.replace("OUT", str(out)).replace("BLEND", str(cornell_blend)) for arg in argv]
+    err = refused_before_any_work(argv, capsys)
+    assert err == (f"lpv_preview: Cannot write into the output folder '{out}' (Not a directory); "
+                   f"choose a writable folder.")
+
+
+def test_bench_scenes_that_are_neither_demo_scenes_nor_files_are_refused_before_any_work(tmp_path, capsys):
+    out = tmp_path / "new" / "bench"
+    err = refused_before_any_work(["bench", "--scenes", "cornell,nope", "--methods", "cm", "--out", str(out),
+                                   *SMALL], capsys)
+    assert err == ("lpv_preview: The bench scene 'nope' is neither a demo scene (cornell, atrium, city) nor an "
+                   ".npz scene file that exists; check --scenes.")
+    assert not (tmp_path / "new").exists()  # the check of --out removed the folders it made
+
+
+def test_setting_flags_are_refused_before_the_scene_is_built(tmp_path, capsys):
+    err = refused_before_any_work(["demo", "--scene", "atrium", "--rsm-resolution", "5", "--out", str(tmp_path)],
+                                  capsys)
+    assert err == "lpv_preview: Setting 'rsm_resolution' is 5; it must lie between 16 and 2048."
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -171,6 +171,18 @@ def command_render(args):
     return stats
 
 
+def check_methods_fit(bpy_scene, settings, methods):
+    """Refuse, before any Cycles reference is rendered, a comparison whose frames our
+    renderer cannot make here (no OpenGL 4.5, too large for the driver or the memory)."""
+    from .addon.render_scene import scene_to_render
+    from .gpu.capacity import check_frame_fits
+    from .gpu.context import GLContext
+    glc = GLContext.shared()
+    scene = scene_to_render(bpy_scene, (settings.width, settings.height))
+    for method in methods:
+        check_frame_fits(glc, settings.with_changes(method=method), scene)
+
+
 def command_compare(args):
     """Cycles references and each method's errors against them, written to args.out."""
     from .addon.batch import open_blend
@@ -186,8 +198,10 @@ def command_compare(args):
                        f"({', '.join(demo.SCENES)}).")
     else:
         bpy_scene = open_blend(args.file)
+    settings = settings_for_blend(bpy_scene, args)
+    check_methods_fit(bpy_scene, settings, args.methods)
     cache = None if args.no_cache else ReferenceCache(args.cache)
-    steps = comparison_steps(bpy_scene, args.methods, args.samples, settings_for_blend(bpy_scene, args), cache,
+    steps = comparison_steps(bpy_scene, args.methods, args.samples, settings, cache,
                              noise_floor=not args.no_noise_floor)
     rows = write_report(run_to_end(steps), args.out)
     return {"rows": rows, "out": os.path.abspath(args.out), "command_ms": (time.perf_counter() - start) * 1000}

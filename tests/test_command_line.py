@@ -8,6 +8,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from lpv_preview.__main__ import main  # noqa: E402
+from lpv_preview.gpu.capacity import available_host_bytes  # noqa: E402
 from lpv_preview.gpu.image_io import read_exr  # noqa: E402
 
 SMALL = ["--width", "64", "--height", "64", "--rsm-resolution", "128", "--vpls-per-light", "512"]
@@ -163,3 +164,23 @@ def test_bench_counts_below_one_are_refused_by_the_parser(flag, tmp_path, capsys
         main(["bench", "--scenes", "cornell", "--methods", "cm", "--out", str(tmp_path), *SMALL, flag, "0"])
     assert exit.value.code == 2
     assert f"argument {flag}: '0' is not a whole number of at least 1" in capsys.readouterr().err
+
+
+def test_a_frame_larger_than_the_memory_free_is_refused_in_one_line(tmp_path, capsys):
+    if available_host_bytes() > 64 * 2 ** 30:
+        pytest.skip("this machine has the memory of a 16384 x 16384 frame (about 66 GiB on llvmpipe)")
+    assert main(["demo", "--width", "16384", "--height", "16384", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lpv_preview: A 16384 x 16384 frame needs about ") and len(err.splitlines()) == 1, err
+    assert not os.listdir(tmp_path)
+
+
+def test_compare_is_refused_before_the_cycles_references_where_our_renderer_cannot_run(tmp_path, capsys,
+                                                                                     monkeypatch):
+    monkeypatch.setenv("LPV_PREVIEW_NO_GPU", "1")
+    cache = tmp_path / "cycles"
+    argv = ["compare", "cornell", "--samples", "1", "--cache", str(cache), "--out", str(tmp_path / "out"), *SMALL]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lpv_preview: No OpenGL 4.5 context is available") and len(err.splitlines()) == 1, err
+    assert not cache.exists() or not any(cache.iterdir())

@@ -16,6 +16,7 @@ import argparse
 import json
 import os
 import sys
+import tempfile
 import time
 
 from . import demo
@@ -80,6 +81,34 @@ def settings_from(args, width, height):
     return preset_settings(args.preset, **given)
 
 
+def check_setting_flags(args):
+    """Refuse bad setting flags before any work, though the image size may yet come from
+    the scene."""
+    settings_from(args, PARAMETERS["width"].default, PARAMETERS["height"].default)
+
+
+def check_writable(folder):
+    """Refuse an output folder that cannot be made or written into, before any work: make
+    what is missing of it, write a probe file, and remove both again."""
+    folder = os.path.abspath(folder)
+    made = []  # the folders missing now, the outermost first
+    missing = folder
+    while not os.path.exists(missing):
+        made.insert(0, missing)
+        missing = os.path.dirname(missing)
+    try:
+        os.makedirs(folder, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as error:
+        raise LPVError(f"Cannot write into the output folder '{folder}' ({error.strerror}); "
+                       f"choose a writable folder.") from None
+    finally:
+        for path in reversed(made):
+            if os.path.isdir(path):
+                os.rmdir(path)
+
+
 def settings_for_blend(bpy_scene, args):
     """The flags' settings, the image size from the .blend's render resolution unless given."""
     from .addon.extract import render_resolution
@@ -112,8 +141,10 @@ def command_line(args):
 
 def command_demo(args):
     from .addon.batch import render_to_files
+    check_writable(args.out)
+    check_setting_flags(args)
     start = time.perf_counter()
-    bpy_scene = demo.build(args.scene, **({"triangles": args.triangles} if args.triangles else {}))
+    bpy_scene = demo.build(args.scene, **({"triangles": args.triangles} if args.triangles is not None else {}))
     build_ms = (time.perf_counter() - start) * 1000
     stats = render_to_files(bpy_scene, settings_for_blend(bpy_scene, args), pass_names(args), args.out,
                             {"scene": args.scene, "build_ms": build_ms})
@@ -126,6 +157,8 @@ def command_render(args):
     if not os.path.isfile(args.file):
         raise LPVError(f"There is no file '{args.file}'; give the path of a .blend file.")
     frames = parse_frames(args.frames) if args.frames else None
+    check_writable(args.out)
+    check_setting_flags(args)
     start = time.perf_counter()
     bpy_scene = open_blend(args.file)
     settings, file = settings_for_blend(bpy_scene, args), os.path.abspath(args.file)
@@ -138,11 +171,25 @@ def command_render(args):
     return stats
 
 
+def check_methods_fit(bpy_scene, settings, methods):
+    """Refuse, before any Cycles reference is rendered, a comparison whose frames our
+    renderer cannot make here (no OpenGL 4.5, too large for the driver or the memory)."""
+    from .addon.render_scene import scene_to_render
+    from .gpu.capacity import check_frame_fits
+    from .gpu.context import GLContext
+    glc = GLContext.shared()
+    scene = scene_to_render(bpy_scene, (settings.width, settings.height))
+    for method in methods:
+        check_frame_fits(glc, settings.with_changes(method=method), scene)
+
+
 def command_compare(args):
     """Cycles references and each method's errors against them, written to args.out."""
     from .addon.batch import open_blend
     from .addon.comparison import comparison_steps, run_to_end, write_report
     from .addon.cycles_reference import ReferenceCache
+    check_writable(args.out)
+    check_setting_flags(args)
     start = time.perf_counter()
     if args.file in demo.SCENES:
         bpy_scene = demo.build(args.file)
@@ -151,8 +198,10 @@ def command_compare(args):
                        f"({', '.join(demo.SCENES)}).")
     else:
         bpy_scene = open_blend(args.file)
+    settings = settings_for_blend(bpy_scene, args)
+    check_methods_fit(bpy_scene, settings, args.methods)
     cache = None if args.no_cache else ReferenceCache(args.cache)
-    steps = comparison_steps(bpy_scene, args.methods, args.samples, settings_for_blend(bpy_scene, args), cache,
+    steps = comparison_steps(bpy_scene, args.methods, args.samples, settings, cache,
                              noise_floor=not args.no_noise_floor)
     rows = write_report(run_to_end(steps), args.out)
     return {"rows": rows, "out": os.path.abspath(args.out), "command_ms": (time.perf_counter() - start) * 1000}
@@ -162,9 +211,10 @@ def command_export(args):
     from .gpu.scene_file import cycles_reference_path
     if args.cycles_width and not args.cycles_samples:
         raise LPVError("--cycles-width needs --cycles-samples: the Cycles reference is rendered only when asked.")
+    check_writable(os.path.dirname(args.out))
     options = {key: value for key, value in (("triangles", args.triangles), ("lights", args.lights),
                                              ("light_kind", args.light_kind), ("cycles_samples", args.cycles_samples),
-                                             ("cycles_width", args.cycles_width)) if value}
+                                             ("cycles_width", args.cycles_width)) if value is not None}
     scene = demo.export_npz(args.scene, args.out, **options)
     return {"scene": args.scene, "file": args.out, "triangles": scene.triangle_count, "lights": len(scene.lights),
             **({"cycles_reference": str(cycles_reference_path(args.out))} if args.cycles_samples else {})}
@@ -174,6 +224,14 @@ def bench_scene(item):
     """A bench scene: an .npz scene file (no Blender needed) or a demo scene built with bpy."""
     from .gpu.scene_file import load_scene
     return load_scene(item) if item.endswith(".npz") else demo.extracted(item)
+
+
+def check_bench_scenes(items):
+    """Refuse a bench scene that is neither a demo scene nor an .npz scene file there is."""
+    for item in items:
+        if item not in demo.SCENES and not (item.endswith(".npz") and os.path.isfile(item)):
+            raise LPVError(f"The bench scene '{item}' is neither a demo scene ({', '.join(demo.SCENES)}) nor an "
+                           f".npz scene file that exists; check --scenes.")
 
 
 def bench_cycles_indirect(item, samples, width, height):
@@ -193,14 +251,17 @@ def command_bench(args):
     log = lambda line: print(line, file=sys.stderr, flush=True)
     if args.report:
         from .bench.sweep_report import read_report, write_sweep_outputs
+        check_writable(args.out)
         same_folder = os.path.abspath(args.out) == os.path.abspath(os.path.dirname(args.report))
         return write_sweep_outputs(read_report(args.report), args.out, write_json=not same_folder)
     if args.page:
         from .bench.page import write_benchmarks_page
+        check_writable(os.path.dirname(args.page))
         return write_benchmarks_page(args.page)
     if args.sweep:
         from .bench.sweep import SWEEPS_FILE, load_sweep, run_sweep
         from .bench.sweep_report import write_sweep_outputs
+        check_writable(args.out)
         sweep = load_sweep(args.sweep, args.sweeps or SWEEPS_FILE)
         report = run_sweep(args.sweep, sweep, bench_scene, log=log, cycles_indirect=bench_cycles_indirect)
         report["command"] = command_line(args)
@@ -208,6 +269,8 @@ def command_bench(args):
                 "seconds": report["seconds"]}
     from .bench.sweep_report import scene_label
     from .bench.table1 import BUDGETS, run_table1, write_table1
+    check_writable(args.out)
+    check_bench_scenes(args.scenes.split(","))
     scenes = [(scene_label(item), lambda item=item: bench_scene(item)) for item in args.scenes.split(",")]
     budgets = BUDGETS if args.budget == "both" else (args.budget,)
     report = run_table1(scenes, settings_from(args, 960, 540), args.methods, args.frames, args.repeats, budgets,
@@ -222,10 +285,12 @@ def build_parser():
     parser = argparse.ArgumentParser(prog="python -m lpv_preview", description=__doc__.split("\n\n")[0])
     commands = parser.add_subparsers(dest="command", required=True)
     scene_list = ", ".join(demo.SCENES)
+    triangles_help = "triangle count of " + " or ".join(f"the {name} ({low:,}..{high:,})"
+                                                        for name, (low, high) in demo.TRIANGLE_RANGES.items())
 
     command = commands.add_parser("demo", help="build a built-in scene with bpy and render it")
     command.add_argument("--scene", default=demo.SCENES[0], choices=demo.SCENES)
-    command.add_argument("--triangles", type=int, help="triangle count of the atrium or the city")
+    command.add_argument("--triangles", type=int, help=triangles_help)
     command.add_argument("--out", default="out", help="output folder (default: out)")
     add_setting_flags(command)
     add_debug_passes_flag(command)
@@ -257,7 +322,7 @@ def build_parser():
 
     command = commands.add_parser("export", help="save a demo scene as .npz for machines without Blender")
     command.add_argument("scene", choices=demo.SCENES)
-    command.add_argument("--triangles", type=int, help="triangle count of the atrium or the city")
+    command.add_argument("--triangles", type=int, help=triangles_help)
     command.add_argument("--out", required=True, help="the .npz file to write")
     command.add_argument("--lights", type=positive_int, help="replace the lights by this many of --light-kind")
     command.add_argument("--light-kind", choices=tuple(LIGHT_KIND_NAMES), default="point")
@@ -272,8 +337,8 @@ def build_parser():
     command.add_argument("--methods", type=method_list, default=list(TABLE1_METHODS),
                          help=f"comma-separated methods (default: {','.join(TABLE1_METHODS)})")
     command.add_argument("--budget", default=BUDGETS[0], choices=(*BUDGETS, "both"))
-    command.add_argument("--frames", type=int, default=5, help="camera-path frames for the LPV quality")
-    command.add_argument("--repeats", type=int, default=3, help="timed full frames per method (median)")
+    command.add_argument("--frames", type=positive_int, default=5, help="camera-path frames for the LPV quality")
+    command.add_argument("--repeats", type=positive_int, default=3, help="timed full frames per method (median)")
     command.add_argument("--out", default="out/bench", help="folder for table1.json and table1.md, or the sweep's files")
     command.add_argument("--sweep", help="run this sweep of bench/sweeps.toml (or --sweeps FILE) instead of Table 1")
     command.add_argument("--sweeps", help="the file of declared sweeps (default: bench/sweeps.toml)")

@@ -10,11 +10,29 @@ from ..gpu.errors import LPVError
 
 SCENES = ("cornell", "atrium", "city")
 
+TRIANGLE_RANGES = {"atrium": (5_000, 10_000_000), "city": (500, 10_000_000)}
+"""The triangle counts the scenes that take one can be built with: from about their
+coarsest detail (4,436 and 452 triangles) to where Blender and the extracted Scene hold
+some 6 GB (about 600 bytes a triangle). The Cornell box's count is fixed."""
+
+
+def check_triangles(name, triangles):
+    """Refuse a triangle count the demo scene `name` cannot be built with."""
+    if name not in TRIANGLE_RANGES:
+        raise LPVError(f"The demo scene '{name}' has a fixed triangle count; give a triangle count only for "
+                       f"{' or '.join(TRIANGLE_RANGES)}.")
+    low, high = TRIANGLE_RANGES[name]
+    if not low <= triangles <= high:
+        raise LPVError(f"The demo scene '{name}' is built with {low:,} to {high:,} triangles, not {triangles:,}; "
+                       f"choose a triangle count in that range.")
+
 
 def build(name, **params):
     """Reset Blender to an empty file, build the demo scene `name` and return the bpy scene."""
     if name not in SCENES:
         raise LPVError(f"Unknown demo scene '{name}'; choose one of {', '.join(SCENES)}.")
+    if "triangles" in params:
+        check_triangles(name, params["triangles"])
     import bpy
     bpy.ops.wm.read_factory_settings(use_empty=True)
     return importlib.import_module(f".{name}", __name__).build(**params)

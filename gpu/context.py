@@ -13,8 +13,9 @@ from .errors import LPVError
 
 SHADER_DIR = Path(__file__).parent / "shaders"
 NO_GPU_VARIABLE = "LPV_PREVIEW_NO_GPU"
-INSTALL_HINT = ("install an OpenGL 4.5 driver with EGL (on Debian/Ubuntu: apt-get install libegl1 "
-                "libgl1-mesa-dri) or a GPU driver")
+INSTALL_HINT = ("install an OpenGL 4.5 driver with compute shaders and EGL (a GPU driver, or Mesa on "
+                "Debian/Ubuntu: apt-get install libegl1 libgl1-mesa-dri), which macOS lacks: Apple's OpenGL "
+                "stops at 4.1")
 
 
 class GLContext:

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .capacity import check_frame_fits
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
 from .errors import LPVError
@@ -186,7 +187,9 @@ class Pipeline:
         (read back from the GPU; PASS_NAMES and the debug passes DEBUG_PASS_NAMES, whose
         splat size `display_settings` gives), and with `display_into` (a writable buffer
         of width x height x 4 float32) the combined image read into it as RGBA rows,
-        bottom row first: what a viewport draws, read with no copy on the way."""
+        bottom row first: what a viewport draws, read with no copy on the way. A frame
+        the driver's limits or the memory free cannot hold is refused before anything of
+        it is allocated (capacity.py)."""
         if settings is not None:
             self.settings = settings
         s = self.settings
@@ -194,6 +197,7 @@ class Pipeline:
             raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
         if not scene.sanitized:
             scene.sanitize()
+        check_frame_fits(self.glc, s, scene, passes, display_into is not None, held_bytes=self.gpu_bytes())
         start = time.perf_counter()
         stats = {}
         maps, keys = self.light_maps(scene, stats)
@@ -216,6 +220,7 @@ class Pipeline:
         if self._targets is None or self._targets.size != (s.width, s.height):
             if self._targets is not None:
                 self._targets.release()
+                self._targets = None  # until the new ones are made, which a driver may refuse
             self._targets = FrameTargets(self.glc.gl, s.width, s.height)
         targets = self._targets
         with self.glc.timed(stats, "gbuffer_ms"):

@@ -73,21 +73,32 @@ def light_frame(light):
     return np.cross(up, back), up, back
 
 
-def cube_faces(light):
-    """(forward, up) of each cube face the light needs (METHOD §1), front face first."""
-    right, up, back = light_frame(light)
-    front = [(-back, up)]
-    sides = [(right, up), (-right, up), (up, back), (-up, back)]
+def cube_face_count(light):
+    """How many cube faces the light needs (METHOD §1): all six for a point light, the
+    front one for a spot of half-angle <= 45 degrees (its cone lies inside it), the front
+    hemisphere's five for a wider spot or an area light."""
     if light.kind == "POINT":
-        return front + sides + [(back, up)]
-    if light.kind == "SPOT" and light.spot_size / 2 <= math.pi / 4 + 1e-9:
-        return front  # a cone of half-angle <= 45 degrees lies inside the front face
-    return front + sides  # spot over 45 degrees, area: the front hemisphere
+        return 6
+    return 1 if light.kind == "SPOT" and light.spot_size / 2 <= math.pi / 4 + 1e-9 else 5
+
+
+def cube_faces(light):
+    """(forward, up) of each cube face the light needs, front face first, then the sides
+    and the back."""
+    right, up, back = light_frame(light)
+    faces = [(-back, up), (right, up), (-right, up), (up, back), (-up, back), (back, up)]
+    return faces[:cube_face_count(light)]
+
+
+def hemisphere_count(light):
+    """How many paraboloid hemispheres the light needs: both for a point light, the front
+    one for a spot or area light."""
+    return 2 if light.kind == "POINT" else 1
 
 
 def hemisphere_views(light, origin):
-    """World-to-hemisphere matrices (+z the axis) of the paraboloid maps the light needs:
-    both for a point light, the front one for a spot or area light.
+    """World-to-hemisphere matrices (+z the axis) of the paraboloid maps the light needs,
+    front first.
 
     The back hemisphere negates z and mirrors x, so both maps keep their orientation.
     """
@@ -96,10 +107,23 @@ def hemisphere_views(light, origin):
     front[:3, :3] = np.stack([right, up, -back])
     rear = np.eye(4)
     rear[:3, :3] = np.stack([-right, up, back])
-    views = [front] + ([rear] if light.kind == "POINT" else [])
+    views = [front, rear][:hemisphere_count(light)]
     for view in views:
         view[:3, 3] = -view[:3, :3] @ origin
     return views
+
+
+def map_face_count(light, method):
+    """How many faces render_rsm draws for the light: a sun's one orthographic map, else
+    its paraboloid hemispheres ("dpm") or cube faces."""
+    if light.kind == "SUN":
+        return 1
+    return hemisphere_count(light) if method == "dpm" else cube_face_count(light)
+
+
+def face_atlas_size(face_count, resolution):
+    """The (width, height) of an atlas of `face_count` faces, up to ATLAS_COLUMNS a row."""
+    return min(face_count, ATLAS_COLUMNS) * resolution, -(-face_count // ATLAS_COLUMNS) * resolution
 
 
 def light_uniforms(light, position):
@@ -145,9 +169,7 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
             faces = [projection @ look_at_view(origin, forward, up) for forward, up in cube_faces(light)]
         ortho_texel = 0.0
         flux_bound = float(np.max(light.rgb_power))
-    columns = min(len(faces), ATLAS_COLUMNS)
-    rows = -(-len(faces) // ATLAS_COLUMNS)
-    atlas_size = (columns * resolution, rows * resolution)
+    atlas_size = face_atlas_size(len(faces), resolution)
     origins = np.array([((f % ATLAS_COLUMNS) * resolution, (f // ATLAS_COLUMNS) * resolution)
                         for f in range(len(faces))], dtype=np.int32)
     gl = glc.gl

@@ -3,6 +3,7 @@ import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms
+from .errors import LPVError
 
 
 class FrameTargets:
@@ -17,9 +18,16 @@ class FrameTargets:
     def __init__(self, gl, width, height):
         self.gl = gl
         self.size = (width, height)
+        while gl.error != "GL_NO_ERROR":
+            pass  # forget earlier errors: Mesa keeps only the first, which would hide an allocation's
         self.direct, self.indirect, self.combined = (gl.texture(self.size, 4, dtype="f4") for _ in range(3))
         self.surface = gl.texture(self.size, 4, dtype="u4")
         self.depth = gl.depth_texture(self.size)
+        if gl.error == "GL_OUT_OF_MEMORY":  # within the limits yet refused: llvmpipe makes no image of 1.5 GiB
+            for texture in (self.direct, self.indirect, self.combined, self.surface, self.depth):
+                texture.release()
+            raise LPVError(f"{gl.info['GL_RENDERER']} cannot make {width} x {height} images (GL_OUT_OF_MEMORY); "
+                           f"lower the resolution.")
         for texture in (self.surface, self.depth):
             texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self.depth.compare_func = ""

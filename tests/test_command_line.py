@@ -8,6 +8,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from lpv_preview.__main__ import main  # noqa: E402
+from lpv_preview.gpu.capacity import available_host_bytes  # noqa: E402
 from lpv_preview.gpu.image_io import read_exr  # noqa: E402
 
 SMALL = ["--width", "64", "--height", "64", "--rsm-resolution", "128", "--vpls-per-light", "512"]
@@ -80,3 +81,106 @@ def test_errors_print_one_line(argv, words, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert words in err and len(err.splitlines()) == 1, err
+
+
+@pytest.fixture(scope="module")
+def cornell_blend(tmp_path_factory):
+    from lpv_preview.demo import build
+    build("cornell")
+    blend = tmp_path_factory.mktemp("blend") / "cornell.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+    return blend
+
+
+def refused_before_any_work(argv, capsys):
+    """main's one line of error for `argv`, checked to come before any work: Blender's
+    current file, which building a demo scene or opening a .blend replaces, keeps a marker."""
+    marker = bpy.data.texts.new("untouched").name
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1, err
+    assert marker in bpy.data.texts, f"work was done before the refusal: {err}"
+    bpy.data.texts.remove(bpy.data.texts[marker])
+    return err
+
+
+@pytest.mark.parametrize("argv", [
+    ["demo", "--out", "OUT", *SMALL],
+    ["render", "BLEND", "--out", "OUT", *SMALL],
+    ["compare", "cornell", "--samples", "1", "--no-cache", "--out", "OUT", *SMALL],
+    ["export", "cornell", "--out", "OUT/scene.npz"],
+    ["bench", "--scenes", "cornell", "--methods", "cm", "--frames", "1", "--repeats", "1", "--out", "OUT", *SMALL],
+], ids=lambda argv: argv[0])
+def test_an_unwritable_out_is_refused_before_any_work(argv, cornell_blend, tmp_path, capsys):
+    blocker = tmp_path / "a_file"  # a folder cannot be made inside a file, even by root
+    blocker.write_text("")
+    out = blocker / "out"
+    argv = [arg.replace("OUT", str(out)).replace("BLEND", str(cornell_blend)) for arg in argv]
+    err = refused_before_any_work(argv, capsys)
+    assert err == (f"lpv_preview: Cannot write into the output folder '{out}' (Not a directory); "
+                   f"choose a writable folder.")
+
+
+def test_bench_scenes_that_are_neither_demo_scenes_nor_files_are_refused_before_any_work(tmp_path, capsys):
+    out = tmp_path / "new" / "bench"
+    err = refused_before_any_work(["bench", "--scenes", "cornell,nope", "--methods", "cm", "--out", str(out),
+                                   *SMALL], capsys)
+    assert err == ("lpv_preview: The bench scene 'nope' is neither a demo scene (cornell, atrium, city) nor an "
+                   ".npz scene file that exists; check --scenes.")
+    assert not (tmp_path / "new").exists()  # the check of --out removed the folders it made
+
+
+def test_setting_flags_are_refused_before_the_scene_is_built(tmp_path, capsys):
+    err = refused_before_any_work(["demo", "--scene", "atrium", "--rsm-resolution", "5", "--out", str(tmp_path)],
+                                  capsys)
+    assert err == "lpv_preview: Setting 'rsm_resolution' is 5; it must lie between 16 and 2048."
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["demo", "--triangles", "100"], "The demo scene 'cornell' has a fixed triangle count; give a triangle count "
+                                     "only for atrium or city."),
+    (["demo", "--scene", "atrium", "--triangles", "-5"], "The demo scene 'atrium' is built with 5,000 to "
+                                                         "10,000,000 triangles, not -5; choose a triangle count in "
+                                                         "that range."),
+    (["demo", "--scene", "atrium", "--triangles", "100000000"], "The demo scene 'atrium' is built with 5,000 to "
+                                                                "10,000,000 triangles, not 100,000,000; choose a "
+                                                                "triangle count in that range."),
+    (["demo", "--scene", "city", "--triangles", "0"], "The demo scene 'city' is built with 500 to 10,000,000 "
+                                                      "triangles, not 0; choose a triangle count in that range."),
+    (["export", "city", "--triangles", "0", "--out", "OUT/city.npz"], "The demo scene 'city' is built with 500 to "
+                                                                      "10,000,000 triangles, not 0; choose a "
+                                                                      "triangle count in that range."),
+], ids=["cornell", "atrium-negative", "atrium-huge", "city-zero", "export-city-zero"])
+def test_triangle_counts_a_scene_cannot_be_built_with_are_refused(argv, message, tmp_path, capsys):
+    argv = [arg.replace("OUT", str(tmp_path)) for arg in argv]
+    if argv[0] == "demo":
+        argv += ["--out", str(tmp_path), *SMALL]
+    assert refused_before_any_work(argv, capsys) == "lpv_preview: " + message
+
+
+@pytest.mark.parametrize("flag", ["--repeats", "--frames"])
+def test_bench_counts_below_one_are_refused_by_the_parser(flag, tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit:
+        main(["bench", "--scenes", "cornell", "--methods", "cm", "--out", str(tmp_path), *SMALL, flag, "0"])
+    assert exit.value.code == 2
+    assert f"argument {flag}: '0' is not a whole number of at least 1" in capsys.readouterr().err
+
+
+def test_a_frame_larger_than_the_memory_free_is_refused_in_one_line(tmp_path, capsys):
+    if available_host_bytes() > 64 * 2 ** 30:
+        pytest.skip("this machine has the memory of a 16384 x 16384 frame (about 66 GiB on llvmpipe)")
+    assert main(["demo", "--width", "16384", "--height", "16384", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lpv_preview: A 16384 x 16384 frame needs about ") and len(err.splitlines()) == 1, err
+    assert not os.listdir(tmp_path)
+
+
+def test_compare_is_refused_before_the_cycles_references_where_our_renderer_cannot_run(tmp_path, capsys,
+                                                                                     monkeypatch):
+    monkeypatch.setenv("LPV_PREVIEW_NO_GPU", "1")
+    cache = tmp_path / "cycles"
+    argv = ["compare", "cornell", "--samples", "1", "--cache", str(cache), "--out", str(tmp_path / "out"), *SMALL]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lpv_preview: No OpenGL 4.5 context is available") and len(err.splitlines()) == 1, err
+    assert not cache.exists() or not any(cache.iterdir())

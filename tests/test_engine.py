@@ -14,6 +14,7 @@ from lpv_preview import demo  # noqa: E402
 from lpv_preview.addon.engine import ENGINE_ID  # noqa: E402
 from lpv_preview.addon.extract import extract_scene  # noqa: E402
 from lpv_preview.addon.properties import settings_from_properties  # noqa: E402
+from lpv_preview.gpu.capacity import available_host_bytes  # noqa: E402
 from lpv_preview.gpu.debug_views import STATUS_COLOURS  # noqa: E402
 from lpv_preview.gpu.image_io import read_exr_channels  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
@@ -84,9 +85,25 @@ def test_a_render_without_a_gpu_fails_with_one_clear_message(tmp_path):
     output = result.stdout + result.stderr
     reported = [line for line in output.splitlines() if line.startswith("REPORTED:")]
     assert reported == ["REPORTED: Error: No OpenGL 4.5 context is available (LPV_PREVIEW_NO_GPU is set); unset "
-                        "it, or install an OpenGL 4.5 driver with EGL (on Debian/Ubuntu: apt-get install libegl1 "
-                        "libgl1-mesa-dri) or a GPU driver."], output
+                        "it, or install an OpenGL 4.5 driver with compute shaders and EGL (a GPU driver, or Mesa on "
+                        "Debian/Ubuntu: apt-get install libegl1 libgl1-mesa-dri), which macOS lacks: Apple's OpenGL "
+                        "stops at 4.1."], output
     assert "Traceback" not in output
+
+
+def test_an_f12_render_larger_than_the_memory_free_reports_what_it_needs(cornell):
+    if available_host_bytes() > 64 * 2 ** 30:
+        pytest.skip("this machine has the memory of a 16384 x 16384 frame (about 66 GiB on llvmpipe)")
+    render = cornell.render
+    render.resolution_x = render.resolution_y = 16384
+    try:
+        with pytest.raises(RuntimeError) as error:  # the engine's report, not a silent FINISHED
+            bpy.ops.render.render()
+    finally:
+        render.resolution_x, render.resolution_y = 48, 40
+    message = str(error.value).strip()
+    assert message.startswith("Error: A 16384 x 16384 frame needs about ") and "GiB" in message, message
+    assert "; lower the resolution" in message and len(message.splitlines()) == 1, message
 
 
 def test_f12_render_writes_our_passes_into_a_multilayer_exr(cornell, tmp_path):

@@ -1,0 +1,133 @@
+"""Whether a frame fits the machine, checked before anything of it is allocated: its
+images against the OpenGL driver's size limits, and the memory it needs against what the
+system has free.
+
+The GPU's free memory has no portable OpenGL query, so on a GPU driver only the host
+memory of the images read back is compared; llvmpipe keeps its textures in host memory,
+so there the GPU bytes count against it too.
+"""
+import os
+
+from .errors import LPVError
+from .passes import DEBUG_PASS_NAMES, PASS_NAMES
+from .rsm import face_atlas_size, map_face_count
+from .surface_images import BYTES_PER_TEXEL, layer_size
+
+GIB = 2 ** 30
+
+CAMERA_BYTES_PER_PIXEL = 3 * 16 + 16 + 4
+"""Direct, indirect and combined (RGBA32F), the G-buffer's packed texel (RGBA32UI) and depth."""
+DEBUG_BYTES_PER_PIXEL = 2 * 16        # VPL Splats and Warp Status (RGBA32F)
+DISPLAY_BYTES_PER_PIXEL = 16          # the viewport's RGBA32F rows
+READBACK_BYTES_PER_PIXEL = 16         # a pass as the GPU gives it back (RGBA32F), before its RGB copy
+PASS_BYTES_PER_PIXEL = 5 * 3 * 4
+"""A pass read back (RGB float32) and about four copies more as the caller writes it (an
+EXR's interleaved channels, PNG tone mapping, Blender's RenderResult rows): `demo` at
+4096 x 4096 peaked at 262 bytes a pixel in all on llvmpipe, this estimate's 264."""
+
+MAP_BYTES_PER_TEXEL = 3 * 16          # an RSM's position, normal and flux (RGBA32F)
+WARP_STATUS_BYTES_PER_TEXEL = 4
+SHARED_BYTES_PER_TEXEL = 4 + 4
+"""Per atlas layout: the depth renderbuffer its maps are drawn with and the VPLs' Poisson
+cell ids; the warped methods keep a spare set of maps there too (the warp's source)."""
+VPL_BYTES = 3 * 16                    # position, normal, flux (three vec4)
+VPL_CELL_BYTES = 16 + 8               # per atlas layout: a Poisson cell's bounds and sample point
+
+LPV_BYTES_PER_CELL = 12 * 4 + 9 * 16
+"""The injection's integer accumulator (12 channels) and the ping, pong and sum volumes
+(three RGBA32F volumes each, one per colour)."""
+GEOMETRY_VOLUME_BYTES_PER_CELL = 16 + 16  # its accumulator and its volume, one cell larger a side
+
+VERTEX_BYTES = 12 * 4                 # position, normal, albedo, surface coordinate (mesh_buffer.py)
+RIM_LIST_BYTES_PER_TRIANGLE = 2 * 3 * 4
+"""Per paraboloid hemisphere: room for two lists of vertex indices (uint32) of the
+triangles split at its rim."""
+
+WARPED_METHODS = ("wdpm", "twdpm", "auto")
+
+
+def map_method(method):
+    """The map layout a method renders: cube faces for "cm", paraboloid hemispheres for the
+    others. `auto` chooses the cube only where it has as many faces as the paraboloid (one:
+    a sun, a spot of up to 45 degrees), so its layout is the paraboloid's."""
+    return "cm" if method == "cm" else "dpm"
+
+
+def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
+    """(GPU bytes, host bytes) that a frame of `scene` with `settings` needs at its peak:
+    the camera's images (with `display`, the viewport's rows too), every light's maps and
+    VPLs, the LPV, the mesh and its images on the GPU; the `passes` read back on the host."""
+    s = settings
+    pixels = s.width * s.height
+    warped = s.method in WARPED_METHODS
+    camera = pixels * (CAMERA_BYTES_PER_PIXEL + DISPLAY_BYTES_PER_PIXEL * display
+                       + DEBUG_BYTES_PER_PIXEL * any(name in DEBUG_PASS_NAMES for name in passes))
+    atlases = [face_atlas_size(map_face_count(light, map_method(s.method)), s.rsm_resolution)
+               for light in scene.lights]
+    per_light = MAP_BYTES_PER_TEXEL + WARP_STATUS_BYTES_PER_TEXEL * warped
+    maps = sum(width * height * per_light + s.vpls_per_light * VPL_BYTES for width, height in atlases)
+    per_layout = SHARED_BYTES_PER_TEXEL + MAP_BYTES_PER_TEXEL * warped
+    maps += sum(width * height * per_layout + s.vpls_per_light * VPL_CELL_BYTES for width, height in set(atlases))
+    n = s.lpv_resolution
+    lpv = n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL
+    mesh = scene.triangle_count * (3 * VERTEX_BYTES + 2 * RIM_LIST_BYTES_PER_TRIANGLE * (s.method != "cm"))
+    mesh += len(scene.images) * layer_size(scene.images) ** 2 * BYTES_PER_TEXEL
+    host = pixels * (READBACK_BYTES_PER_PIXEL * bool(passes) + PASS_BYTES_PER_PIXEL * len(passes))
+    return camera + maps + lpv + mesh, host
+
+
+def available_host_bytes():
+    """Memory the system can give without swapping: MemAvailable (Linux), else its free
+    pages; None where neither is known."""
+    try:
+        with open("/proc/meminfo") as handle:
+            for line in handle:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):  # no sysconf (Windows) or no such name
+        return None
+
+
+def check_limits(limits, renderer, settings, scene):
+    """Refuse images larger than the driver's `limits` (its GL_MAX_* values, as moderngl's
+    `info` gives them) allow: the camera's, the lights' map atlases, the LPV's volumes."""
+    s = settings
+    widest = min(limits["GL_MAX_TEXTURE_SIZE"], limits["GL_MAX_FRAMEBUFFER_WIDTH"])
+    tallest = min(limits["GL_MAX_TEXTURE_SIZE"], limits["GL_MAX_FRAMEBUFFER_HEIGHT"])
+    if s.width > widest or s.height > tallest:
+        raise LPVError(f"A {s.width} x {s.height} image is larger than {renderer} can render ({widest} x "
+                       f"{tallest} at most); lower the resolution.")
+    widest, tallest = (min(side, limits["GL_MAX_RENDERBUFFER_SIZE"]) for side in (widest, tallest))
+    for light in scene.lights:
+        width, height = face_atlas_size(map_face_count(light, map_method(s.method)), s.rsm_resolution)
+        if width > widest or height > tallest:
+            raise LPVError(f"An RSM resolution of {s.rsm_resolution} makes {width} x {height} light maps, larger "
+                           f"than {renderer} can render ({widest} x {tallest} at most); lower the RSM resolution.")
+    if s.lpv_resolution + 1 > limits["GL_MAX_3D_TEXTURE_SIZE"]:
+        raise LPVError(f"An LPV resolution of {s.lpv_resolution} needs volumes of {s.lpv_resolution + 1} cells a "
+                       f"side, more than {renderer} allows ({limits['GL_MAX_3D_TEXTURE_SIZE']}); lower the LPV "
+                       f"resolution.")
+
+
+def check_frame_fits(glc, settings, scene, passes=PASS_NAMES, display=False, held_bytes=0):
+    """Refuse, before anything is allocated, a frame the driver's limits or the memory
+    free cannot hold; `held_bytes` of GPU memory are already allocated for it (a
+    pipeline's earlier frame) and are used again."""
+    check_limits(glc.gl.info, glc.renderer, settings, scene)
+    available = available_host_bytes()
+    if available is None:
+        return
+    gpu, host = frame_bytes(settings, scene, passes, display)
+    size = f"A {settings.width} x {settings.height} frame"
+    if glc.is_software and max(gpu - held_bytes, 0) + host > available:
+        raise LPVError(f"{size} needs about {(gpu + host) / GIB:.1f} GiB of memory ({gpu / GIB:.1f} GiB of images "
+                       f"and maps, which {glc.renderer.split(' (')[0]} keeps in host memory, and {host / GIB:.1f} GiB "
+                       f"read back) but {available / GIB:.1f} GiB is free; lower the resolution, the RSM resolution "
+                       f"or the number of lights.")
+    if not glc.is_software and host > available:
+        raise LPVError(f"{size} needs about {host / GIB:.1f} GiB of host memory for its images read back but "
+                       f"{available / GIB:.1f} GiB is free; lower the resolution.")

@@ -1,0 +1,87 @@
+"""A frame is checked against the driver's limits and the memory free before anything of
+it is allocated, and refused with one sentence that says what it needs."""
+import math
+
+import numpy as np
+import pytest
+
+from lpv_preview.gpu.capacity import available_host_bytes, check_limits, frame_bytes
+from lpv_preview.gpu.errors import LPVError
+from lpv_preview.gpu.passes import PASS_NAMES, render_passes
+from lpv_preview.gpu.pipeline import Pipeline
+from lpv_preview.gpu.scene import Light
+from lpv_preview.gpu.settings import Settings
+from lpv_preview.gpu.shade import FrameTargets
+
+from .synthetic_scenes import room_scene
+
+
+def lit_room():
+    """The room with a point light, a wide spot (five cube faces, one hemisphere) and a sun."""
+    scene = room_scene(4)
+    scene.lights += [Light("SPOT", np.array((-1.0, 1.0, 2.5)), (0, 0, -1), (0, 1, 0), (1, 1, 1), 50.0,
+                           spot_size=math.radians(120)),
+                     Light("SUN", np.zeros(3), (0.3, 0.2, -1.0), (0, 1, 0), (1, 1, 1), 2.0)]
+    return scene
+
+
+@pytest.mark.parametrize("method", ["cm", "dpm", "wdpm", "auto"])
+def test_the_estimate_covers_what_a_pipeline_holds_after_a_frame(method, glc):
+    scene = lit_room()
+    settings = Settings(method=method, width=96, height=64, rsm_resolution=64, vpls_per_light=512, lpv_resolution=16)
+    passes = tuple(p.name for p in render_passes(debug=True))
+    pipeline = Pipeline(settings, glc)
+    try:
+        pipeline.render(scene, passes=passes, display_into=np.empty((64, 96, 4), dtype=np.float32))
+        held = pipeline.gpu_bytes()
+    finally:
+        pipeline.release()
+    gpu, host = frame_bytes(settings, scene, passes, display=True)
+    # Above what the pipeline holds by no more than the spare maps and depth the context keeps for reuse.
+    assert held <= gpu <= 1.5 * held, (held, gpu)
+    assert host >= 96 * 64 * 3 * 4 * len(passes)
+
+
+def test_a_driver_with_smaller_limits_refuses_what_it_cannot_render(glc):
+    scene = lit_room()
+    limits = dict(glc.gl.info, GL_MAX_TEXTURE_SIZE=4096, GL_MAX_3D_TEXTURE_SIZE=32)
+    check_limits(limits, "a small GPU", Settings(width=4096, height=4096, rsm_resolution=1024, lpv_resolution=16),
+                 scene)
+    with pytest.raises(LPVError) as error:
+        check_limits(limits, "a small GPU", Settings(width=8192, height=4320), scene)
+    assert str(error.value) == ("A 8192 x 4320 image is larger than a small GPU can render (4096 x 4096 at most); "
+                                "lower the resolution.")
+    with pytest.raises(LPVError) as error:
+        check_limits(limits, "a small GPU", Settings(rsm_resolution=2048), scene)
+    assert str(error.value) == ("An RSM resolution of 2048 makes 6144 x 4096 light maps, larger than a small GPU can "
+                                "render (4096 x 4096 at most); lower the RSM resolution.")
+    with pytest.raises(LPVError) as error:
+        check_limits(limits, "a small GPU", Settings(lpv_resolution=32), scene)
+    assert str(error.value) == ("An LPV resolution of 32 needs volumes of 33 cells a side, more than a small GPU "
+                                "allows (32); lower the LPV resolution.")
+
+
+def test_a_frame_larger_than_the_memory_free_is_refused_before_it_is_allocated(glc):
+    scene = room_scene(2)
+    settings = Settings(width=16384, height=16384, rsm_resolution=64, vpls_per_light=256)
+    if available_host_bytes() > sum(frame_bytes(settings, scene, PASS_NAMES)):
+        pytest.skip("this machine has the memory of a 16384 x 16384 frame")
+    pipeline = Pipeline(settings, glc)
+    try:
+        with pytest.raises(LPVError) as error:
+            pipeline.render(scene)
+        assert pipeline.gpu_bytes() == 0  # nothing was allocated
+    finally:
+        pipeline.release()
+    message = str(error.value)
+    assert message.startswith("A 16384 x 16384 frame needs about ") and "GiB" in message, message
+    assert "; lower the resolution" in message and len(message.splitlines()) == 1, message
+
+
+def test_images_the_driver_cannot_make_are_refused_in_one_sentence(glc):
+    if not glc.is_software:
+        pytest.skip("llvmpipe refuses an image of 1.5 GiB; a GPU's limit lies elsewhere")
+    with pytest.raises(LPVError) as error:
+        FrameTargets(glc.gl, 12000, 12000)
+    assert str(error.value) == (f"{glc.renderer} cannot make 12000 x 12000 images (GL_OUT_OF_MEMORY); lower the "
+                                f"resolution.")

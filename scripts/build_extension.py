@@ -2,7 +2,8 @@
 
 The wheels to bundle are the ones blender_manifest.toml lists; each missing one is
 downloaded from PyPI into ./wheels by its exact file name (package, version, Python and
-platform tags read from the name), then Blender's own builder (bl_pkg's blender_ext.py,
+platform tags read from the name), and one it no longer lists is removed from there
+(Blender's builder packs the whole folder); then Blender's own builder (bl_pkg's blender_ext.py,
 inside the bpy package) validates the manifest and writes the zip. Prints the zip's path.
 """
 import argparse
@@ -34,11 +35,15 @@ def download_wheel(path):
 def build(out_dir):
     with open(os.path.join(ROOT, "blender_manifest.toml"), "rb") as handle:
         manifest = tomllib.load(handle)
-    for wheel in manifest.get("wheels", []):
-        path = os.path.normpath(os.path.join(ROOT, wheel))
+    listed = {os.path.normpath(os.path.join(ROOT, wheel)) for wheel in manifest.get("wheels", [])}
+    for path in listed:
         if not os.path.isfile(path):
             os.makedirs(os.path.dirname(path), exist_ok=True)
             download_wheel(path)
+    for folder in {os.path.dirname(path) for path in listed}:  # the builder packs the whole folder
+        for name in os.listdir(folder):
+            if name.endswith(".whl") and os.path.join(folder, name) not in listed:
+                os.remove(os.path.join(folder, name))  # a download the manifest no longer lists
     os.makedirs(out_dir, exist_ok=True)
     subprocess.run([sys.executable, blender_ext_script(), "build", "--source-dir", ROOT, "--output-dir", out_dir],
                    check=True, stdout=sys.stderr)

@@ -141,11 +141,18 @@ class LightPropagationVolume:
         dispatch(program, size, size, size, local=VOLUME_LOCAL)
 
     def propagate(self, iterations, occlusion):
-        """Ping-pong propagation steps, each added into `sums`; occlusion from step two on."""
+        """Ping-pong propagation steps, each added into `sums`; occlusion from step two on.
+        Each step first scales its source cells so it sends out no more light than they
+        hold (shaders/lpv_conserve.comp)."""
         program = self.glc.compute("lpv_propagate")
         source, target = self.ping, self.pong
         n = self.grid.size
+        conserve = self.glc.compute("lpv_conserve")
         for step in range(iterations):
+            for unit, volume in enumerate(source):
+                volume.bind_to_image(unit, read=True, write=True)
+            set_uniforms(conserve, grid_size=n)
+            dispatch(conserve, n, n, n, local=VOLUME_LOCAL)
             for unit, volume in enumerate(source):
                 volume.use(location=unit)
             self.geometry.use(location=3)

@@ -1,24 +1,2 @@
 """Small scenes made of arrays for the GPU tests (the demo scenes need bpy)."""
-import numpy as np
-
-from lpv_preview.gpu.scene import Camera, Light, Scene
-
-
-def room_scene(quads_per_side, scale=1.0, light_position=(0.4, -0.3, 2.0)):
-    """A closed 4 x 4 x 3 m room (times `scale`) around a point light, each of its six
-    sides n x n quads; the light's power scales with scale² so irradiance stays the same."""
-    corners = np.array([[x, y, z] for x in (-2, 2) for y in (-2, 2) for z in (0, 3)], dtype=np.float64) * scale
-    sides = [(0, 2, 6, 4), (1, 5, 7, 3), (0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6)]
-    steps = np.linspace(0, 1, quads_per_side + 1)
-    triangles = []
-    for a, b, c, d in sides:
-        def point(u, v):
-            return (1 - v) * ((1 - u) * corners[a] + u * corners[b]) + v * ((1 - u) * corners[d] + u * corners[c])
-        for u0, u1 in zip(steps[:-1], steps[1:]):
-            for v0, v1 in zip(steps[:-1], steps[1:]):
-                triangles += [[point(u0, v0), point(u1, v0), point(u1, v1)], [point(u0, v0), point(u1, v1), point(u0, v1)]]
-    triangles = np.array(triangles, dtype=np.float32)
-    light = Light("POINT", np.array(light_position) * scale, (0, 0, -1), (0, 1, 0), (1, 1, 1), 100.0 * scale ** 2)
-    camera = Camera.look_at(np.array((0, -1.9, 1.5)) * scale, np.array((0, 0, 1)) * scale,
-                            near=0.01 * scale, far=20 * scale)
-    return Scene(triangles, np.zeros_like(triangles), np.full((len(triangles), 3), 0.6), [light], camera).sanitize()
+from lpv_preview.bench.synthetic import room_scene  # noqa: F401  (the tests' room is the benchmarks' one)

@@ -1,8 +1,10 @@
 #version 450 core
 // One propagation step (METHOD §7): every cell gathers from its six neighbours through the
 // far face and the four side faces, reading one grid and writing another (ping-pong), and
-// adds what it gathered into the accumulation grid.
+// adds what it gathered into the accumulation grid. lpv_conserve.comp has scaled every
+// source cell first, so no step sends out more light than it received.
 #include "common.glsl"
+#include "lpv_faces.glsl"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 uniform sampler3D source_r;
 uniform sampler3D source_g;
@@ -16,11 +18,6 @@ layout(rgba32f, binding = 4) uniform image3D sum_g;
 layout(rgba32f, binding = 5) uniform image3D sum_b;
 uniform int grid_size;
 uniform bool use_occlusion;
-
-const float FAR_FACE_SOLID_ANGLE = 0.4006696846;
-const float SIDE_FACE_SOLID_ANGLE = 0.4234313544;
-const ivec3 DIRECTIONS[6] = ivec3[6](ivec3(1, 0, 0), ivec3(-1, 0, 0), ivec3(0, 1, 0),
-                                     ivec3(0, -1, 0), ivec3(0, 0, 1), ivec3(0, 0, -1));
 
 // Share of light through the face between this cell and the one it came from along -d.
 float transmittance(ivec3 cell, vec3 d, vec3 travel) {
@@ -50,7 +47,7 @@ void main() {
         for (int j = 0; j < 6; ++j) {
             vec3 s = vec3(DIRECTIONS[j]);
             if (dot(s, d) != 0.0) continue;
-            vec3 e = (2.0 * d + s) / sqrt(5.0);
+            vec3 e = side_face_direction(d, s);
             vec4 ye = sh_basis(e);
             vec4 side_lobe = cos_lobe(s) * (SIDE_FACE_SOLID_ANGLE / PI) * transmittance(cell, d, e);
             r += max(0.0, dot(nr, ye)) * side_lobe;

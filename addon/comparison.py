@@ -6,6 +6,7 @@ Esc; the command line runs the same steps to the end. Errors are `gpu.metrics.im
 of our indirect and combined images against each reference's, and the reference's own
 noise floor is the same figures between two Cycles renders that differ only in the seed.
 """
+import math
 from dataclasses import dataclass, field
 
 from ..gpu.errors import LPVError
@@ -135,12 +136,22 @@ def run_to_end(steps):
 
 
 METRIC_COLUMNS = (("psnr", "PSNR dB", "{:.2f}"), ("relative_mse", "relMSE", "{:.4f}"), ("ssim", "SSIM", "{:.4f}"),
-                  ("flip", "FLIP", "{:.4f}"))
+                  ("flip", "FLIP", "{:.4f}"), ("mse", "MSE", "{:.3g}"), ("mean", "mean", "{:.3g}"),
+                  ("reference_mean", "Cycles mean", "{:.3g}"))
+UNDEFINED = "—"
+"""A figure that has no value, such as PSNR against a black reference."""
+
+
+def figure_text(value, fmt):
+    """A figure as the table shows it: `fmt`, or a dash where it is undefined (None, or
+    the infinite PSNR of identical images)."""
+    return UNDEFINED if value is None or not math.isfinite(value) else fmt.format(value)
 
 
 def markdown_table(comparison):
     """The comparison table in Markdown: per method and reference, our and Cycles' time,
-    the indirect and combined errors; the noise floor rows are Cycles against itself."""
+    the indirect and combined errors and means; the noise floor rows are Cycles against
+    itself. An undefined figure is a dash."""
     head = ["method", "reference", "ours ms", "Cycles s"] + [f"{image} {label}" for image in IMAGES
                                                               for _, label, _ in METRIC_COLUMNS]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -148,9 +159,14 @@ def markdown_table(comparison):
         cells = [row["method"].upper() if row["our_ms"] is not None else row["method"],
                  row["reference"].replace("_", " "),
                  "" if row["our_ms"] is None else f"{row['our_ms']:.1f}", f"{row['cycles_s']:.1f}"]
-        cells += [fmt.format(row[f"{image}_{metric}"]) for image in IMAGES for metric, _, fmt in METRIC_COLUMNS]
+        cells += [figure_text(row[f"{image}_{metric}"], fmt) for image in IMAGES for metric, _, fmt in METRIC_COLUMNS]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
+
+
+def _json_number(value):
+    """JSON has no infinity: an undefined figure (the infinite PSNR of identical images) is null."""
+    return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
 def write_report(comparison, folder):
@@ -180,9 +196,9 @@ def write_report(comparison, folder):
     rows = comparison.table()
     report = {"samples": comparison.samples, "resolution": list(comparison.resolution),
               "references": {kind: reference.settings for kind, reference in comparison.references.items()},
-              "rows": rows}
+              "rows": [{key: _json_number(value) for key, value in row.items()} for row in rows]}
     with open(os.path.join(folder, "comparison.json"), "w") as handle:
-        json.dump(report, handle, indent=2, default=float)
+        json.dump(report, handle, indent=2, default=float, allow_nan=False)
     with open(os.path.join(folder, "comparison.md"), "w") as handle:
         handle.write(markdown_table(comparison))
-    return rows
+    return report["rows"]

@@ -160,3 +160,43 @@ def test_time_to_equal_error_fits_cycles_error_and_time_against_samples(cornell,
         assert result.our_mse > 0 and result.our_ms > 0
         if result.samples is not None:
             assert result.samples >= 1 and result.seconds > 0
+
+
+def lone_plane_blend(path):
+    """A lit plane alone under a black sky, seen from above: Cycles' indirect light is black."""
+    from lpv_preview.demo.builder import MeshBuilder, add_camera, add_light, principled_material
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    plane = MeshBuilder()
+    plane.parallelogram((-1, -1, 0), (2, 0, 0), (0, 2, 0), 4, 4)
+    plane.to_object("Plane", [principled_material("Grey", (0.5, 0.5, 0.5))], scene.collection)
+    add_light(scene, "Light", "POINT", (0.0, 0.0, 1.0), 50.0)
+    add_camera(scene, (0.0, -0.5, 2.5), (0.0, 0.0, 0.0), resolution=(24, 20))
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+
+
+def strict_json(text):
+    """JSON as the standard has it: NaN and Infinity are not numbers there."""
+    def refuse(constant):
+        raise ValueError(f"{constant} is not JSON")
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_a_black_reference_is_an_answer_measured_in_absolute_figures(tmp_path, capsys):
+    blend = tmp_path / "plane.blend"
+    lone_plane_blend(blend)
+    out = tmp_path / "compare"
+    argv = ["compare", str(blend), "--methods", "cm", "--samples", "4", "--out", str(out), "--cache",
+            str(tmp_path / "cache"), "--rsm-resolution", "64", "--vpls-per-light", "256", "--lpv-resolution", "16"]
+    assert main(argv) == 0, capsys.readouterr().err
+    rows = strict_json((out / "comparison.json").read_text())["rows"]
+    ours = next(row for row in rows if row["method"] == "cm" and row["reference"] == "one_bounce")
+    assert ours["indirect_reference_mean"] == 0.0
+    assert ours["indirect_mse"] == pytest.approx(ours["indirect_mean"] ** 2, rel=10) and ours["indirect_mse"] >= 0
+    for metric in ("psnr", "relative_mse", "ssim", "flip"):
+        assert ours[f"indirect_{metric}"] is None  # relative to a black image: undefined
+        assert math.isfinite(ours[f"combined_{metric}"])  # the direct light is not black
+    noise = next(row for row in rows if row["method"] == "Cycles seed 1" and row["reference"] == "one_bounce")
+    assert noise["indirect_mse"] == 0.0 and noise["indirect_psnr"] is None
+    table = (out / "comparison.md").read_text()
+    assert "indirect MSE" in table and "indirect mean" in table and "| — |" in table

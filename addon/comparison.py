@@ -94,7 +94,7 @@ def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(
     `methods` with the `kinds` of Cycles reference at `samples`.
 
     A generator: it yields (fraction done, what the next step does) before each step and
-    returns the Comparison. Every Cycles render restores the scene's settings itself, so
+    returns the Comparison. Every Cycles render is of a temporary copy of the scene, so
     closing the generator between steps leaves the scene as it was.
     """
     unknown = [m for m in methods if m not in METHODS]

@@ -1,10 +1,11 @@
 """Ground-truth images from real Cycles, to measure LPV Preview against.
 
-Cycles renders the scene on the CPU from its camera into a multilayer EXR in a temporary
-folder; the passes are read back with OpenImageIO. In Blender 5.0 every view-layer pass
-reaches the file only once `image_settings.media_type` is 'MULTI_LAYER_IMAGE' (only then
-can `file_format` be 'OPEN_EXR_MULTILAYER'); plain 'OPEN_EXR' holds Combined alone.
-Every setting changed on the user's scene is given back afterwards.
+Cycles renders a temporary linked copy of the scene (its settings are the copy's own, its
+objects, world and camera the scene's) on the CPU from its camera into a multilayer EXR
+in a temporary folder; the passes are read back with OpenImageIO. In Blender 5.0 every
+view-layer pass reaches the file only once `image_settings.media_type` is
+'MULTI_LAYER_IMAGE' (only then can `file_format` be 'OPEN_EXR_MULTILAYER'); plain
+'OPEN_EXR' holds Combined alone. The user's scene is never changed.
 
 `cycles_reference` makes the two references the preview is judged by: one diffuse bounce
 (the light transport an LPV approximates) and full global illumination, each split into
@@ -50,64 +51,22 @@ COLOUR_PASSES = {
     "AO": ColourPass("use_pass_ambient_occlusion", "Ambient Occlusion"),
 }
 _PASS_BY_NAME = {**COLOUR_PASSES, **{p.exr_layer: p for p in COLOUR_PASSES.values()}}
-
-# Every setting render_cycles_passes may change, in the order they are given back:
-# the image media type before the file format, because the media type limits the formats.
-_RENDER_ATTRIBUTES = (
-    "engine", "resolution_x", "resolution_y", "resolution_percentage", "use_border",
-    "use_multiview", "filepath", "use_file_extension", "use_compositing", "use_sequencer",
-    "use_freestyle")
-_IMAGE_ATTRIBUTES = (
-    "media_type", "file_format", "color_depth", "color_mode", "exr_codec", "use_exr_interleave",
-    "color_management")
-_CYCLES_ATTRIBUTES = (
-    "device", "samples", "use_adaptive_sampling", "time_limit", "use_layer_samples",
-    "use_sample_subset", "seed", "use_animated_seed", "use_denoising", "light_sampling_threshold",
-    "filter_width", "max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces",
-    "volume_bounces", "sample_clamp_direct", "sample_clamp_indirect")
 _BOUNCE_ATTRIBUTES = (
     "max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces")
 
 
 @contextmanager
-def restored_attributes(*owners_and_names):
-    """Give each listed attribute its old value back on exit, also when the body raises.
-
-    Arguments are `(owner, attribute_names)` pairs; values come back in the order listed,
-    so a setting that limits another (image media type, then file format) goes first.
-    Every attribute is tried even if one cannot be restored; the first failure is raised.
-    """
-    saved = [(owner, name, getattr(owner, name)) for owner, names in owners_and_names for name in names]
+def _reference_scene(scene):
+    """A linked copy of `scene` (the same objects, world, camera, frame and view layers)
+    that a reference may set up freely, removed afterwards, also when the render fails:
+    the user's scene is never changed. (Changing its settings and setting them back is
+    not enough: switching the output to OpenEXR sets the image settings' linear colour
+    space, which cannot be set back to unset.)"""
+    copy = scene.copy()
     try:
-        yield
+        yield copy
     finally:
-        first_failure = None
-        for owner, name, value in saved:
-            try:
-                setattr(owner, name, value)
-            except (AttributeError, TypeError, ValueError) as failure:
-                first_failure = first_failure or failure
-        if first_failure is not None:
-            raise first_failure
-
-
-@contextmanager
-def temporary_render_settings(scene, view_layer):
-    """Let a reference render change the scene's engine, Cycles, output and pass settings freely.
-
-    Covers the render and image-format settings, Cycles sampling and bounces, the frame,
-    the pass switches of `view_layer` and which view layers are rendered. Cycles must be
-    enabled first, because `scene.cycles` only exists then.
-    """
-    render = scene.render
-    with restored_attributes(
-            (scene, ("frame_current",)),
-            (render, _RENDER_ATTRIBUTES),
-            (render.image_settings, _IMAGE_ATTRIBUTES),
-            (scene.cycles, _CYCLES_ATTRIBUTES),
-            (view_layer, tuple(p.view_layer_flag for p in COLOUR_PASSES.values())),
-            *((layer, ("use",)) for layer in scene.view_layers)):
-        yield
+        bpy.data.scenes.remove(copy)
 
 
 def render_cycles_passes(scene, passes=("Combined", "DiffDir", "DiffCol"), samples=64, resolution=None,
@@ -128,20 +87,22 @@ def render_cycles_passes(scene, passes=("Combined", "DiffDir", "DiffCol"), sampl
     clamping, the compositor and the sequencer are off, so the passes are raw Cycles.
 
     Returns {pass name: array, ..., "settings": dict of what was really used}; see
-    `describe_reference_settings`. The scene's settings are all given back afterwards.
+    `describe_reference_settings`. The render is of a copy of the scene
+    (`_reference_scene`): the scene itself is left as it is.
     """
     _enable_cycles()
-    view_layer = view_layer_to_render(scene)
+    view_layer_name = view_layer_to_render(scene).name
     wanted_layers = {name: _PASS_BY_NAME[name].exr_layer if name in _PASS_BY_NAME else name for name in passes}
-    with _temporary_folder() as folder, temporary_render_settings(scene, view_layer):
+    with _temporary_folder() as folder, _reference_scene(scene) as copy:
+        view_layer = copy.view_layers[view_layer_name]
         exr_path = os.path.join(folder, "cycles_reference.exr")
-        _apply_reference_settings(scene, view_layer, exr_path, passes, samples, resolution, seed,
+        _apply_reference_settings(copy, view_layer, exr_path, passes, samples, resolution, seed,
                                   max_bounces, light_threshold, pixel_filter_width)
-        settings = _settings_in_use(scene, view_layer)
+        settings = _settings_in_use(copy, view_layer)
         started = time.perf_counter()
-        _render_to_file(scene, exr_path)
+        _render_to_file(copy, exr_path)
         settings["render_seconds"] = time.perf_counter() - started
-        images = _read_exr_passes(exr_path, view_layer.name, wanted_layers)
+        images = _read_exr_passes(exr_path, view_layer_name, wanted_layers)
     return {**images, "settings": settings}
 
 

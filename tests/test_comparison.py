@@ -31,9 +31,13 @@ def cycles_state(scene):
 
 @pytest.fixture()
 def cornell():
+    """The Cornell box under a black sky (a world, so that the snapshots cover one)."""
     scene = demo.build("cornell")
     import addon_utils
     addon_utils.enable("cycles", default_set=True)
+    scene.world = bpy.data.worlds.new("Black sky")
+    scene.world.color = (0.0, 0.0, 0.0)
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
     return scene
 
 

@@ -6,7 +6,8 @@ from its active camera (`--frames 1-24`: an animation, one EXR a frame, resumabl
 .npz for machines without Blender; `bench` measures every RSM method against CM (the
 thesis's Table 1), runs declared sweeps and writes the benchmarks page.
 Each render writes a multi-layer EXR (combined, direct, indirect), tone-mapped PNGs of
-combined and indirect, and stats.json. Errors a user can fix print one line, no traceback.
+combined and indirect, and stats.json. Errors a user can fix print one line, no traceback,
+and exit with status 2; Ctrl-C stops a command with one line and status 130.
 
 This file is the command line only: the flags and one short function per command. The
 work is in the packages (addon/batch.py, addon/comparison.py, demo/, bench/); bpy and
@@ -285,6 +286,9 @@ def build_parser():
     return parser
 
 
+STOPPED = "Stopped by Ctrl-C; temporary files were removed, finished frames and Cycles references are kept."
+
+
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
@@ -294,6 +298,9 @@ def main(argv=None):
     except LPVError as error:
         print(f"lpv_preview: {error}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print(f"\nlpv_preview: {STOPPED}", file=sys.stderr)
+        return 130
     print(json.dumps(result, indent=2))
     return 0
 

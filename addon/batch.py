@@ -50,12 +50,24 @@ def frame_path(out_dir, frame):
     return os.path.join(out_dir, f"frame_{frame:04d}.exr")
 
 
+def write_frame(path, passes):
+    """The frame's EXR under a temporary name, renamed when complete, so an interrupted
+    frame is never taken for a finished one; the temporary file is removed when the
+    writing fails or Ctrl-C stops it."""
+    partial = path + ".partial.exr"
+    try:
+        write_exr(partial, passes)
+        os.replace(partial, path)
+    finally:
+        if os.path.exists(partial):
+            os.remove(partial)
+
+
 def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=False):
     """One EXR per frame of `frames` (a range) in `out_dir`, with a progress bar.
 
     Frames whose EXR exists are skipped unless `overwrite`, so a rerun resumes where an
-    interrupted one stopped; each EXR is written under a temporary name and renamed when
-    complete, so an interrupted frame is never taken for a finished one.
+    interrupted one stopped (`write_frame` never leaves a half-written frame).
     """
     todo = [f for f in frames if overwrite or not os.path.exists(frame_path(out_dir, f))]
     pipeline = Pipeline(settings)
@@ -66,9 +78,7 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
             bpy_scene.frame_set(frame)
             scene = scene_to_render(bpy_scene, (settings.width, settings.height))
             result = pipeline.render(scene, passes=passes)
-            partial = frame_path(out_dir, frame) + ".partial.exr"
-            write_exr(partial, result.passes)
-            os.replace(partial, frame_path(out_dir, frame))
+            write_frame(frame_path(out_dir, frame), result.passes)
             timings.append(time.perf_counter() - started)
             print_progress(done + 1, len(todo), frame, timings)
     finally:

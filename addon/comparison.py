@@ -13,7 +13,7 @@ from ..gpu.errors import LPVError
 from ..gpu.metrics import error_map, heat_map, image_errors
 from ..gpu.passes import COMPARED_PASS_NAMES as IMAGES
 from ..gpu.settings import METHODS
-from .cycles_reference import REFERENCE_BOUNCES, cycles_reference
+from .cycles_reference import REFERENCE_BOUNCES, cycles_reference, run_to_end
 from .render_scene import scene_to_render
 
 _last = []  # the last comparison the operator finished, for the panel
@@ -124,15 +124,6 @@ def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(
         comparison.methods.append(result)
         done += 1
     return comparison
-
-
-def run_to_end(steps):
-    """Run a comparison generator to the end; returns its Comparison."""
-    while True:
-        try:
-            next(steps)
-        except StopIteration as finished:
-            return finished.value
 
 
 METRIC_COLUMNS = (("psnr", "PSNR dB", "{:.2f}"), ("relative_mse", "relMSE", "{:.4f}"), ("ssim", "SSIM", "{:.4f}"),

@@ -29,6 +29,7 @@ import addon_utils  # on the path only once bpy is imported
 
 from ..gpu.errors import LPVError
 from ..gpu.image_io import read_exr_channels
+from .interrupt import interrupt_after_render
 from .render_scene import scene_to_render, view_layer_to_render
 
 ColourPass = namedtuple("ColourPass", "view_layer_flag exr_layer")
@@ -88,15 +89,70 @@ def render_cycles_passes(scene, passes=("Combined", "DiffDir", "DiffCol"), sampl
 
     Returns {pass name: array, ..., "settings": dict of what was really used}; see
     `describe_reference_settings`. The render is of a copy of the scene
-    (`_reference_scene`): the scene itself is left as it is.
+    (`_reference_scene`): the scene itself is left as it is. It goes in parts
+    (`cycles_passes_in_parts`), so Ctrl-C stops it within about `PART_SECONDS`.
+    """
+    return run_to_end(cycles_passes_in_parts(scene, passes, samples, resolution, seed, max_bounces,
+                                             light_threshold, pixel_filter_width))
+
+
+PART_SECONDS = 1.5
+"""About how long each part of a Cycles render takes. Blender's render call cannot be
+stopped from Python, so a render is split into consecutive subsets of its samples (Cycles'
+sample subsets, whose mean weighted by their sample counts is the whole render): Ctrl-C,
+Esc or closing the generator stop it after the part under way."""
+
+
+def cycles_passes_in_parts(scene, passes=("Combined", "DiffDir", "DiffCol"), samples=64, resolution=None,
+                           seed=0, max_bounces=None, light_threshold=0.0, pixel_filter_width=None):
+    """`render_cycles_passes` one part at a time: a generator that yields (samples done,
+    Cycles' seconds so far) after each part and returns what `render_cycles_passes` does.
+
+    The first part is one sample, which times the render; each next part is as many
+    samples as the last part's pace fits in `PART_SECONDS` (the last up to half as many
+    more). Between parts nothing of the render is left in the scene, the file or the
+    temporary folder.
     """
     _enable_cycles()
+    sums, settings, seconds, done, length = {}, None, 0.0, 0, 1
+    while done < samples:
+        left = samples - done
+        length = left if left < 1.5 * length else length  # no short part at the end
+        images = _render_part(scene, passes, samples, (done, length), resolution, seed, max_bounces,
+                              light_threshold, pixel_filter_width)
+        part = images.pop("settings")
+        for name, image in images.items():
+            sums[name] = sums.get(name, 0.0) + image.astype(np.float64) * length
+        settings = settings or part
+        seconds += part["render_seconds"]
+        done += length
+        yield done, seconds
+        length = max(1, int(length * PART_SECONDS / max(part["render_seconds"], 1e-3)))
+    images = {name: (total / samples).astype(np.float32) for name, total in sums.items()}
+    return {**images, "settings": {**settings, "render_seconds": seconds}}
+
+
+def run_to_end(steps, log=None):
+    """Run a generator of steps to the end, handing each step to `log` when given; returns
+    what the generator returns."""
+    while True:
+        try:
+            step = next(steps)
+        except StopIteration as finished:
+            return finished.value
+        if log is not None:
+            log(step)
+
+
+def _render_part(scene, passes, samples, sample_range, resolution, seed, max_bounces, light_threshold,
+                 pixel_filter_width):
+    """The passes of the `sample_range` (first sample, count) of a render of `samples`."""
     view_layer_name = view_layer_to_render(scene).name
     wanted_layers = {name: _PASS_BY_NAME[name].exr_layer if name in _PASS_BY_NAME else name for name in passes}
     with _temporary_folder() as folder, _reference_scene(scene) as copy:
         view_layer = copy.view_layers[view_layer_name]
         exr_path = os.path.join(folder, "cycles_reference.exr")
-        _apply_reference_settings(copy, view_layer, exr_path, passes, samples, resolution, seed,
+        _apply_reference_settings(copy, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
                                   max_bounces, light_threshold, pixel_filter_width)
         settings = _settings_in_use(copy, view_layer)
         started = time.perf_counter()
@@ -134,7 +190,7 @@ def _temporary_folder():
         shutil.rmtree(folder, ignore_errors=True)
 
 
-def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, resolution, seed,
+def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
                               max_bounces, light_threshold, pixel_filter_width):
     render, cycles = scene.render, scene.cycles
     render.engine = "CYCLES"
@@ -162,7 +218,8 @@ def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, reso
     cycles.use_adaptive_sampling = False
     cycles.time_limit = 0.0
     cycles.use_layer_samples = "IGNORE"
-    cycles.use_sample_subset = False
+    cycles.use_sample_subset = True
+    cycles.sample_offset, cycles.sample_subset_length = sample_range
     cycles.seed = seed
     cycles.use_animated_seed = False
     cycles.use_denoising = False
@@ -197,7 +254,8 @@ def _settings_in_use(scene, view_layer):
 
 def _render_to_file(scene, exr_path):
     try:
-        bpy.ops.render.render(write_still=True, scene=scene.name)
+        with interrupt_after_render():
+            bpy.ops.render.render(write_still=True, scene=scene.name)
     except RuntimeError as error:
         reason = str(error).splitlines()[0].removeprefix("Error: ").rstrip(".")
         raise LPVError(f"Cycles could not render or save the reference image: {reason}.") from error
@@ -274,15 +332,19 @@ class ReferenceCache:
             return None
 
     def store(self, key, reference):
-        """Write the reference; a cache that cannot be written only costs a render later."""
+        """Write the reference under a temporary name, renamed when complete (removed when
+        interrupted); a cache that cannot be written only costs a render later."""
+        partial = self.path(key) + ".partial.npz"
         try:
             os.makedirs(self.folder, exist_ok=True)
-            partial = self.path(key) + ".partial.npz"
             np.savez_compressed(partial, kind=reference.kind, direct=reference.direct, indirect=reference.indirect,
                                 settings=json.dumps(reference.settings))
             os.replace(partial, self.path(key))
         except OSError:
             pass
+        finally:
+            if os.path.exists(partial):
+                os.remove(partial)
 
 
 def material_signature(material):
@@ -328,6 +390,13 @@ def cycles_reference(scene, kind, samples, seed=0, resolution=None, cache=None, 
     """The `kind` reference ("one_bounce" or "full_gi") of `scene` from its camera at
     `resolution` (None: the scene's render size), from `cache` when it holds one.
     `content` is the scene extracted at that resolution, when the caller has it already."""
+    return run_to_end(cycles_reference_in_parts(scene, kind, samples, seed, resolution, cache, content))
+
+
+def cycles_reference_in_parts(scene, kind, samples, seed=0, resolution=None, cache=None, content=None):
+    """`cycles_reference` as a generator: it yields nothing when the cache holds the
+    reference, else (samples done, seconds so far) after each part of the render
+    (`cycles_passes_in_parts`); it returns the CyclesReference."""
     if kind not in REFERENCE_BOUNCES:
         raise LPVError(f"Unknown Cycles reference '{kind}'; choose one of {', '.join(REFERENCE_BOUNCES)}.")
     from .extract import render_resolution
@@ -340,8 +409,8 @@ def cycles_reference(scene, kind, samples, seed=0, resolution=None, cache=None, 
         if cached is not None:
             cached.settings["cached"] = True
             return cached
-    images = render_cycles_passes(scene, passes=REFERENCE_PASSES, samples=samples, resolution=resolution, seed=seed,
-                                  max_bounces=REFERENCE_BOUNCES[kind], pixel_filter_width=REFERENCE_FILTER_WIDTH)
+    images = yield from cycles_passes_in_parts(scene, REFERENCE_PASSES, samples, resolution, seed,
+                                               REFERENCE_BOUNCES[kind], pixel_filter_width=REFERENCE_FILTER_WIDTH)
     colour = images["DiffCol"]
     reference = CyclesReference(kind, images["DiffDir"] * colour, images["DiffInd"] * colour,
                                 {**images["settings"], "cached": False, "key": key})

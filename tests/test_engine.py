@@ -19,8 +19,9 @@ from lpv_preview.gpu.image_io import read_exr_channels  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 
 
-EVALUATION_STATE = {"depsgraph"}
-"""Pointers to what Blender evaluated for a render, not settings: a render changes them."""
+RUNTIME_STATE = {"depsgraph", "session_uid"}
+"""Not settings: what Blender evaluated for a render (a render changes it) and the number
+a data-block gets when a file is loaded."""
 
 
 def plain(value):
@@ -37,7 +38,7 @@ def rna_tree(struct, depth=0, max_depth=6):
     tree = {}
     for prop in struct.bl_rna.properties:
         name = prop.identifier
-        if name == "rna_type" or name in EVALUATION_STATE or prop.is_deprecated:
+        if name == "rna_type" or name in RUNTIME_STATE or prop.is_deprecated:
             continue
         try:
             value = getattr(struct, name)

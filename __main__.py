@@ -140,7 +140,8 @@ def command_render(args):
 
 
 def command_compare(args):
-    """Cycles references and each method's errors against them, written to args.out."""
+    """Cycles references and each method's errors against them, written to args.out;
+    every step, part of a Cycles render and the references' estimated time on stderr."""
     from .addon.batch import open_blend
     from .addon.comparison import comparison_steps, run_to_end, write_report
     from .addon.cycles_reference import ReferenceCache
@@ -155,7 +156,9 @@ def command_compare(args):
     cache = None if args.no_cache else ReferenceCache(args.cache)
     steps = comparison_steps(bpy_scene, args.methods, args.samples, settings_for_blend(bpy_scene, args), cache,
                              noise_floor=not args.no_noise_floor)
-    rows = write_report(run_to_end(steps), args.out)
+    progress = lambda step: print(f"[{time.perf_counter() - start:5.0f} s {step[0]:4.0%}] {step[1]}", file=sys.stderr,
+                                  flush=True)
+    rows = write_report(run_to_end(steps, progress), args.out)
     return {"rows": rows, "out": os.path.abspath(args.out), "command_ms": (time.perf_counter() - start) * 1000}
 
 

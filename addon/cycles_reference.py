@@ -323,6 +323,9 @@ class ReferenceCache:
     def path(self, key):
         return os.path.join(self.folder, f"{key}.npz")
 
+    def holds(self, key):
+        return os.path.isfile(self.path(key))
+
     def load(self, key):
         try:
             with np.load(self.path(key)) as data:

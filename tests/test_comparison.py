@@ -3,6 +3,7 @@ metric, a reference cache that renders nothing twice, the scene untouched when t
 comparison finishes, is cancelled between steps or fails."""
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -61,8 +62,11 @@ def test_a_comparison_gives_finite_figures_and_leaves_the_scene_as_it_was(cornel
     np.testing.assert_allclose(full.direct.mean(), one.direct.mean(), rtol=0.05)
     assert comparison.heat_map(comparison.methods[0], "one_bounce").shape == (32, 40, 3)
     # The second run renders no reference: all four come from the cache, unchanged.
-    again = run_to_end(comparison_steps(cornell, ["cm"], SAMPLES, SMALL, cache))
+    steps = []
+    again = run_to_end(comparison_steps(cornell, ["cm"], SAMPLES, SMALL, cache), steps.append)
     assert all(r.settings["cached"] for r in again.references.values())
+    assert [text for _, text in steps][:2] == ["Cycles one bounce reference: from the cache",
+                                               "Cycles one bounce noise floor (a second seed): from the cache"]
     np.testing.assert_array_equal(again.references["full_gi"].indirect, full.indirect)
     assert (scene_snapshot(cornell), cycles_state(cornell)) == before
 
@@ -70,7 +74,7 @@ def test_a_comparison_gives_finite_figures_and_leaves_the_scene_as_it_was(cornel
 def test_a_cancelled_comparison_leaves_the_scene_as_it_was(cornell, tmp_path):
     before = scene_snapshot(cornell), cycles_state(cornell)
     steps = comparison_steps(cornell, ["cm"], SAMPLES, SMALL, ReferenceCache(str(tmp_path)))
-    fractions = [next(steps)[0] for _ in range(3)]  # the first reference, its noise floor, then Esc
+    fractions = [next(steps)[0] for _ in range(3)]  # the first reference, its first part, the estimate; Esc
     steps.close()
     assert fractions == sorted(fractions) and fractions[0] == 0.0
     assert (scene_snapshot(cornell), cycles_state(cornell)) == before
@@ -88,12 +92,23 @@ def test_a_failing_comparison_raises_one_error_and_leaves_the_scene_as_it_was(co
     assert str(after) == str(before)  # NaN != NaN: compare the printed values
 
 
-def test_the_compare_command_writes_the_table_and_images(tmp_path, capsys):
+def test_the_compare_command_shows_its_progress_and_writes_the_table_and_images(tmp_path, capsys):
     out = tmp_path / "compare"
     argv = ["compare", "cornell", "--methods", "wdpm", "--samples", str(SAMPLES), "--out", str(out),
             "--cache", str(tmp_path / "cache"), "--width", "40", "--height", "32", "--rsm-resolution", "64",
             "--vpls-per-light", "256", "--lpv-resolution", "16"]
     assert main(argv) == 0
+    progress = capsys.readouterr().err.splitlines()
+    assert all(re.match(r"\[ +\d+ s +\d+%\] ", line) for line in progress), progress  # elapsed time, fraction
+    texts = [line.split("] ", 1)[1] for line in progress]
+    assert texts[0] == f"Cycles one bounce reference: {SAMPLES} samples at 40×32"
+    assert texts[1].startswith(f"Cycles one bounce reference: 1/{SAMPLES} samples in ") and texts[1].endswith(" left")
+    assert re.fullmatch(rf"Cycles references: about \d+ s for 4 renders of {SAMPLES} samples at 40×32, estimated "
+                        rf"from the [\d.]+ s the first sample took \(more bounces take longer\)", texts[2]), texts[2]
+    for label in ("one bounce reference", "one bounce noise floor (a second seed)", "full gi reference",
+                  "full gi noise floor (a second seed)"):
+        assert re.search(rf"Cycles {re.escape(label)}: {SAMPLES}/{SAMPLES} samples in \d+ s, done", "\n".join(texts))
+    assert texts[-1] == "LPV Preview WDPM"
     report = json.loads((out / "comparison.json").read_text())
     assert [(r["method"], r["reference"]) for r in report["rows"]] == [
         ("wdpm", "one_bounce"), ("Cycles seed 1", "one_bounce"), ("wdpm", "full_gi"), ("Cycles seed 1", "full_gi")]

@@ -15,6 +15,7 @@ cached by scene content and settings in a `ReferenceCache`.
 import hashlib
 import json
 import os
+import re
 import shutil
 import tempfile
 import time
@@ -306,12 +307,26 @@ class CyclesReference:
         return self.direct + self.indirect
 
 
+ADDON_PACKAGE = __package__.rpartition(".")[0]
+"""The add-on's package: 'bl_ext.<repository>.lpv_preview' when Blender installed it as an
+extension, 'lpv_preview' on the command line and in the tests."""
+
+
 def default_cache_folder():
-    """$LPV_PREVIEW_CACHE, else $XDG_CACHE_HOME/lpv_preview/cycles, else ~/.cache/lpv_preview/cycles."""
+    """$LPV_PREVIEW_CACHE; else, installed as an extension, the extension's own user folder
+    ("cycles" in it: the extensions platform asks an extension to keep its files there);
+    else $XDG_CACHE_HOME/lpv_preview/cycles or ~/.cache/lpv_preview/cycles."""
     if os.environ.get("LPV_PREVIEW_CACHE"):
         return os.environ["LPV_PREVIEW_CACHE"]
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return os.path.join(base, "lpv_preview", "cycles")
+    try:
+        return bpy.utils.extension_path_user(ADDON_PACKAGE, path="cycles")
+    except ValueError:  # not an extension
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        return os.path.join(base, "lpv_preview", "cycles")
+
+
+CACHE_FILE = re.compile(r"[0-9a-f]{20}\.npz(\.partial\.npz)?")
+"""The name of a cached reference (its key) or of one being written: the cache's own files."""
 
 
 class ReferenceCache:
@@ -322,6 +337,35 @@ class ReferenceCache:
 
     def path(self, key):
         return os.path.join(self.folder, f"{key}.npz")
+
+    def files(self):
+        """The paths of the cache's own files; other files in its folder are not its."""
+        try:
+            names = os.listdir(self.folder)
+        except OSError:
+            return []
+        return [os.path.join(self.folder, name) for name in sorted(names) if CACHE_FILE.fullmatch(name)]
+
+    def size(self):
+        """How many references the cache holds and their bytes on disk."""
+        files = self.files()
+        return sum(not path.endswith(".partial.npz") for path in files), sum(_file_size(path) for path in files)
+
+    def empty(self):
+        """Delete the cache's files (the next comparison renders its references again)."""
+        for path in self.files():
+            try:
+                os.remove(path)
+            except FileNotFoundError:
+                pass
+            except OSError as error:
+                raise LPVError(f"Cannot delete the cached reference '{path}' ({error.strerror}); "
+                               f"check the permissions of '{self.folder}'.") from None
+
+    def describe(self):
+        """The cache in a few words, like '3 Cycles references, 12.5 MB'."""
+        count, size = self.size()
+        return f"{count} Cycles reference{'' if count == 1 else 's'}, {size_text(size)}"
 
     def holds(self, key):
         return os.path.isfile(self.path(key))
@@ -348,6 +392,21 @@ class ReferenceCache:
         finally:
             if os.path.exists(partial):
                 os.remove(partial)
+
+
+def _file_size(path):
+    try:
+        return os.path.getsize(path)
+    except OSError:  # deleted meanwhile
+        return 0
+
+
+def size_text(size):
+    """Bytes in a unit a person reads at a glance: '812 B', '12.5 MB'."""
+    for unit in ("B", "kB", "MB", "GB"):
+        if size < 1000 or unit == "GB":
+            return f"{size:.0f} {unit}" if unit == "B" else f"{size:.1f} {unit}"
+        size /= 1000
 
 
 def material_signature(material):

@@ -5,6 +5,7 @@ import bpy
 
 from ..gpu.settings import ALL_PARAMETERS, PRESETS, matching_preset
 from .comparison import figure_text, last_comparison
+from .cycles_reference import ReferenceCache
 from .engine import ENGINE_ID
 from .frame_stats import last_stats
 from .properties import settings_from_properties
@@ -74,6 +75,7 @@ def draw_statistics(layout, stats):
 
 
 COMPARE_OPERATOR = "lpv_preview.compare_with_cycles"  # operators/compare.py
+EMPTY_CACHE_OPERATOR = "lpv_preview.empty_cycles_cache"  # operators/cache.py
 PRESET_OPERATOR = "lpv_preview.apply_preset"  # operators/presets.py
 
 
@@ -83,9 +85,13 @@ PANEL_FIGURES = (("psnr", "PSNR", "{:.1f}"), ("relative_mse", "relMSE", "{:.3f}"
 
 
 def draw_comparison(layout, properties):
-    """The comparison settings, its button and the last comparison's table (indirect image)."""
+    """The comparison settings, its button, the reference cache's size with a button that
+    empties it, and the last comparison's table (indirect image)."""
     draw_settings(layout, properties, "Comparison")
     layout.operator(COMPARE_OPERATOR, icon="RENDER_STILL")
+    row = layout.row()
+    row.label(text=f"Cache: {ReferenceCache().describe()}")
+    row.operator(EMPTY_CACHE_OPERATOR, text="", icon="TRASH")
     comparison = last_comparison()
     if comparison is None:
         return

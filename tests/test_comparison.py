@@ -3,6 +3,7 @@ metric, a reference cache that renders nothing twice, the scene untouched when t
 comparison finishes, is cancelled between steps or fails."""
 import json
 import math
+import os
 import re
 
 import numpy as np
@@ -153,6 +154,27 @@ def test_the_operator_fills_the_table_and_the_images_and_leaves_the_scene_as_it_
     np.testing.assert_allclose(  # the datablock holds the image, bottom row first
         np.asarray(bpy.data.images["LPV Compare CM indirect"].pixels[:]).reshape(32, 40, 4)[::-1, :, :3],
         comparison.methods[0].images["indirect"], rtol=1e-6)
+
+
+def test_the_panel_shows_the_cycles_cache_whose_button_empties_it(registered, tmp_path, monkeypatch):
+    from lpv_preview.addon.cycles_reference import CyclesReference, ReferenceCache, default_cache_folder, size_text
+    cache = ReferenceCache()
+    assert cache.folder == str(tmp_path / "cache") and cache.describe() == "0 Cycles references, 0 B"
+    reference = CyclesReference("one_bounce", np.ones((4, 4, 3), np.float32), np.zeros((4, 4, 3), np.float32),
+                                {"samples": 1})
+    keys = ("0123456789abcdef0123", "fedcba9876543210fedc")
+    for key in keys:
+        cache.store(key, reference)
+    (tmp_path / "cache" / "notes.txt").write_text("the user's, not the cache's")
+    size = sum(os.path.getsize(cache.path(key)) for key in keys)
+    assert cache.size() == (2, size) and size > 0
+    assert ReferenceCache().describe() == f"2 Cycles references, {size_text(size)}"
+    assert bpy.ops.lpv_preview.empty_cycles_cache() == {"FINISHED"}
+    assert os.listdir(tmp_path / "cache") == ["notes.txt"] and cache.size() == (0, 0)
+    # Outside an installed extension (the command line, the tests) the cache is the XDG one.
+    monkeypatch.delenv("LPV_PREVIEW_CACHE")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert default_cache_folder() == str(tmp_path / "xdg" / "lpv_preview" / "cycles")
 
 
 def test_the_operator_reports_one_error_when_no_method_is_ticked(registered):

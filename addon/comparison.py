@@ -1,8 +1,9 @@
 """LPV Preview against Cycles: the references, our pipeline per method, the error figures.
 
-`comparison_steps` does the work one step at a time (each Cycles render, each method), so
-the comparison operator can show progress and stop between steps when the user presses
-Esc; the command line runs the same steps to the end. Errors are `gpu.metrics.image_errors`
+`comparison_steps` does the work one step at a time (each part of a Cycles render, each
+method), so the comparison operator can show progress and stop between steps when the
+user presses Esc; the command line runs the same steps to the end and prints each one.
+Errors are `gpu.metrics.image_errors`
 of our indirect and combined images against each reference's, and the reference's own
 noise floor is the same figures between two Cycles renders that differ only in the seed.
 """

@@ -5,7 +5,8 @@ objects, world and camera the scene's) on the CPU from its camera into a multila
 in a temporary folder; the passes are read back with OpenImageIO. In Blender 5.0 every
 view-layer pass reaches the file only once `image_settings.media_type` is
 'MULTI_LAYER_IMAGE' (only then can `file_format` be 'OPEN_EXR_MULTILAYER'); plain
-'OPEN_EXR' holds Combined alone. The user's scene is never changed.
+'OPEN_EXR' holds Combined alone. The user's scene is never changed. A render goes in
+parts of its samples (`cycles_passes_in_parts`) so that it can be stopped.
 
 `cycles_reference` makes the two references the preview is judged by: one diffuse bounce
 (the light transport an LPV approximates) and full global illumination, each split into

@@ -122,14 +122,14 @@ def cycles_passes_in_parts(scene, passes=("Combined", "DiffDir", "DiffCol"), sam
         length = left if left < 1.5 * length else length  # no short part at the end
         images = _render_part(scene, passes, samples, (done, length), resolution, seed, max_bounces,
                               light_threshold, pixel_filter_width)
-        part = images.pop("settings")
+        part_settings = images.pop("settings")
         for name, image in images.items():
             sums[name] = sums.get(name, 0.0) + image.astype(np.float64) * length
-        settings = settings or part
-        seconds += part["render_seconds"]
+        settings = settings or part_settings
+        seconds += part_settings["render_seconds"]
         done += length
         yield done, seconds
-        length = max(1, int(length * PART_SECONDS / max(part["render_seconds"], 1e-3)))
+        length = max(1, int(length * PART_SECONDS / max(part_settings["render_seconds"], 1e-3)))
     images = {name: (total / samples).astype(np.float32) for name, total in sums.items()}
     return {**images, "settings": {**settings, "render_seconds": seconds}}
 

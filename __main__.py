@@ -6,7 +6,8 @@ from its active camera (`--frames 1-24`: an animation, one EXR a frame, resumabl
 .npz for machines without Blender; `bench` measures every RSM method against CM (the
 thesis's Table 1), runs declared sweeps and writes the benchmarks page.
 Each render writes a multi-layer EXR (combined, direct, indirect), tone-mapped PNGs of
-combined and indirect, and stats.json. Errors a user can fix print one line, no traceback.
+combined and indirect, and stats.json. Errors a user can fix print one line, no traceback,
+and exit with status 2; Ctrl-C stops a command with one line and status 130.
 
 This file is the command line only: the flags and one short function per command. The
 work is in the packages (addon/batch.py, addon/comparison.py, demo/, bench/); bpy and
@@ -184,7 +185,8 @@ def check_methods_fit(bpy_scene, settings, methods):
 
 
 def command_compare(args):
-    """Cycles references and each method's errors against them, written to args.out."""
+    """Cycles references and each method's errors against them, written to args.out;
+    every step, part of a Cycles render and the references' estimated time on stderr."""
     from .addon.batch import open_blend
     from .addon.comparison import comparison_steps, run_to_end, write_report
     from .addon.cycles_reference import ReferenceCache
@@ -203,7 +205,9 @@ def command_compare(args):
     cache = None if args.no_cache else ReferenceCache(args.cache)
     steps = comparison_steps(bpy_scene, args.methods, args.samples, settings, cache,
                              noise_floor=not args.no_noise_floor)
-    rows = write_report(run_to_end(steps), args.out)
+    progress = lambda step: print(f"[{time.perf_counter() - start:5.0f} s {step[0]:4.0%}] {step[1]}", file=sys.stderr,
+                                  flush=True)
+    rows = write_report(run_to_end(steps, progress), args.out)
     return {"rows": rows, "out": os.path.abspath(args.out), "command_ms": (time.perf_counter() - start) * 1000}
 
 
@@ -350,6 +354,9 @@ def build_parser():
     return parser
 
 
+STOPPED = "Stopped by Ctrl-C; temporary files were removed, finished frames and Cycles references are kept."
+
+
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
@@ -359,6 +366,9 @@ def main(argv=None):
     except LPVError as error:
         print(f"lpv_preview: {error}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print(f"\nlpv_preview: {STOPPED}", file=sys.stderr)
+        return 130
     print(json.dumps(result, indent=2))
     return 0
 

@@ -5,11 +5,12 @@ import json
 import os
 import sys
 import time
+from dataclasses import asdict
 
 import bpy
 
 from ..gpu.errors import LPVError
-from ..gpu.image_io import write_exr, write_png
+from ..gpu.image_io import read_exr_metadata, write_exr, write_png
 from ..gpu.pipeline import Pipeline, render_once
 from .render_scene import scene_to_render
 
@@ -50,14 +51,74 @@ def frame_path(out_dir, frame):
     return os.path.join(out_dir, f"frame_{frame:04d}.exr")
 
 
+FRAME_RECORD = "lpv_preview_frame"
+"""The EXR header attribute in which each frame of an animation records what it was made
+with (`frame_record`), so that a rerun knows which frames it can keep."""
+
+
+def frame_record(settings, passes):
+    """What a frame is made with: every setting (the image size among them) and the passes."""
+    return {"settings": asdict(settings), "passes": list(passes)}
+
+
+def recorded_frame(path):
+    """The record in the frame `path`, or None when it has none or cannot be read."""
+    try:
+        return json.loads(read_exr_metadata(path, FRAME_RECORD) or "null")
+    except ValueError:
+        return None
+
+
+def why_render_again(recorded, wanted):
+    """Why a frame made with the record `recorded` is not the one `wanted` asks for, in a
+    few words ("at another size (64×64)"), or None when it is."""
+    if not isinstance(recorded, dict) or not isinstance(recorded.get("settings"), dict):
+        return "with no record of its settings"
+    old, new = recorded["settings"], wanted["settings"]
+    if (old.get("width"), old.get("height")) != (new["width"], new["height"]):
+        return f"at another size ({old.get('width')}×{old.get('height')})"
+    changed = [name for name in new if old.get(name) != new[name]]
+    if changed:
+        return f"with other settings ({', '.join(changed)})"
+    return None if recorded.get("passes") == wanted["passes"] else "with other passes"
+
+
+def write_frame(path, passes, record):
+    """The frame's EXR, `record` in its header, under a temporary name and renamed when
+    complete, so an interrupted frame is never taken for a finished one; the temporary
+    file is removed when the writing fails or Ctrl-C stops it."""
+    partial = path + ".partial.exr"
+    try:
+        write_exr(partial, passes, {FRAME_RECORD: json.dumps(record, sort_keys=True)})
+        os.replace(partial, path)
+    finally:
+        if os.path.exists(partial):
+            os.remove(partial)
+
+
 def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=False):
     """One EXR per frame of `frames` (a range) in `out_dir`, with a progress bar.
 
-    Frames whose EXR exists are skipped unless `overwrite`, so a rerun resumes where an
-    interrupted one stopped; each EXR is written under a temporary name and renamed when
-    complete, so an interrupted frame is never taken for a finished one.
+    A frame whose EXR exists and was made with these settings, size and passes is kept
+    unless `overwrite`, so a rerun resumes where an interrupted one stopped (`write_frame`
+    never leaves a half-written frame); one made otherwise is rendered again, and the
+    statistics and a line on stderr say how many and why.
     """
-    todo = [f for f in frames if overwrite or not os.path.exists(frame_path(out_dir, f))]
+    record = frame_record(settings, passes)
+    todo, again = [], {}
+    for frame in frames:
+        path = frame_path(out_dir, frame)
+        if overwrite or not os.path.exists(path):
+            todo.append(frame)
+            continue
+        reason = why_render_again(recorded_frame(path), record)
+        if reason:
+            todo.append(frame)
+            again[reason] = again.get(reason, 0) + 1
+    if again:
+        made = ", ".join(f"{count} {reason}" for reason, count in again.items())
+        print(f"lpv_preview: rendering again {sum(again.values())} frames already in '{out_dir}', made {made}.",
+              file=sys.stderr, flush=True)
     pipeline = Pipeline(settings)
     timings = []
     try:
@@ -66,15 +127,14 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
             bpy_scene.frame_set(frame)
             scene = scene_to_render(bpy_scene, (settings.width, settings.height))
             result = pipeline.render(scene, passes=passes)
-            partial = frame_path(out_dir, frame) + ".partial.exr"
-            write_exr(partial, result.passes)
-            os.replace(partial, frame_path(out_dir, frame))
+            write_frame(frame_path(out_dir, frame), result.passes, record)
             timings.append(time.perf_counter() - started)
             print_progress(done + 1, len(todo), frame, timings)
     finally:
         pipeline.release()
     return {"out": os.path.abspath(out_dir), "frames": [frames.start, frames[-1]], "rendered": len(todo),
-            "skipped": len(frames) - len(todo), "seconds_per_frame": sum(timings) / len(timings) if timings else 0.0}
+            "skipped": len(frames) - len(todo), "rendered_again": again,
+            "seconds_per_frame": sum(timings) / len(timings) if timings else 0.0}
 
 
 def print_progress(done, total, frame, timings, width=30):

@@ -1,18 +1,21 @@
 """LPV Preview against Cycles: the references, our pipeline per method, the error figures.
 
-`comparison_steps` does the work one step at a time (each Cycles render, each method), so
-the comparison operator can show progress and stop between steps when the user presses
-Esc; the command line runs the same steps to the end. Errors are `gpu.metrics.image_errors`
+`comparison_steps` does the work one step at a time (each part of a Cycles render, each
+method), so the comparison operator can show progress and stop between steps when the
+user presses Esc; the command line runs the same steps to the end and prints each one.
+Errors are `gpu.metrics.image_errors`
 of our indirect and combined images against each reference's, and the reference's own
 noise floor is the same figures between two Cycles renders that differ only in the seed.
 """
+import math
 from dataclasses import dataclass, field
 
 from ..gpu.errors import LPVError
 from ..gpu.metrics import error_map, heat_map, image_errors
 from ..gpu.passes import COMPARED_PASS_NAMES as IMAGES
 from ..gpu.settings import METHODS
-from .cycles_reference import REFERENCE_BOUNCES, cycles_reference
+from .cycles_reference import REFERENCE_BOUNCES, cycles_reference_in_parts, reference_key
+from .cycles_reference import run_to_end  # noqa: F401  (runs the steps; the operator and the command line use it)
 from .render_scene import scene_to_render
 
 _last = []  # the last comparison the operator finished, for the panel
@@ -92,55 +95,100 @@ def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(
     """Compare `scene` (its camera, frame and `settings`' image size) rendered by each of
     `methods` with the `kinds` of Cycles reference at `samples`.
 
-    A generator: it yields (fraction done, what the next step does) before each step and
-    returns the Comparison. Every Cycles render restores the scene's settings itself, so
-    closing the generator between steps leaves the scene as it was.
+    A generator: it yields (fraction done, what it does) before each step, after each
+    part of a Cycles render (its samples, seconds and the time left) and, once the first
+    sample of the first reference to render is timed, how long all of them will take
+    (`estimate_text`); it returns the Comparison. Every Cycles render is of a temporary
+    copy of the scene, so closing the generator between steps leaves the scene as it was.
     """
     unknown = [m for m in methods if m not in METHODS]
     if unknown or not methods:
         raise LPVError(f"Unknown or no method '{','.join(unknown)}'; choose from {', '.join(METHODS)}.")
     resolution = (settings.width, settings.height)
     comparison = Comparison(samples=samples, resolution=resolution)
-    steps = len(kinds) * (2 if noise_floor else 1) + len(methods)
-    done = 0
     lpv_scene = scene_to_render(scene, resolution)
-    for kind in kinds:
-        yield done / steps, f"Cycles {kind.replace('_', ' ')} reference, {samples} samples"
-        comparison.references[kind] = cycles_reference(scene, kind, samples, 0, resolution, cache, lpv_scene)
-        done += 1
-        if noise_floor:
-            yield done / steps, f"Cycles {kind.replace('_', ' ')} noise floor (a second seed)"
-            second = cycles_reference(scene, kind, samples, 1, resolution, cache, lpv_scene)
-            comparison.noise_floor[kind] = _errors({image: getattr(second, image) for image in IMAGES},
+    renders = [(kind, seed) for kind in kinds for seed in ((0, 1) if noise_floor else (0,))]
+    to_render = [(kind, seed) for kind, seed in renders if cache is None
+                 or not cache.holds(reference_key(lpv_scene, scene.world, kind, samples, seed, resolution))]
+    steps = len(renders) + len(methods)
+    for step, (kind, seed) in enumerate(renders):
+        label = f"Cycles {kind.replace('_', ' ')} {'reference' if seed == 0 else 'noise floor (a second seed)'}"
+        rendered = (kind, seed) in to_render
+        yield step / steps, f"{label}: " + (f"{samples} samples at {resolution[0]}×{resolution[1]}" if rendered
+                                            else "from the cache")
+        parts = cycles_reference_in_parts(scene, kind, samples, seed, resolution, cache, lpv_scene)
+        estimate_renders = len(to_render) if rendered and (kind, seed) == to_render[0] else 0
+        reference = yield from _parts_as_steps(parts, label, comparison, step / steps, 1 / steps, estimate_renders)
+        if seed == 0:
+            comparison.references[kind] = reference
+        else:
+            comparison.noise_floor[kind] = _errors({image: getattr(reference, image) for image in IMAGES},
                                                    comparison.references[kind])
-            done += 1
-    for method in methods:
-        yield done / steps, f"LPV Preview {method.upper()}"
+    for index, method in enumerate(methods):
+        yield (len(renders) + index) / steps, f"LPV Preview {method.upper()}"
         frame = full_frame(settings.with_changes(method=method), lpv_scene)
         result = MethodResult(method, frame.stats["total_ms"], {image: frame.passes[image] for image in IMAGES})
         for kind, reference in comparison.references.items():
             result.errors[kind] = _errors(result.images, reference)
         comparison.methods.append(result)
-        done += 1
     return comparison
 
 
-def run_to_end(steps):
-    """Run a comparison generator to the end; returns its Comparison."""
-    while True:
-        try:
-            next(steps)
-        except StopIteration as finished:
-            return finished.value
+def _parts_as_steps(parts, label, comparison, start, share, estimate_renders):
+    """A reference's render (`cycles_reference_in_parts`) as comparison steps: after each
+    part, its samples, seconds and the time left; after the first, when
+    `estimate_renders`, the estimate for that many renders. Returns the reference."""
+    try:
+        while True:
+            try:
+                done, seconds = next(parts)
+            except StopIteration as finished:
+                return finished.value
+            samples = comparison.samples
+            left = f"about {duration_text(seconds / done * (samples - done))} left" if done < samples else "done"
+            yield start + share * done / samples, f"{label}: {done}/{samples} samples in {duration_text(seconds)}, {left}"
+            if estimate_renders and done == 1:
+                yield start + share / samples, estimate_text(estimate_renders, comparison, seconds)
+    finally:
+        parts.close()
+
+
+def estimate_text(renders, comparison, first_sample_seconds):
+    """How long `renders` Cycles references of the comparison's samples and size will
+    take, from the time the first sample of the first one took (scene set-up included)."""
+    width, height = comparison.resolution
+    total = renders * comparison.samples * first_sample_seconds
+    return (f"Cycles references: about {duration_text(total)} for {renders} render{'s' if renders > 1 else ''} of "
+            f"{comparison.samples} samples at {width}×{height}, estimated from the {first_sample_seconds:.2f} s "
+            f"the first sample took (more bounces take longer)")
+
+
+def duration_text(seconds):
+    """Seconds in a unit a person reads at a glance: '40 s', '12 min', '1.5 h'."""
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 90 * 60:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
 
 
 METRIC_COLUMNS = (("psnr", "PSNR dB", "{:.2f}"), ("relative_mse", "relMSE", "{:.4f}"), ("ssim", "SSIM", "{:.4f}"),
-                  ("flip", "FLIP", "{:.4f}"))
+                  ("flip", "FLIP", "{:.4f}"), ("mse", "MSE", "{:.3g}"), ("mean", "mean", "{:.3g}"),
+                  ("reference_mean", "Cycles mean", "{:.3g}"))
+UNDEFINED = "—"
+"""A figure that has no value, such as PSNR against a black reference."""
+
+
+def figure_text(value, fmt):
+    """A figure as the table shows it: `fmt`, or a dash where it is undefined (None, or
+    the infinite PSNR of identical images)."""
+    return UNDEFINED if value is None or not math.isfinite(value) else fmt.format(value)
 
 
 def markdown_table(comparison):
     """The comparison table in Markdown: per method and reference, our and Cycles' time,
-    the indirect and combined errors; the noise floor rows are Cycles against itself."""
+    the indirect and combined errors and means; the noise floor rows are Cycles against
+    itself. An undefined figure is a dash."""
     head = ["method", "reference", "ours ms", "Cycles s"] + [f"{image} {label}" for image in IMAGES
                                                               for _, label, _ in METRIC_COLUMNS]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -148,9 +196,14 @@ def markdown_table(comparison):
         cells = [row["method"].upper() if row["our_ms"] is not None else row["method"],
                  row["reference"].replace("_", " "),
                  "" if row["our_ms"] is None else f"{row['our_ms']:.1f}", f"{row['cycles_s']:.1f}"]
-        cells += [fmt.format(row[f"{image}_{metric}"]) for image in IMAGES for metric, _, fmt in METRIC_COLUMNS]
+        cells += [figure_text(row[f"{image}_{metric}"], fmt) for image in IMAGES for metric, _, fmt in METRIC_COLUMNS]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
+
+
+def _json_number(value):
+    """JSON has no infinity: an undefined figure (the infinite PSNR of identical images) is null."""
+    return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
 def write_report(comparison, folder):
@@ -180,9 +233,9 @@ def write_report(comparison, folder):
     rows = comparison.table()
     report = {"samples": comparison.samples, "resolution": list(comparison.resolution),
               "references": {kind: reference.settings for kind, reference in comparison.references.items()},
-              "rows": rows}
+              "rows": [{key: _json_number(value) for key, value in row.items()} for row in rows]}
     with open(os.path.join(folder, "comparison.json"), "w") as handle:
-        json.dump(report, handle, indent=2, default=float)
+        json.dump(report, handle, indent=2, default=float, allow_nan=False)
     with open(os.path.join(folder, "comparison.md"), "w") as handle:
         handle.write(markdown_table(comparison))
-    return rows
+    return report["rows"]

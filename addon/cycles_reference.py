@@ -1,10 +1,12 @@
 """Ground-truth images from real Cycles, to measure LPV Preview against.
 
-Cycles renders the scene on the CPU from its camera into a multilayer EXR in a temporary
-folder; the passes are read back with OpenImageIO. In Blender 5.0 every view-layer pass
-reaches the file only once `image_settings.media_type` is 'MULTI_LAYER_IMAGE' (only then
-can `file_format` be 'OPEN_EXR_MULTILAYER'); plain 'OPEN_EXR' holds Combined alone.
-Every setting changed on the user's scene is given back afterwards.
+Cycles renders a temporary linked copy of the scene (its settings are the copy's own, its
+objects, world and camera the scene's) on the CPU from its camera into a multilayer EXR
+in a temporary folder; the passes are read back with OpenImageIO. In Blender 5.0 every
+view-layer pass reaches the file only once `image_settings.media_type` is
+'MULTI_LAYER_IMAGE' (only then can `file_format` be 'OPEN_EXR_MULTILAYER'); plain
+'OPEN_EXR' holds Combined alone. The user's scene is never changed. A render goes in
+parts of its samples (`cycles_passes_in_parts`) so that it can be stopped.
 
 `cycles_reference` makes the two references the preview is judged by: one diffuse bounce
 (the light transport an LPV approximates) and full global illumination, each split into
@@ -14,6 +16,7 @@ cached by scene content and settings in a `ReferenceCache`.
 import hashlib
 import json
 import os
+import re
 import shutil
 import tempfile
 import time
@@ -28,6 +31,7 @@ import addon_utils  # on the path only once bpy is imported
 
 from ..gpu.errors import LPVError
 from ..gpu.image_io import read_exr_channels
+from .interrupt import interrupt_after_render
 from .render_scene import scene_to_render, view_layer_to_render
 
 ColourPass = namedtuple("ColourPass", "view_layer_flag exr_layer")
@@ -50,64 +54,22 @@ COLOUR_PASSES = {
     "AO": ColourPass("use_pass_ambient_occlusion", "Ambient Occlusion"),
 }
 _PASS_BY_NAME = {**COLOUR_PASSES, **{p.exr_layer: p for p in COLOUR_PASSES.values()}}
-
-# Every setting render_cycles_passes may change, in the order they are given back:
-# the image media type before the file format, because the media type limits the formats.
-_RENDER_ATTRIBUTES = (
-    "engine", "resolution_x", "resolution_y", "resolution_percentage", "use_border",
-    "use_multiview", "filepath", "use_file_extension", "use_compositing", "use_sequencer",
-    "use_freestyle")
-_IMAGE_ATTRIBUTES = (
-    "media_type", "file_format", "color_depth", "color_mode", "exr_codec", "use_exr_interleave",
-    "color_management")
-_CYCLES_ATTRIBUTES = (
-    "device", "samples", "use_adaptive_sampling", "time_limit", "use_layer_samples",
-    "use_sample_subset", "seed", "use_animated_seed", "use_denoising", "light_sampling_threshold",
-    "filter_width", "max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces",
-    "volume_bounces", "sample_clamp_direct", "sample_clamp_indirect")
 _BOUNCE_ATTRIBUTES = (
     "max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces")
 
 
 @contextmanager
-def restored_attributes(*owners_and_names):
-    """Give each listed attribute its old value back on exit, also when the body raises.
-
-    Arguments are `(owner, attribute_names)` pairs; values come back in the order listed,
-    so a setting that limits another (image media type, then file format) goes first.
-    Every attribute is tried even if one cannot be restored; the first failure is raised.
-    """
-    saved = [(owner, name, getattr(owner, name)) for owner, names in owners_and_names for name in names]
+def _reference_scene(scene):
+    """A linked copy of `scene` (the same objects, world, camera, frame and view layers)
+    that a reference may set up freely, removed afterwards, also when the render fails:
+    the user's scene is never changed. (Changing its settings and setting them back is
+    not enough: switching the output to OpenEXR sets the image settings' linear colour
+    space, which cannot be set back to unset.)"""
+    copy = scene.copy()
     try:
-        yield
+        yield copy
     finally:
-        first_failure = None
-        for owner, name, value in saved:
-            try:
-                setattr(owner, name, value)
-            except (AttributeError, TypeError, ValueError) as failure:
-                first_failure = first_failure or failure
-        if first_failure is not None:
-            raise first_failure
-
-
-@contextmanager
-def temporary_render_settings(scene, view_layer):
-    """Let a reference render change the scene's engine, Cycles, output and pass settings freely.
-
-    Covers the render and image-format settings, Cycles sampling and bounces, the frame,
-    the pass switches of `view_layer` and which view layers are rendered. Cycles must be
-    enabled first, because `scene.cycles` only exists then.
-    """
-    render = scene.render
-    with restored_attributes(
-            (scene, ("frame_current",)),
-            (render, _RENDER_ATTRIBUTES),
-            (render.image_settings, _IMAGE_ATTRIBUTES),
-            (scene.cycles, _CYCLES_ATTRIBUTES),
-            (view_layer, tuple(p.view_layer_flag for p in COLOUR_PASSES.values())),
-            *((layer, ("use",)) for layer in scene.view_layers)):
-        yield
+        bpy.data.scenes.remove(copy)
 
 
 def render_cycles_passes(scene, passes=("Combined", "DiffDir", "DiffCol"), samples=64, resolution=None,
@@ -128,20 +90,77 @@ def render_cycles_passes(scene, passes=("Combined", "DiffDir", "DiffCol"), sampl
     clamping, the compositor and the sequencer are off, so the passes are raw Cycles.
 
     Returns {pass name: array, ..., "settings": dict of what was really used}; see
-    `describe_reference_settings`. The scene's settings are all given back afterwards.
+    `describe_reference_settings`. The render is of a copy of the scene
+    (`_reference_scene`): the scene itself is left as it is. It goes in parts
+    (`cycles_passes_in_parts`), so Ctrl-C stops it within about `PART_SECONDS`.
+    """
+    return run_to_end(cycles_passes_in_parts(scene, passes, samples, resolution, seed, max_bounces,
+                                             light_threshold, pixel_filter_width))
+
+
+PART_SECONDS = 1.5
+"""About how long each part of a Cycles render takes. Blender's render call cannot be
+stopped from Python, so a render is split into consecutive subsets of its samples (Cycles'
+sample subsets, whose mean weighted by their sample counts is the whole render): Ctrl-C,
+Esc or closing the generator stop it after the part under way."""
+
+
+def cycles_passes_in_parts(scene, passes=("Combined", "DiffDir", "DiffCol"), samples=64, resolution=None,
+                           seed=0, max_bounces=None, light_threshold=0.0, pixel_filter_width=None):
+    """`render_cycles_passes` one part at a time: a generator that yields (samples done,
+    Cycles' seconds so far) after each part and returns what `render_cycles_passes` does.
+
+    The first part is one sample, which times the render; each next part is as many
+    samples as the last part's pace fits in `PART_SECONDS` (the last up to half as many
+    more). Between parts nothing of the render is left in the scene, the file or the
+    temporary folder.
     """
     _enable_cycles()
-    view_layer = view_layer_to_render(scene)
+    sums, settings, seconds, done, length = {}, None, 0.0, 0, 1
+    while done < samples:
+        left = samples - done
+        length = left if left < 1.5 * length else length  # no short part at the end
+        images = _render_part(scene, passes, samples, (done, length), resolution, seed, max_bounces,
+                              light_threshold, pixel_filter_width)
+        part_settings = images.pop("settings")
+        for name, image in images.items():
+            sums[name] = sums.get(name, 0.0) + image.astype(np.float64) * length
+        settings = settings or part_settings
+        seconds += part_settings["render_seconds"]
+        done += length
+        yield done, seconds
+        length = max(1, int(length * PART_SECONDS / max(part_settings["render_seconds"], 1e-3)))
+    images = {name: (total / samples).astype(np.float32) for name, total in sums.items()}
+    return {**images, "settings": {**settings, "render_seconds": seconds}}
+
+
+def run_to_end(steps, log=None):
+    """Run a generator of steps to the end, handing each step to `log` when given; returns
+    what the generator returns."""
+    while True:
+        try:
+            step = next(steps)
+        except StopIteration as finished:
+            return finished.value
+        if log is not None:
+            log(step)
+
+
+def _render_part(scene, passes, samples, sample_range, resolution, seed, max_bounces, light_threshold,
+                 pixel_filter_width):
+    """The passes of the `sample_range` (first sample, count) of a render of `samples`."""
+    view_layer_name = view_layer_to_render(scene).name
     wanted_layers = {name: _PASS_BY_NAME[name].exr_layer if name in _PASS_BY_NAME else name for name in passes}
-    with _temporary_folder() as folder, temporary_render_settings(scene, view_layer):
+    with _temporary_folder() as folder, _reference_scene(scene) as copy:
+        view_layer = copy.view_layers[view_layer_name]
         exr_path = os.path.join(folder, "cycles_reference.exr")
-        _apply_reference_settings(scene, view_layer, exr_path, passes, samples, resolution, seed,
+        _apply_reference_settings(copy, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
                                   max_bounces, light_threshold, pixel_filter_width)
-        settings = _settings_in_use(scene, view_layer)
+        settings = _settings_in_use(copy, view_layer)
         started = time.perf_counter()
-        _render_to_file(scene, exr_path)
+        _render_to_file(copy, exr_path)
         settings["render_seconds"] = time.perf_counter() - started
-        images = _read_exr_passes(exr_path, view_layer.name, wanted_layers)
+        images = _read_exr_passes(exr_path, view_layer_name, wanted_layers)
     return {**images, "settings": settings}
 
 
@@ -173,7 +192,7 @@ def _temporary_folder():
         shutil.rmtree(folder, ignore_errors=True)
 
 
-def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, resolution, seed,
+def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
                               max_bounces, light_threshold, pixel_filter_width):
     render, cycles = scene.render, scene.cycles
     render.engine = "CYCLES"
@@ -201,7 +220,8 @@ def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, reso
     cycles.use_adaptive_sampling = False
     cycles.time_limit = 0.0
     cycles.use_layer_samples = "IGNORE"
-    cycles.use_sample_subset = False
+    cycles.use_sample_subset = True
+    cycles.sample_offset, cycles.sample_subset_length = sample_range
     cycles.seed = seed
     cycles.use_animated_seed = False
     cycles.use_denoising = False
@@ -236,7 +256,8 @@ def _settings_in_use(scene, view_layer):
 
 def _render_to_file(scene, exr_path):
     try:
-        bpy.ops.render.render(write_still=True, scene=scene.name)
+        with interrupt_after_render():
+            bpy.ops.render.render(write_still=True, scene=scene.name)
     except RuntimeError as error:
         reason = str(error).splitlines()[0].removeprefix("Error: ").rstrip(".")
         raise LPVError(f"Cycles could not render or save the reference image: {reason}.") from error
@@ -287,12 +308,26 @@ class CyclesReference:
         return self.direct + self.indirect
 
 
+ADDON_PACKAGE = __package__.rpartition(".")[0]
+"""The add-on's package: 'bl_ext.<repository>.lpv_preview' when Blender installed it as an
+extension, 'lpv_preview' on the command line and in the tests."""
+
+
 def default_cache_folder():
-    """$LPV_PREVIEW_CACHE, else $XDG_CACHE_HOME/lpv_preview/cycles, else ~/.cache/lpv_preview/cycles."""
+    """$LPV_PREVIEW_CACHE; else, installed as an extension, the extension's own user folder
+    ("cycles" in it: the extensions platform asks an extension to keep its files there);
+    else $XDG_CACHE_HOME/lpv_preview/cycles or ~/.cache/lpv_preview/cycles."""
     if os.environ.get("LPV_PREVIEW_CACHE"):
         return os.environ["LPV_PREVIEW_CACHE"]
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return os.path.join(base, "lpv_preview", "cycles")
+    try:
+        return bpy.utils.extension_path_user(ADDON_PACKAGE, path="cycles")
+    except ValueError:  # not an extension
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        return os.path.join(base, "lpv_preview", "cycles")
+
+
+CACHE_FILE = re.compile(r"[0-9a-f]{20}\.npz(\.partial\.npz)?")
+"""The name of a cached reference (its key) or of one being written: the cache's own files."""
 
 
 class ReferenceCache:
@@ -304,6 +339,38 @@ class ReferenceCache:
     def path(self, key):
         return os.path.join(self.folder, f"{key}.npz")
 
+    def files(self):
+        """The paths of the cache's own files; other files in its folder are not its."""
+        try:
+            names = os.listdir(self.folder)
+        except OSError:
+            return []
+        return [os.path.join(self.folder, name) for name in sorted(names) if CACHE_FILE.fullmatch(name)]
+
+    def size(self):
+        """How many references the cache holds and their bytes on disk."""
+        files = self.files()
+        return sum(not path.endswith(".partial.npz") for path in files), sum(_file_size(path) for path in files)
+
+    def empty(self):
+        """Delete the cache's files (the next comparison renders its references again)."""
+        for path in self.files():
+            try:
+                os.remove(path)
+            except FileNotFoundError:
+                pass
+            except OSError as error:
+                raise LPVError(f"Cannot delete the cached reference '{path}' ({error.strerror}); "
+                               f"check the permissions of '{self.folder}'.") from None
+
+    def describe(self):
+        """The cache in a few words, like '3 Cycles references, 12.5 MB'."""
+        count, size = self.size()
+        return f"{count} Cycles reference{'' if count == 1 else 's'}, {size_text(size)}"
+
+    def holds(self, key):
+        return os.path.isfile(self.path(key))
+
     def load(self, key):
         try:
             with np.load(self.path(key)) as data:
@@ -313,15 +380,34 @@ class ReferenceCache:
             return None
 
     def store(self, key, reference):
-        """Write the reference; a cache that cannot be written only costs a render later."""
+        """Write the reference under a temporary name, renamed when complete (removed when
+        interrupted); a cache that cannot be written only costs a render later."""
+        partial = self.path(key) + ".partial.npz"
         try:
             os.makedirs(self.folder, exist_ok=True)
-            partial = self.path(key) + ".partial.npz"
             np.savez_compressed(partial, kind=reference.kind, direct=reference.direct, indirect=reference.indirect,
                                 settings=json.dumps(reference.settings))
             os.replace(partial, self.path(key))
         except OSError:
             pass
+        finally:
+            if os.path.exists(partial):
+                os.remove(partial)
+
+
+def _file_size(path):
+    try:
+        return os.path.getsize(path)
+    except OSError:  # deleted meanwhile
+        return 0
+
+
+def size_text(size):
+    """Bytes in a unit a person reads at a glance: '812 B', '12.5 MB'."""
+    for unit in ("B", "kB", "MB", "GB"):
+        if size < 1000 or unit == "GB":
+            return f"{size:.0f} {unit}" if unit == "B" else f"{size:.1f} {unit}"
+        size /= 1000
 
 
 def material_signature(material):
@@ -367,6 +453,13 @@ def cycles_reference(scene, kind, samples, seed=0, resolution=None, cache=None, 
     """The `kind` reference ("one_bounce" or "full_gi") of `scene` from its camera at
     `resolution` (None: the scene's render size), from `cache` when it holds one.
     `content` is the scene extracted at that resolution, when the caller has it already."""
+    return run_to_end(cycles_reference_in_parts(scene, kind, samples, seed, resolution, cache, content))
+
+
+def cycles_reference_in_parts(scene, kind, samples, seed=0, resolution=None, cache=None, content=None):
+    """`cycles_reference` as a generator: it yields nothing when the cache holds the
+    reference, else (samples done, seconds so far) after each part of the render
+    (`cycles_passes_in_parts`); it returns the CyclesReference."""
     if kind not in REFERENCE_BOUNCES:
         raise LPVError(f"Unknown Cycles reference '{kind}'; choose one of {', '.join(REFERENCE_BOUNCES)}.")
     from .extract import render_resolution
@@ -379,8 +472,8 @@ def cycles_reference(scene, kind, samples, seed=0, resolution=None, cache=None, 
         if cached is not None:
             cached.settings["cached"] = True
             return cached
-    images = render_cycles_passes(scene, passes=REFERENCE_PASSES, samples=samples, resolution=resolution, seed=seed,
-                                  max_bounces=REFERENCE_BOUNCES[kind], pixel_filter_width=REFERENCE_FILTER_WIDTH)
+    images = yield from cycles_passes_in_parts(scene, REFERENCE_PASSES, samples, resolution, seed,
+                                               REFERENCE_BOUNCES[kind], pixel_filter_width=REFERENCE_FILTER_WIDTH)
     colour = images["DiffCol"]
     reference = CyclesReference(kind, images["DiffDir"] * colour, images["DiffInd"] * colour,
                                 {**images["settings"], "cached": False, "key": key})

@@ -6,7 +6,8 @@ in renders make that depsgraph differ from the viewport's that
 `bpy.context.evaluated_depsgraph_get()` returns. So the command line, the comparison and
 the Cycles references' cache keys ask for a render of our own engine, whose `render()`
 extracts the Scene from the depsgraph Blender hands it and renders nothing
-(final_render.py `take_extraction`). The engine is given back as it was, also on error.
+(final_render.py `take_extraction`). The engine is given back as it was, also on error
+and on Ctrl-C (held back until the render call returns: addon/interrupt.py).
 """
 from contextlib import contextmanager
 
@@ -15,6 +16,7 @@ import bpy
 from ..gpu.errors import LPVError
 from .engine import ENGINE_ID, LPVPreviewEngine
 from .final_render import ExtractionRequest, pending_extractions
+from .interrupt import interrupt_after_render
 
 
 def view_layer_to_render(scene):
@@ -47,7 +49,8 @@ def scene_to_render(scene, resolution=None):
     with _our_engine(scene):
         pending_extractions.append(request)
         try:
-            bpy.ops.render.render(scene=scene.name, layer=view_layer_to_render(scene).name)
+            with interrupt_after_render():
+                bpy.ops.render.render(scene=scene.name, layer=view_layer_to_render(scene).name)
         except RuntimeError as error:  # Blender refused to start: no camera, say
             if scene.camera is None:
                 raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")

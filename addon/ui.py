@@ -4,7 +4,8 @@ statistics. Which setting goes in which group is checked against gpu/settings.py
 import bpy
 
 from ..gpu.settings import ALL_PARAMETERS, PRESETS, matching_preset
-from .comparison import last_comparison
+from .comparison import figure_text, last_comparison
+from .cycles_reference import ReferenceCache
 from .engine import ENGINE_ID
 from .frame_stats import last_stats
 from .properties import settings_from_properties
@@ -82,13 +83,23 @@ def draw_statistics(layout, stats):
 
 
 COMPARE_OPERATOR = "lpv_preview.compare_with_cycles"  # operators/compare.py
+EMPTY_CACHE_OPERATOR = "lpv_preview.empty_cycles_cache"  # operators/cache.py
 PRESET_OPERATOR = "lpv_preview.apply_preset"  # operators/presets.py
 
 
+PANEL_FIGURES = (("psnr", "PSNR", "{:.1f}"), ("relative_mse", "relMSE", "{:.3f}"), ("ssim", "SSIM", "{:.3f}"),
+                 ("flip", "FLIP", "{:.3f}"), ("mse", "MSE", "{:.2g}"))
+"""The figures of the panel's table; the relative ones are dashes against a black reference."""
+
+
 def draw_comparison(layout, properties):
-    """The comparison settings, its button and the last comparison's table (indirect image)."""
+    """The comparison settings, its button, the reference cache's size with a button that
+    empties it, and the last comparison's table (indirect image)."""
     draw_settings(layout, properties, "Comparison")
     layout.operator(COMPARE_OPERATOR, icon="RENDER_STILL")
+    row = layout.row()
+    row.label(text=f"Cache: {ReferenceCache().describe()}")
+    row.operator(EMPTY_CACHE_OPERATOR, text="", icon="TRASH")
     comparison = last_comparison()
     if comparison is None:
         return
@@ -96,15 +107,16 @@ def draw_comparison(layout, properties):
         box = layout.box()
         box.label(text=f"Indirect vs Cycles {kind.replace('_', ' ')}: {comparison.samples} samples, "
                        f"{reference.settings['render_seconds']:.1f} s")
-        grid = box.grid_flow(columns=6, row_major=True, even_columns=False, align=True)
-        for heading in ("Method", "ms", "PSNR", "relMSE", "SSIM", "FLIP"):
+        headings = ("Method", "ms", *(label for _, label, _ in PANEL_FIGURES))
+        grid = box.grid_flow(columns=len(headings), row_major=True, even_columns=False, align=True)
+        for heading in headings:
             grid.label(text=heading)
         rows = [(r.method.upper(), f"{r.milliseconds:.0f}", r.errors[kind]["indirect"]) for r in comparison.methods]
         if kind in comparison.noise_floor:
             rows.append(("Noise", "", comparison.noise_floor[kind]["indirect"]))
         for method, milliseconds, errors in rows:
-            for text in (method, milliseconds, f"{errors['psnr']:.1f}", f"{errors['relative_mse']:.3f}",
-                         f"{errors['ssim']:.3f}", f"{errors['flip']:.3f}"):
+            figures = [figure_text(errors[metric], fmt) for metric, _, fmt in PANEL_FIGURES]
+            for text in (method, milliseconds, *figures):
                 grid.label(text=text)
     layout.label(text="Images: \"LPV Compare ...\" in the Image Editor")
 

@@ -27,18 +27,34 @@ def _open_output(path, spec):
     return output
 
 
-def write_exr(path, passes):
-    """All passes in one float EXR, channels named '<pass>.R', '<pass>.G', '<pass>.B'."""
+def write_exr(path, passes, metadata=None):
+    """All passes in one float EXR, channels named '<pass>.R', '<pass>.G', '<pass>.B';
+    `metadata` ({name: text}) goes into its header (`read_exr_metadata`)."""
     import OpenImageIO as oiio
     names = list(passes)
     height, width, _ = passes[names[0]].shape
     spec = oiio.ImageSpec(width, height, 3 * len(names), "float")
     spec.channelnames = tuple(f"{name}.{c}" for name in names for c in CHANNELS)
     spec.attribute("compression", "zip")
+    for name, text in (metadata or {}).items():
+        spec.attribute(name, text)
     pixels = np.concatenate([np.asarray(passes[name], dtype=np.float32) for name in names], axis=2)
     output = _open_output(path, spec)
     output.write_image(np.ascontiguousarray(pixels))
     output.close()
+
+
+def read_exr_metadata(path, name):
+    """The text attribute `name` of an EXR's header, or None when the file has none or
+    cannot be read."""
+    import OpenImageIO as oiio
+    image = oiio.ImageInput.open(str(path))
+    if image is None:
+        oiio.geterror()  # an unreadable file is an answer here: take OpenImageIO's message
+        return None
+    value = image.spec().getattribute(name)
+    image.close()
+    return value if isinstance(value, str) else None
 
 
 def read_exr_channels(path):

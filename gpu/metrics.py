@@ -275,8 +275,22 @@ def flip(test, reference, mask=None):
     return float(np.mean(errors if mask is None else errors[mask])), errors
 
 
+RELATIVE_FIGURES = ("psnr", "relative_mse", "ssim", "flip")
+"""The figures of `image_errors` measured against the reference's own scale."""
+
+
 def image_errors(test, reference, mask=None):
-    """Every figure of a comparison: PSNR (peak: the reference's maximum), relative MSE,
-    SSIM and mean HDR-FLIP of `test` against `reference`."""
+    """Every figure of a comparison: the absolute ones, MSE and the mean of each image
+    ("mean", "reference_mean"), and the relative ones, PSNR (peak: the reference's
+    maximum), relative MSE, SSIM and mean HDR-FLIP of `test` against `reference`.
+
+    A reference that is black where compared is an answer too, but it gives the relative
+    figures no scale: they are None there, and the absolute ones say how far from black
+    the test image is.
+    """
+    t, r = _selected(test, reference, mask)
+    figures = {"mse": mse(test, reference, mask), "mean": float(np.mean(t)), "reference_mean": float(np.mean(r))}
+    if not np.any(r > 0.0):
+        return {**dict.fromkeys(RELATIVE_FIGURES), **figures}
     return {"psnr": psnr(test, reference, mask), "relative_mse": relative_mse(test, reference, mask),
-            "ssim": ssim(test, reference, mask), "flip": flip(test, reference, mask)[0]}
+            "ssim": ssim(test, reference, mask), "flip": flip(test, reference, mask)[0], **figures}

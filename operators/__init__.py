@@ -1,5 +1,5 @@
-"""User actions: the comparison with Cycles and the settings presets."""
-from . import compare, presets
+"""User actions: the comparison with Cycles, its reference cache and the settings presets."""
+from . import cache, compare, presets
 
-MODULES = (compare, presets)
+MODULES = (compare, cache, presets)
 """The modules with register()/unregister(), in registration order."""

@@ -2,7 +2,7 @@
 
 Invoked from the panel it runs `addon.comparison.comparison_steps` one step per timer tick,
 with the window's progress bar and the step in the status bar; Esc stops it between steps
-(each Cycles render gives the scene's settings back itself, also when it fails). The
+(each Cycles render is of a temporary copy of the scene, removed also when it fails). The
 results fill the panel's table and image datablocks ("LPV Compare ...") that the user can
 open in an Image Editor.
 """

@@ -71,6 +71,36 @@ def test_an_animation_renders_one_exr_a_frame_and_resumes(tmp_path, capsys):
     assert run("--overwrite")[0]["rendered"] == 3
 
 
+def test_a_rerun_renders_again_the_frames_made_with_other_settings_or_size(tmp_path, capsys):
+    from lpv_preview.demo import build
+    build("cornell")
+    blend = tmp_path / "still.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+    out = tmp_path / "frames"
+
+    def run(*flags):
+        assert main(["render", str(blend), "--frames", "1-2", "--out", str(out), *flags]) == 0
+        captured = capsys.readouterr()
+        stats = json.loads(captured.out[captured.out.index("{\n"):])
+        return (stats["rendered"], stats["skipped"], stats["rendered_again"]), captured.err
+
+    small = ["--rsm-resolution", "64", "--vpls-per-light", "256", "--lpv-resolution", "16"]
+    assert run("--width", "24", "--height", "16", *small)[0] == (2, 0, {})
+    assert run("--width", "24", "--height", "16", *small)[0] == (0, 2, {})  # the same: kept
+    stats, err = run("--width", "20", "--height", "16", *small)
+    assert stats == (2, 0, {"at another size (24×16)": 2})
+    assert f"lpv_preview: rendering again 2 frames already in '{out}', made 2 at another size (24×16)." in err
+    assert read_exr(str(out / "frame_0002.exr"))["combined"].shape == (16, 20, 3)
+    stats, err = run("--width", "20", "--height", "16", *small[:2], "--method", "wdpm")
+    assert stats == (2, 0, {"with other settings (method, vpls_per_light, lpv_resolution)": 2}), err
+    stats, _ = run("--width", "20", "--height", "16", *small[:2], "--method", "wdpm", "--debug-passes")
+    assert stats == (2, 0, {"with other passes": 2})
+    with open(out / "frame_0001.exr", "wb") as handle:  # not an EXR of ours, nor any
+        handle.write(b"not an image")
+    stats, _ = run("--width", "20", "--height", "16", *small[:2], "--method", "wdpm", "--debug-passes")
+    assert stats == (1, 1, {"with no record of its settings": 1})
+
+
 @pytest.mark.parametrize("argv, words", [
     (["render", "/nonexistent/scene.blend"], "There is no file"),
     (["demo", "--rsm-resolution", "5"], "rsm_resolution"),

@@ -3,6 +3,8 @@ metric, a reference cache that renders nothing twice, the scene untouched when t
 comparison finishes, is cancelled between steps or fails."""
 import json
 import math
+import os
+import re
 
 import numpy as np
 import pytest
@@ -31,9 +33,13 @@ def cycles_state(scene):
 
 @pytest.fixture()
 def cornell():
+    """The Cornell box under a black sky (a world, so that the snapshots cover one)."""
     scene = demo.build("cornell")
     import addon_utils
     addon_utils.enable("cycles", default_set=True)
+    scene.world = bpy.data.worlds.new("Black sky")
+    scene.world.color = (0.0, 0.0, 0.0)
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
     return scene
 
 
@@ -57,8 +63,11 @@ def test_a_comparison_gives_finite_figures_and_leaves_the_scene_as_it_was(cornel
     np.testing.assert_allclose(full.direct.mean(), one.direct.mean(), rtol=0.05)
     assert comparison.heat_map(comparison.methods[0], "one_bounce").shape == (32, 40, 3)
     # The second run renders no reference: all four come from the cache, unchanged.
-    again = run_to_end(comparison_steps(cornell, ["cm"], SAMPLES, SMALL, cache))
+    steps = []
+    again = run_to_end(comparison_steps(cornell, ["cm"], SAMPLES, SMALL, cache), steps.append)
     assert all(r.settings["cached"] for r in again.references.values())
+    assert [text for _, text in steps][:2] == ["Cycles one bounce reference: from the cache",
+                                               "Cycles one bounce noise floor (a second seed): from the cache"]
     np.testing.assert_array_equal(again.references["full_gi"].indirect, full.indirect)
     assert (scene_snapshot(cornell), cycles_state(cornell)) == before
 
@@ -66,7 +75,7 @@ def test_a_comparison_gives_finite_figures_and_leaves_the_scene_as_it_was(cornel
 def test_a_cancelled_comparison_leaves_the_scene_as_it_was(cornell, tmp_path):
     before = scene_snapshot(cornell), cycles_state(cornell)
     steps = comparison_steps(cornell, ["cm"], SAMPLES, SMALL, ReferenceCache(str(tmp_path)))
-    fractions = [next(steps)[0] for _ in range(3)]  # the first reference, its noise floor, then Esc
+    fractions = [next(steps)[0] for _ in range(3)]  # the first reference, its first part, the estimate; Esc
     steps.close()
     assert fractions == sorted(fractions) and fractions[0] == 0.0
     assert (scene_snapshot(cornell), cycles_state(cornell)) == before
@@ -84,12 +93,23 @@ def test_a_failing_comparison_raises_one_error_and_leaves_the_scene_as_it_was(co
     assert str(after) == str(before)  # NaN != NaN: compare the printed values
 
 
-def test_the_compare_command_writes_the_table_and_images(tmp_path, capsys):
+def test_the_compare_command_shows_its_progress_and_writes_the_table_and_images(tmp_path, capsys):
     out = tmp_path / "compare"
     argv = ["compare", "cornell", "--methods", "wdpm", "--samples", str(SAMPLES), "--out", str(out),
             "--cache", str(tmp_path / "cache"), "--width", "40", "--height", "32", "--rsm-resolution", "64",
             "--vpls-per-light", "256", "--lpv-resolution", "16"]
     assert main(argv) == 0
+    progress = capsys.readouterr().err.splitlines()
+    assert all(re.match(r"\[ +\d+ s +\d+%\] ", line) for line in progress), progress  # elapsed time, fraction
+    texts = [line.split("] ", 1)[1] for line in progress]
+    assert texts[0] == f"Cycles one bounce reference: {SAMPLES} samples at 40×32"
+    assert texts[1].startswith(f"Cycles one bounce reference: 1/{SAMPLES} samples in ") and texts[1].endswith(" left")
+    assert re.fullmatch(rf"Cycles references: about \d+ s for 4 renders of {SAMPLES} samples at 40×32, estimated "
+                        rf"from the [\d.]+ s the first sample took \(more bounces take longer\)", texts[2]), texts[2]
+    for label in ("one bounce reference", "one bounce noise floor (a second seed)", "full gi reference",
+                  "full gi noise floor (a second seed)"):
+        assert re.search(rf"Cycles {re.escape(label)}: {SAMPLES}/{SAMPLES} samples in \d+ s, done", "\n".join(texts))
+    assert texts[-1] == "LPV Preview WDPM"
     report = json.loads((out / "comparison.json").read_text())
     assert [(r["method"], r["reference"]) for r in report["rows"]] == [
         ("wdpm", "one_bounce"), ("Cycles seed 1", "one_bounce"), ("wdpm", "full_gi"), ("Cycles seed 1", "full_gi")]
@@ -136,6 +156,27 @@ def test_the_operator_fills_the_table_and_the_images_and_leaves_the_scene_as_it_
         comparison.methods[0].images["indirect"], rtol=1e-6)
 
 
+def test_the_panel_shows_the_cycles_cache_whose_button_empties_it(registered, tmp_path, monkeypatch):
+    from lpv_preview.addon.cycles_reference import CyclesReference, ReferenceCache, default_cache_folder, size_text
+    cache = ReferenceCache()
+    assert cache.folder == str(tmp_path / "cache") and cache.describe() == "0 Cycles references, 0 B"
+    reference = CyclesReference("one_bounce", np.ones((4, 4, 3), np.float32), np.zeros((4, 4, 3), np.float32),
+                                {"samples": 1})
+    keys = ("0123456789abcdef0123", "fedcba9876543210fedc")
+    for key in keys:
+        cache.store(key, reference)
+    (tmp_path / "cache" / "notes.txt").write_text("the user's, not the cache's")
+    size = sum(os.path.getsize(cache.path(key)) for key in keys)
+    assert cache.size() == (2, size) and size > 0
+    assert ReferenceCache().describe() == f"2 Cycles references, {size_text(size)}"
+    assert bpy.ops.lpv_preview.empty_cycles_cache() == {"FINISHED"}
+    assert os.listdir(tmp_path / "cache") == ["notes.txt"] and cache.size() == (0, 0)
+    # Outside an installed extension (the command line, the tests) the cache is the XDG one.
+    monkeypatch.delenv("LPV_PREVIEW_CACHE")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert default_cache_folder() == str(tmp_path / "xdg" / "lpv_preview" / "cycles")
+
+
 def test_the_operator_reports_one_error_when_no_method_is_ticked(registered):
     properties = registered.lpv_preview
     properties.compare_cm = properties.compare_wdpm = properties.compare_tdpm = False
@@ -160,3 +201,43 @@ def test_time_to_equal_error_fits_cycles_error_and_time_against_samples(cornell,
         assert result.our_mse > 0 and result.our_ms > 0
         if result.samples is not None:
             assert result.samples >= 1 and result.seconds > 0
+
+
+def lone_plane_blend(path):
+    """A lit plane alone under a black sky, seen from above: Cycles' indirect light is black."""
+    from lpv_preview.demo.builder import MeshBuilder, add_camera, add_light, principled_material
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    plane = MeshBuilder()
+    plane.parallelogram((-1, -1, 0), (2, 0, 0), (0, 2, 0), 4, 4)
+    plane.to_object("Plane", [principled_material("Grey", (0.5, 0.5, 0.5))], scene.collection)
+    add_light(scene, "Light", "POINT", (0.0, 0.0, 1.0), 50.0)
+    add_camera(scene, (0.0, -0.5, 2.5), (0.0, 0.0, 0.0), resolution=(24, 20))
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+
+
+def strict_json(text):
+    """JSON as the standard has it: NaN and Infinity are not numbers there."""
+    def refuse(constant):
+        raise ValueError(f"{constant} is not JSON")
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_a_black_reference_is_an_answer_measured_in_absolute_figures(tmp_path, capsys):
+    blend = tmp_path / "plane.blend"
+    lone_plane_blend(blend)
+    out = tmp_path / "compare"
+    argv = ["compare", str(blend), "--methods", "cm", "--samples", "4", "--out", str(out), "--cache",
+            str(tmp_path / "cache"), "--rsm-resolution", "64", "--vpls-per-light", "256", "--lpv-resolution", "16"]
+    assert main(argv) == 0, capsys.readouterr().err
+    rows = strict_json((out / "comparison.json").read_text())["rows"]
+    ours = next(row for row in rows if row["method"] == "cm" and row["reference"] == "one_bounce")
+    assert ours["indirect_reference_mean"] == 0.0
+    assert ours["indirect_mse"] == pytest.approx(ours["indirect_mean"] ** 2, rel=10) and ours["indirect_mse"] >= 0
+    for metric in ("psnr", "relative_mse", "ssim", "flip"):
+        assert ours[f"indirect_{metric}"] is None  # relative to a black image: undefined
+        assert math.isfinite(ours[f"combined_{metric}"])  # the direct light is not black
+    noise = next(row for row in rows if row["method"] == "Cycles seed 1" and row["reference"] == "one_bounce")
+    assert noise["indirect_mse"] == 0.0 and noise["indirect_psnr"] is None
+    table = (out / "comparison.md").read_text()
+    assert "indirect MSE" in table and "indirect mean" in table and "| — |" in table

@@ -20,30 +20,55 @@ from lpv_preview.gpu.image_io import read_exr_channels  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 
 
-def rna_values(struct):
-    """Every readable, non-pointer RNA property of `struct`, as plain values."""
-    values = {}
+RUNTIME_STATE = {"depsgraph", "session_uid"}
+"""Not settings: what Blender evaluated for a render (a render changes it) and the number
+a data-block gets when a file is loaded."""
+
+
+def plain(value):
+    """A property value as plain Python: arrays as (nested) tuples."""
+    if hasattr(value, "__len__") and not isinstance(value, str):
+        return tuple(plain(item) for item in value)
+    return value
+
+
+def rna_tree(struct, depth=0, max_depth=6):
+    """Every readable property of `struct`: plain values, nested structs (the image
+    settings' colour management, Cycles' settings, a view layer's passes...) as dicts,
+    collections as lists, data-blocks by name (each snapshot says which it looks into)."""
+    tree = {}
     for prop in struct.bl_rna.properties:
-        if prop.identifier == "rna_type" or prop.type in {"POINTER", "COLLECTION"}:
+        name = prop.identifier
+        if name == "rna_type" or name in RUNTIME_STATE or prop.is_deprecated:
             continue
-        value = getattr(struct, prop.identifier, None)
-        values[prop.identifier] = tuple(value) if hasattr(value, "__len__") and not isinstance(value, str) else value
-    return values
+        try:
+            value = getattr(struct, name)
+        except (AttributeError, RuntimeError, TypeError):
+            continue
+        if prop.type == "POINTER":
+            nested = value is not None and not isinstance(value, bpy.types.ID) and depth < max_depth
+            tree[name] = rna_tree(value, depth + 1) if nested else getattr(value, "name", None)
+        elif prop.type == "COLLECTION":
+            tree[name] = [item.name if isinstance(item, bpy.types.ID) else rna_tree(item, depth + 1)
+                          for item in value] if depth < max_depth else len(value)
+        else:
+            tree[name] = plain(value)
+    return tree
 
 
 def scene_snapshot(scene):
-    """What a render must leave as it found it: render and output settings, view layer
-    passes, objects, their transforms and data, materials."""
+    """What a render must leave as it found it: every setting of the scene, nested ones
+    included (render and output settings with their colour management, Cycles', the view
+    layers and their passes, the frame, the camera), its world's, the objects, their
+    transforms and data, the lights and materials, and which scenes there are."""
     return {
-        "render": rna_values(scene.render),
-        "image": rna_values(scene.render.image_settings),
-        "view_layers": [rna_values(layer) for layer in scene.view_layers],
+        "scene": rna_tree(scene),
+        "world": rna_tree(scene.world) if scene.world else None,
         "objects": sorted((o.name, o.type, tuple(o.location), tuple(o.rotation_euler), tuple(o.scale),
                            o.data.name if o.data else "", o.hide_render, o.hide_viewport) for o in scene.objects),
         "lights": sorted((light.name, light.energy, tuple(light.color)) for light in bpy.data.lights),
         "materials": sorted(m.name for m in bpy.data.materials),
-        "camera": scene.camera.name,
-        "frame": scene.frame_current,
+        "scenes": sorted(s.name for s in bpy.data.scenes),
     }
 
 

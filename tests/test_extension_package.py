@@ -41,6 +41,8 @@ bpy.ops.render.render(write_still=True)
 import moderngl
 report["moderngl"] = moderngl.__file__
 report["engine_module"] = sys.modules["bl_ext.user_default.lpv_preview"].__file__
+report["cache"] = sys.modules["bl_ext.user_default.lpv_preview.addon.cycles_reference"].default_cache_folder()
+report["empty_cache"] = sorted(bpy.ops.lpv_preview.empty_cycles_cache())
 print("REPORT " + json.dumps(report))
 """
 
@@ -80,7 +82,8 @@ def test_the_installed_extension_renders_f12_with_our_passes(extension_zip, tmp_
     script.write_text(textwrap.dedent(INSTALL_AND_RENDER))
     user = tmp_path / "blender_user"
     exr = tmp_path / "f12.exr"
-    environment = {**os.environ, "BLENDER_USER_RESOURCES": str(user)}
+    environment = {**{k: v for k, v in os.environ.items() if k != "LPV_PREVIEW_CACHE"},
+                   "BLENDER_USER_RESOURCES": str(user)}
     result = subprocess.run([sys.executable, str(script), extension_zip, str(blend), str(exr)],
                             capture_output=True, text=True, env=environment, timeout=600)
     lines = [line for line in result.stdout.splitlines() if line.startswith("REPORT ")]
@@ -89,6 +92,9 @@ def test_the_installed_extension_renders_f12_with_our_passes(extension_zip, tmp_
     assert report["install"] == ["FINISHED"] and report["enabled"] == ["bl_ext.user_default.lpv_preview"]
     assert report["engine"] == "LPV_PREVIEW"
     assert report["engine_module"].startswith(str(user))
+    # The extension keeps its Cycles references in its own user folder, as the platform asks.
+    assert report["cache"] == str(user / "extensions" / ".user" / "user_default" / "lpv_preview" / "cycles")
+    assert report["empty_cache"] == ["FINISHED"]
     installed_wheels = user / "extensions" / ".local" / "lib" / "python3.11" / "site-packages"
     assert all((installed_wheels / name).is_dir() for name in ("moderngl", "glcontext", "flip_evaluator"))
     channels = read_exr_channels(exr)

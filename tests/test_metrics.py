@@ -79,8 +79,17 @@ def test_flip_is_zero_for_identical_images_and_grows_with_the_difference():
 
 def test_image_errors_of_identical_images_are_perfect():
     image = random_image(3, (16, 16, 3))
+    mean = float(image.mean())
     assert metrics.image_errors(image, image.copy()) == {"psnr": math.inf, "relative_mse": 0.0, "ssim": 1.0,
-                                                         "flip": 0.0}
+                                                         "flip": 0.0, "mse": 0.0, "mean": mean, "reference_mean": mean}
+
+
+def test_image_errors_against_a_black_reference_are_absolute():
+    black = np.zeros((8, 8, 3))
+    errors = metrics.image_errors(black + 0.1, black)
+    assert {name: errors[name] for name in metrics.RELATIVE_FIGURES} == dict.fromkeys(metrics.RELATIVE_FIGURES)
+    assert errors["mse"] == pytest.approx(0.01) and errors["mean"] == pytest.approx(0.1)
+    assert errors["reference_mean"] == 0.0
 
 
 def test_flip_needs_rgb_images_and_a_lit_reference():

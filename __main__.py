@@ -262,6 +262,17 @@ def command_bench(args):
         from .bench.page import write_benchmarks_page
         check_writable(os.path.dirname(args.page))
         return write_benchmarks_page(args.page)
+    if args.invariance:
+        from .bench.invariance import measure_invariances, write_invariances
+        check_writable(args.out)
+        return write_invariances(measure_invariances(log=log), args.out, command_line(args))
+    if args.fuzz:
+        from .bench.fuzz import fuzz
+        report = fuzz(range(args.fuzz), log=log)
+        if report["failures"]:
+            raise LPVError(f"{len(report['failures'])} of {args.fuzz} fuzzed scenes failed, the first with seed "
+                           f"{report['failures'][0]['seed']}: {report['failures'][0]['detail'].splitlines()[-1]}")
+        return report
     if args.sweep:
         from .bench.sweep import SWEEPS_FILE, load_sweep, run_sweep
         from .bench.sweep_report import write_sweep_outputs
@@ -347,6 +358,12 @@ def build_parser():
     command.add_argument("--sweep", help="run this sweep of bench/sweeps.toml (or --sweeps FILE) instead of Table 1")
     command.add_argument("--sweeps", help="the file of declared sweeps (default: bench/sweeps.toml)")
     command.add_argument("--report", help="write the Markdown and plots of this sweep_NAME.json again")
+    command.add_argument("--invariance", action="store_true",
+                         help="measure the invariances (translation, grid shift, light frame, scale) per method "
+                              "on the closed room (invariance.json and invariance.md in --out)")
+    command.add_argument("--fuzz", type=positive_int, metavar="N",
+                         help="render N seeded random scenes; any that neither renders finite bounded light nor "
+                              "stops with one sentence is a failure (exit 2)")
     command.add_argument("--page", help="write this benchmarks page (docs/benchmarks.md) from the reports in the "
                          "folder bench beside it, their tables and plots again too")
     add_setting_flags(command)

@@ -13,7 +13,7 @@ from .properties import settings_from_properties
 SETTING_GROUPS = {
     "Method": ("method", "rsm_resolution", "vpls_per_light"),
     "Light Propagation": ("lpv_resolution", "propagation_iterations", "occlusion", "indirect_intensity",
-                          "shadow_bias", "grid_shift"),
+                          "shadow_bias", "grid_phases", "grid_shift"),
     "Warping": ("warp_alpha", "warp_iterations", "warp_significant_figures"),
     "Tessellation": ("tessellation_unit", "tessellated_warp_alpha"),
     "Overlays": ("show_vpls", "vpl_point_size", "show_lpv_slice", "lpv_slice_axis", "lpv_slice_position",

@@ -12,7 +12,9 @@ compares its direct and indirect images (PSNR) with the unchanged room's, per me
   which changes no radiance.
 """
 import dataclasses
+import json
 import math
+import os
 
 from ..gpu.metrics import psnr
 from ..gpu.pipeline import render_once
@@ -72,3 +74,14 @@ def markdown_table(report):
                        for image in ("direct", "indirect")]
         lines.append("| " + " | ".join([invariance, change, *values]) + " |")
     return "\n".join(lines) + "\n"
+
+
+def write_invariances(report, out, command):
+    """invariance.json and invariance.md (the command, then the table) in the folder `out`."""
+    os.makedirs(out, exist_ok=True)
+    report = {**report, "command": command}
+    with open(os.path.join(out, "invariance.json"), "w") as handle:
+        json.dump(report, handle, indent=1)
+    with open(os.path.join(out, "invariance.md"), "w") as handle:
+        handle.write(f"    {command}\n\n" + markdown_table(report))
+    return {"out": out, "rows": len(report["rows"])}

@@ -69,7 +69,7 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     per_layout = SHARED_BYTES_PER_TEXEL + MAP_BYTES_PER_TEXEL * warped
     maps += sum(width * height * per_layout + s.vpls_per_light * VPL_CELL_BYTES for width, height in set(atlases))
     n = s.lpv_resolution
-    lpv = n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL
+    lpv = s.grid_phases * (n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL)
     mesh = scene.triangle_count * (3 * VERTEX_BYTES + 2 * RIM_LIST_BYTES_PER_TRIANGLE * (s.method != "cm"))
     mesh += len(scene.images) * layer_size(scene.images) ** 2 * BYTES_PER_TEXEL
     host = pixels * (READBACK_BYTES_PER_PIXEL * bool(passes) + PASS_BYTES_PER_PIXEL * len(passes))

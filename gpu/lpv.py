@@ -67,6 +67,16 @@ def fit_grid(bounds, size, shift=0.0):
     return Grid(tuple(float(v) for v in origin), cell, size)
 
 
+GEOMETRY_TEXELS_PER_CELL = 2
+"""About how many map texels along a grid cell's side the geometry volume samples."""
+
+
+def geometry_stride(map_resolution, grid_size):
+    """The block of map texels one texel stands for in the geometry volume: a map face
+    spans about as many cells as the grid, so keep GEOMETRY_TEXELS_PER_CELL a cell."""
+    return max(1, map_resolution // (GEOMETRY_TEXELS_PER_CELL * grid_size))
+
+
 def volume_textures(gl, size, count):
     textures = []
     for _ in range(count):
@@ -119,16 +129,18 @@ class LightPropagationVolume:
             volume.write(zeros)
 
     def inject_geometry(self, rsms):
-        """Add every RSM surfel's blocking potential into the geometry volume."""
+        """Add the RSM surfels' blocking potential into the geometry volume: one texel of
+        every block of geometry_stride² stands for it."""
         self.geometry_accumulator.clear()
         program = self.glc.compute("geometry_inject")
         self.geometry_accumulator.bind_to_storage_buffer(0)
         for rsm in rsms:
             rsm.position.use(location=0)
             rsm.normal.use(location=1)
-            set_uniforms(program, rsm_position=0, rsm_normal=1, atlas_size=rsm.atlas_size,
+            stride = geometry_stride(rsm.resolution, self.grid.size)
+            set_uniforms(program, rsm_position=0, rsm_normal=1, atlas_size=rsm.atlas_size, stride=stride,
                          fixed_point_scale=GEOMETRY_FIXED_POINT_SCALE, **self._grid_uniforms())
-            dispatch(program, *rsm.atlas_size)
+            dispatch(program, *(-(-side // stride) for side in rsm.atlas_size))
         self._resolve(self.geometry_accumulator, [self.geometry], 1.0 / GEOMETRY_FIXED_POINT_SCALE)
 
     def _resolve(self, accumulator, volumes, inverse_scale):

@@ -120,7 +120,8 @@ class Pipeline:
 
     @property
     def last_lpv(self):
-        return self._lpv[1] if self._lpv is not None else None
+        """The last frame's first LPV (the one at the grid's own offset), for the overlays."""
+        return self._lpv[1][0] if self._lpv is not None else None
 
     @property
     def last_lpv_key(self):
@@ -201,22 +202,25 @@ class Pipeline:
         start = time.perf_counter()
         stats = {}
         maps, keys = self.light_maps(scene, stats)
-        grid = fit_grid(scene.bounds(), s.lpv_resolution, s.grid_shift)
-        lpv_key = (tuple(keys), grid, s.propagation_iterations, s.occlusion)
+        grids = tuple(fit_grid(scene.bounds(), s.lpv_resolution, s.grid_shift + phase / s.grid_phases)
+                      for phase in range(s.grid_phases))
+        lpv_key = (tuple(keys), grids, s.propagation_iterations, s.occlusion)
         if self._lpv is None or self._lpv[0] != lpv_key:
-            lpv = self._lpv[1] if self._lpv is not None and self._lpv[1].grid == grid else None
-            if lpv is None:
-                if self._lpv is not None:
-                    self._lpv[1].release()
-                lpv = LightPropagationVolume(self.glc, grid)
+            lpvs = self._lpv[1] if self._lpv is not None else []
+            if tuple(lpv.grid for lpv in lpvs) != grids:
+                for lpv in lpvs:
+                    lpv.release()
+                lpvs = [LightPropagationVolume(self.glc, grid) for grid in grids]
             with self.glc.timed(stats, "inject_ms"):
-                lpv.inject([m.vpls for m in maps], sum(m.rsm.flux_bound for m in maps))
-                if s.occlusion:
-                    lpv.inject_geometry([m.rsm for m in maps])
+                for lpv in lpvs:
+                    lpv.inject([m.vpls for m in maps], sum(m.rsm.flux_bound for m in maps))
+                    if s.occlusion:
+                        lpv.inject_geometry([m.rsm for m in maps])
             with self.glc.timed(stats, "propagate_ms"):
-                lpv.propagate(s.propagation_iterations, s.occlusion)
-            self._lpv = (lpv_key, lpv)
-        lpv = self._lpv[1]
+                for lpv in lpvs:
+                    lpv.propagate(s.propagation_iterations, s.occlusion)
+            self._lpv = (lpv_key, lpvs)
+        lpvs = self._lpv[1]
         if self._targets is None or self._targets.size != (s.width, s.height):
             if self._targets is not None:
                 self._targets.release()
@@ -229,7 +233,7 @@ class Pipeline:
             for m in maps:
                 shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
         with self.glc.timed(stats, "indirect_ms"):
-            shade_indirect(self.glc, targets, scene.camera, lpv, s.indirect_intensity, display_into is not None)
+            shade_indirect(self.glc, targets, scene.camera, lpvs, s.indirect_intensity, display_into is not None)
         if any(name in DEBUG_PASS_NAMES for name in passes):
             with self.glc.timed(stats, "debug_ms"):
                 render_debug_passes(self.glc, targets, scene.camera, maps,
@@ -255,7 +259,7 @@ class Pipeline:
             "rsm_resolution": s.rsm_resolution,
             "rsm_faces": int(sum(m.rsm.face_count for m in maps)),
             "lpv_resolution": s.lpv_resolution,
-            "lpv_cell_size": grid.cell_size,
+            "lpv_cell_size": grids[0].cell_size,
             "propagation_iterations": s.propagation_iterations,
             "image_size": [s.width, s.height],
             "renderer": self.glc.renderer,
@@ -265,8 +269,9 @@ class Pipeline:
     def gpu_bytes(self):
         """GPU memory the pipeline holds now: mesh, light maps, VPLs, LPV, camera images."""
         held = [*self.vpl_sampler.resources()]
-        for owner in (self._mesh, self._lpv):
-            held += owner[1].resources() if owner is not None else ()
+        held += self._mesh[1].resources() if self._mesh is not None else ()
+        for lpv in self._lpv[1] if self._lpv is not None else ():
+            held += lpv.resources()
         for maps in self._lights.values():
             held += maps.resources()
         held += self._targets.resources() if self._targets is not None else ()
@@ -291,9 +296,9 @@ class Pipeline:
 
     def release(self):
         self.invalidate()
-        if self._lpv is not None:
-            self._lpv[1].release()
-            self._lpv = None
+        for lpv in self._lpv[1] if self._lpv is not None else ():
+            lpv.release()
+        self._lpv = None
         if self._mesh is not None:
             self._mesh[1].release()
         if self._targets is not None:

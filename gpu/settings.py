@@ -66,6 +66,8 @@ class Settings(Validated):
     warp_iterations: int = _param(16, "Most fixed-point iterations per texel of the warp", 1, 64)
     warp_significant_figures: int = _param(2, "Significant figures of the warp's approximate-error stop", 1, 6)
     occlusion: bool = _param(True, "Block propagation with the geometry volume")
+    grid_phases: int = _param(2, "Light grids half a cell apart whose indirect light is averaged: the picture "
+                                 "depends less on where cell boundaries fall", 1, 2)
     grid_shift: float = _param(0.0, "Shift of the light grid against the scene, in cells along every axis "
                                     "(the picture should not depend on it: for invariance tests)", 0.0, 1.0)
     indirect_intensity: float = _param(1.0, "Scale of the indirect light", 0.0, 100.0)

@@ -119,19 +119,24 @@ def shade_direct(glc, targets, camera, rsm, shadow_bias):
     dispatch(program, *targets.size)
 
 
-def shade_indirect(glc, targets, camera, lpv, intensity, display=False):
-    """Look the LPV up at every pixel and write the indirect and combined images, and with
-    `display` the combined one into the display buffer too."""
-    program = glc.compute("shade_indirect")
+def shade_indirect(glc, targets, camera, lpvs, intensity, display=False):
+    """Look the LPVs (grids of one size at staggered offsets) up at every pixel, average
+    them and write the indirect and combined images, and with `display` the combined one
+    into the display buffer too."""
+    program = glc.compute("shade_indirect", PHASES=len(lpvs))
     bind_gbuffer(targets)
-    for unit, texture in enumerate(lpv.sums, start=2):
-        texture.use(location=unit)
+    units = {}
+    for channel, name in enumerate(("lpv_r", "lpv_g", "lpv_b")):
+        units[name] = [2 + 3 * phase + channel for phase in range(len(lpvs))]
+        for lpv, unit in zip(lpvs, units[name]):
+            lpv.sums[channel].use(location=unit)
     targets.direct.bind_to_image(0, read=True, write=False)
     targets.indirect.bind_to_image(1, read=False, write=True)
     targets.combined.bind_to_image(2, read=False, write=True)
     if display:
         targets.display_buffer().bind_to_storage_buffer(0)
-    grid = lpv.grid
-    set_uniforms(program, **gbuffer_uniforms(camera), lpv_r=2, lpv_g=3, lpv_b=4, write_display=display,
-                 grid_origin=grid.origin, cell_size=grid.cell_size, grid_size=grid.size, intensity=intensity)
+    grid = lpvs[0].grid
+    set_uniforms(program, **gbuffer_uniforms(camera), **{name: np.array(unit_list) for name, unit_list in units.items()},
+                 write_display=display, grid_origins=np.array([lpv.grid.origin for lpv in lpvs]),
+                 cell_size=grid.cell_size, grid_size=grid.size, intensity=intensity)
     dispatch(program, *targets.size)

@@ -146,3 +146,11 @@ def test_no_modules_import_each_other_in_a_circle():
         visit(path)
     assert graph[ROOT / "addon" / "viewport_draw.py"] == {ROOT / "addon" / "viewport.py"}
     assert not circles, "\n".join(circles)
+
+
+def test_the_layout_names_every_module():
+    layout = RULE_PAGE.read_text().split("## Layout")[1].split("## ")[0]
+    listed = set(re.findall(r"^\s+(\w+\.py)\s", layout, re.MULTILINE))
+    for folder in ("gpu", "addon", "operators", "bench"):
+        for path in (ROOT / folder).glob("*.py"):
+            assert path.name == "__init__.py" or path.name in listed, f"docs/architecture.md lacks {folder}/{path.name}"

@@ -42,8 +42,11 @@ SCHEMA_VERSION = 1
 
 def load_sweep(name, path=SWEEPS_FILE):
     """The sweep `name` of the sweeps file, checked: known keys, settings and values."""
-    with open(path, "rb") as handle:
-        sweeps = tomllib.load(handle)
+    try:
+        with open(path, "rb") as handle:
+            sweeps = tomllib.load(handle)
+    except (OSError, tomllib.TOMLDecodeError) as error:
+        raise LPVError(f"Cannot read the sweeps file '{path}' ({error}); give a TOML file of sweeps.") from None
     if name not in sweeps:
         raise LPVError(f"There is no sweep '{name}' in {path}; choose one of {', '.join(sweeps)}.")
     sweep = sweeps[name]

@@ -86,6 +86,8 @@ def test_an_export_carries_its_cycles_reference_and_the_sweep_measures_errors_at
 def test_the_sweep_file_is_checked(tmp_path, capsys):
     with pytest.raises(LPVError, match="There is no sweep 'nope'"):
         load_sweep("nope")
+    with pytest.raises(LPVError, match="Cannot read the sweeps file"):
+        load_sweep("tiny", tmp_path / "missing.toml")
     bad = tmp_path / "sweeps.toml"
     bad.write_text('[typo]\nscenes = ["cornell"]\nmethods = ["cm"]\nrsm_resoluton = 64\n')
     with pytest.raises(LPVError, match="unknown key 'rsm_resoluton'"):

@@ -188,7 +188,8 @@ def command_compare(args):
     """Cycles references and each method's errors against them, written to args.out;
     every step, part of a Cycles render and the references' estimated time on stderr."""
     from .addon.batch import open_blend
-    from .addon.comparison import comparison_steps, run_to_end, write_report
+    from .addon.comparison import comparison_steps, write_report
+    from .addon.cycles_reference import run_to_end
     from .addon.cycles_reference import ReferenceCache
     check_writable(args.out)
     check_setting_flags(args)

@@ -15,7 +15,6 @@ from ..gpu.metrics import error_map, heat_map, image_errors
 from ..gpu.passes import COMPARED_PASS_NAMES as IMAGES
 from ..gpu.settings import METHODS
 from .cycles_reference import REFERENCE_BOUNCES, cycles_reference_in_parts, reference_key
-from .cycles_reference import run_to_end  # noqa: F401  (runs the steps; the operator and the command line use it)
 from .render_scene import scene_to_render
 
 _last = []  # the last comparison the operator finished, for the panel

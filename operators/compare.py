@@ -9,8 +9,8 @@ open in an Image Editor.
 import bpy
 import numpy as np
 
-from ..addon.comparison import IMAGES, comparison_steps, forget, remember, run_to_end
-from ..addon.cycles_reference import ReferenceCache
+from ..addon.comparison import IMAGES, comparison_steps, forget, remember
+from ..addon.cycles_reference import ReferenceCache, run_to_end
 from ..addon.extract import render_resolution
 from ..addon.properties import comparison_settings_from_properties, settings_from_properties
 from ..gpu.errors import LPVError

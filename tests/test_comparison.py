@@ -13,7 +13,8 @@ bpy = pytest.importorskip("bpy")
 
 from lpv_preview import demo  # noqa: E402
 from lpv_preview.__main__ import main  # noqa: E402
-from lpv_preview.addon.comparison import comparison_steps, run_to_end  # noqa: E402
+from lpv_preview.addon.comparison import comparison_steps  # noqa: E402
+from lpv_preview.addon.cycles_reference import run_to_end  # noqa: E402
 from lpv_preview.addon.cycles_reference import ReferenceCache  # noqa: E402
 from lpv_preview.gpu.errors import LPVError  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402

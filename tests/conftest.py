@@ -13,6 +13,12 @@ except ImportError:
     sys.path.insert(0, link_dir)
 
 import pytest  # noqa: E402
+from hypothesis import settings  # noqa: E402
+
+# The property tests draw the same examples every run (CI is never flaky) and keep no
+# example database in the repository, where the extension's builder would pack it.
+settings.register_profile("lpv_preview", database=None, derandomize=True)
+settings.load_profile("lpv_preview")
 
 
 @pytest.fixture(scope="session")

@@ -71,7 +71,7 @@ def test_the_zip_lists_and_bundles_only_the_platforms_it_runs_on(extension_zip):
         assert bundled == ["flip_evaluator", "glcontext", "moderngl"], (platform, wheels)
     assert len(wheels) == 3 * len(PLATFORM_TAGS), wheels
     assert "gpu/shaders/warp.comp" in names
-    assert not any(name.startswith(("tests/", ".venv/", ".git/", "bench/", "docs/")) for name in names)
+    assert not any(name.startswith(("tests/", ".venv/", ".git/", "bench/", "docs/", ".hypothesis/")) for name in names)
 
 
 def test_the_installed_extension_renders_f12_with_our_passes(extension_zip, tmp_path):

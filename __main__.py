@@ -155,8 +155,6 @@ def command_demo(args):
 
 def command_render(args):
     from .addon.batch import open_blend, render_animation, render_to_files
-    if not os.path.isfile(args.file):
-        raise LPVError(f"There is no file '{args.file}'; give the path of a .blend file.")
     frames = parse_frames(args.frames) if args.frames else None
     check_writable(args.out)
     check_setting_flags(args)

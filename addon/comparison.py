@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..gpu.errors import LPVError
-from ..gpu.metrics import error_map, heat_map, image_errors
+from ..gpu.metrics import error_map, figure_text, heat_map, image_errors
 from ..gpu.passes import COMPARED_PASS_NAMES as IMAGES
 from ..gpu.settings import METHODS
 from .cycles_reference import REFERENCE_BOUNCES, cycles_reference_in_parts, reference_key
@@ -171,17 +171,9 @@ def duration_text(seconds):
     return f"{seconds / 3600:.1f} h"
 
 
-METRIC_COLUMNS = (("psnr", "PSNR dB", "{:.2f}"), ("relative_mse", "relMSE", "{:.4f}"), ("ssim", "SSIM", "{:.4f}"),
-                  ("flip", "FLIP", "{:.4f}"), ("mse", "MSE", "{:.3g}"), ("mean", "mean", "{:.3g}"),
-                  ("reference_mean", "Cycles mean", "{:.3g}"))
-UNDEFINED = "—"
-"""A figure that has no value, such as PSNR against a black reference."""
-
-
-def figure_text(value, fmt):
-    """A figure as the table shows it: `fmt`, or a dash where it is undefined (None, or
-    the infinite PSNR of identical images)."""
-    return UNDEFINED if value is None or not math.isfinite(value) else fmt.format(value)
+METRIC_COLUMNS = (("psnr", "PSNR dB", ".2f"), ("relative_mse", "relMSE", ".4f"), ("ssim", "SSIM", ".4f"),
+                  ("flip", "FLIP", ".4f"), ("mse", "MSE", ".3g"), ("mean", "mean", ".3g"),
+                  ("reference_mean", "Cycles mean", ".3g"))
 
 
 def markdown_table(comparison):

@@ -4,7 +4,8 @@ statistics. Which setting goes in which group is checked against gpu/settings.py
 import bpy
 
 from ..gpu.settings import ALL_PARAMETERS, PRESETS, matching_preset
-from .comparison import figure_text, last_comparison
+from ..gpu.metrics import figure_text
+from .comparison import last_comparison
 from .cycles_reference import ReferenceCache
 from .engine import ENGINE_ID
 from .frame_stats import last_stats
@@ -87,8 +88,8 @@ EMPTY_CACHE_OPERATOR = "lpv_preview.empty_cycles_cache"  # operators/cache.py
 PRESET_OPERATOR = "lpv_preview.apply_preset"  # operators/presets.py
 
 
-PANEL_FIGURES = (("psnr", "PSNR", "{:.1f}"), ("relative_mse", "relMSE", "{:.3f}"), ("ssim", "SSIM", "{:.3f}"),
-                 ("flip", "FLIP", "{:.3f}"), ("mse", "MSE", "{:.2g}"))
+PANEL_FIGURES = (("psnr", "PSNR", ".1f"), ("relative_mse", "relMSE", ".3f"), ("ssim", "SSIM", ".3f"),
+                 ("flip", "FLIP", ".3f"), ("mse", "MSE", ".2g"))
 """The figures of the panel's table; the relative ones are dashes against a black reference."""
 
 

@@ -10,6 +10,7 @@ from collections import defaultdict
 import numpy as np
 
 from ..gpu.errors import LPVError
+from ..gpu.metrics import figure_text
 from ..gpu.settings import PRESET_PARAMETERS
 
 ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
@@ -48,7 +49,7 @@ def points_by_scene(points):
 
 def error_cell(errors, key, spec):
     """One error figure of a table ("—" where there is none)."""
-    return "—" if errors.get(key) is None else format(errors[key], spec)
+    return figure_text(errors.get(key), spec)
 
 
 def varied_axes(points):

@@ -10,6 +10,8 @@ raise LPVError. Scalar metrics return Python floats.
 FLIP is computed by NVIDIA's `flip-evaluator` package (`flip`), HDR mode on the linear
 images; `image_errors` gives every metric of a comparison in one dict.
 """
+import math
+
 import numpy as np
 
 from .colour import LUMINANCE_WEIGHTS
@@ -294,3 +296,13 @@ def image_errors(test, reference, mask=None):
         return {**dict.fromkeys(RELATIVE_FIGURES), **figures}
     return {"psnr": psnr(test, reference, mask), "relative_mse": relative_mse(test, reference, mask),
             "ssim": ssim(test, reference, mask), "flip": flip(test, reference, mask)[0], **figures}
+
+
+UNDEFINED = "—"
+"""A figure that has no value, such as PSNR against a black reference."""
+
+
+def figure_text(value, spec):
+    """A figure as a table shows it: formatted by `spec` (like ".2f"), or a dash where it
+    is undefined (None, or the infinite PSNR of identical images)."""
+    return UNDEFINED if value is None or not math.isfinite(value) else format(value, spec)

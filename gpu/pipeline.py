@@ -5,7 +5,6 @@ what each edit redoes"): a camera move reuses every light's RSM and VPLs and the
 light change redoes that light's RSM and VPLs and the LPV; a geometry change redoes
 everything.
 """
-import math
 import time
 from dataclasses import dataclass
 
@@ -18,7 +17,7 @@ from .errors import LPVError
 from .lpv import LightPropagationVolume, fit_grid
 from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
-from .rsm import PROJECTION_PARABOLOID, render_rsm
+from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
 from .settings import DisplaySettings, Settings
 from .shade import FrameTargets, render_gbuffer, shade_direct, shade_indirect
 from .vpl import VPLSampler
@@ -62,7 +61,7 @@ def auto_method(light):
     """`auto`'s first choice for a light: the cube's front face alone for a spot of
     half-angle <= 45 degrees (one exact render), WDPM otherwise (a sun's map is
     orthographic whatever the method)."""
-    if light.kind == "SUN" or (light.kind == "SPOT" and light.spot_size / 2 <= math.pi / 4 + 1e-9):
+    if light.kind == "SUN" or cube_face_count(light) == 1:
         return "cm"
     return "wdpm"
 
@@ -111,6 +110,7 @@ class Pipeline:
         self._lpv = None           # (key, LightPropagationVolume)
         self._targets = None
         self._shown_keys = ()      # the light cache keys of the last frame
+        self._fits = None          # what the last frame that fitted the machine depended on
         self.last_origin = np.zeros(3)  # the world point the last frame's positions are relative to
 
     @property
@@ -198,7 +198,11 @@ class Pipeline:
             raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
         if not scene.sanitized:
             scene.sanitize()
-        check_frame_fits(self.glc, s, scene, passes, display_into is not None, held_bytes=self.gpu_bytes())
+        fits = (s, scene.geometry_key(), tuple(light.key() for light in scene.lights), tuple(passes),
+                display_into is not None)
+        if fits != self._fits:  # a viewport redraw of the same frame size and scene asks nothing again
+            check_frame_fits(self.glc, s, scene, passes, display_into is not None, held_bytes=self.gpu_bytes())
+            self._fits = fits
         start = time.perf_counter()
         stats = {}
         maps, keys = self.light_maps(scene, stats)
@@ -239,7 +243,7 @@ class Pipeline:
                 render_debug_passes(self.glc, targets, scene.camera, maps,
                                     (display_settings or DisplaySettings()).vpl_point_size)
         self._shown_keys = tuple(keys)
-        self.last_origin = np.zeros(3) if scene.origin is None else np.array(scene.origin, dtype=np.float64)
+        self.last_origin = scene.world_origin
         with self.glc.timed(stats, "readback_ms"):
             images = {name: targets.read(name) for name in passes}
             display = None if display_into is None else targets.read_display_into(display_into)

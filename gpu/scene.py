@@ -223,10 +223,15 @@ class Scene:
         self._bounds = flat.min(axis=0).astype(np.float64), flat.max(axis=0).astype(np.float64)
         return self._bounds
 
+    @property
+    def world_origin(self):
+        """Where the scene's positions are relative to, in world space (float64)."""
+        return np.zeros(3) if self.origin is None else np.asarray(self.origin, dtype=np.float64)
+
     def in_local_frame(self, lights=None, camera=None):
         """This scene with world-space `lights` and `camera` (those given) placed relative
         to its origin."""
-        origin = np.zeros(3) if self.origin is None else self.origin
+        origin = self.world_origin
         changes = {}
         if lights is not None:
             changes["lights"] = [replace(light, position=light.position - origin) for light in lights]
@@ -236,8 +241,7 @@ class Scene:
 
     def world_lights(self):
         """The lights in world space."""
-        origin = np.zeros(3) if self.origin is None else self.origin
-        return [replace(light, position=light.position + origin) for light in self.lights]
+        return [replace(light, position=light.position + self.world_origin) for light in self.lights]
 
     def _rebase(self, triangles):
         """Move the origin to the finite `triangles`' local_origin ((T, 3, 3), any float
@@ -250,7 +254,7 @@ class Scene:
         shift = local_origin(kept.min(axis=(0, 1)), kept.max(axis=(0, 1)))
         if not np.any(shift):
             return triangles
-        self.origin = shift if self.origin is None else self.origin + shift
+        self.origin = self.world_origin + shift
         self.lights = [replace(light, position=light.position - shift) for light in self.lights]
         self.camera = None if self.camera is None else self.camera.moved_by(shift)
         return np.asarray(triangles, dtype=np.float64) - shift

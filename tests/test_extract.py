@@ -49,10 +49,11 @@ def unit_quad(name, location=(0, 0, 0), collection=None, materials=()):
                        materials)
 
 
-def cube_object(name, location):
-    corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
+def cube_object(name, location, size=2.0, collection=None):
+    s = size / 2
+    corners = [(x, y, z) for x in (-s, s) for y in (-s, s) for z in (-s, s)]
     faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    return mesh_object(name, corners, faces, location)
+    return mesh_object(name, corners, faces, location, collection)
 
 
 def beveled_curve():

@@ -17,6 +17,7 @@ from lpv_preview.addon.render_scene import scene_to_render
 from lpv_preview.gpu.errors import LPVError
 
 from .test_engine import scene_snapshot
+from .test_extract import cube_object, mesh_object
 
 QUAD = 2  # triangles of a quad
 CUBE = 12
@@ -24,24 +25,11 @@ CUBE = 12
 
 def quad(name, size, location, collection):
     s = size / 2
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata([(-s, -s, 0), (s, -s, 0), (s, s, 0), (-s, s, 0)], [], [(0, 1, 2, 3)])
-    obj = bpy.data.objects.new(name, mesh)
-    obj.location = location
-    collection.objects.link(obj)
-    return obj
+    return mesh_object(name, [(-s, -s, 0), (s, -s, 0), (s, s, 0), (-s, s, 0)], [(0, 1, 2, 3)], location, collection)
 
 
 def cube(name, location, collection, size=0.4):
-    s = size / 2
-    corners = [(x, y, z) for x in (-s, s) for y in (-s, s) for z in (-s, s)]
-    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(corners, [], faces)
-    obj = bpy.data.objects.new(name, mesh)
-    obj.location = location
-    collection.objects.link(obj)
-    return obj
+    return cube_object(name, location, size, collection)
 
 
 def hidden_things_scene():

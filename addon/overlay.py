@@ -34,15 +34,15 @@ class OverlayData:
         """Bring the overlays up to `pipeline`'s last frame and `display` (DisplaySettings);
         returns whether any changed."""
         self.point_size = display.vpl_point_size
-        light = pipeline.last_lpv_key  # names every light's maps and the LPV's own settings
+        light = pipeline.last_indirect_key  # names every light's maps and the indirect grids' own settings
         maps = pipeline.last_light_maps
         origin = pipeline.last_origin  # the frame's positions are relative to it; Blender draws in world space
         warped = next((m.warp for m in maps if m.warp is not None), None)
         wanted = {
             "vpls": ((light, display.show_vpls), lambda: vpl_points(maps, origin) if display.show_vpls else None),
             "slice": ((light, display.show_lpv_slice, display.lpv_slice_axis, display.lpv_slice_position),
-                      lambda: lpv_slice(pipeline.last_lpv, display.lpv_slice_axis, display.lpv_slice_position, origin)
-                      if display.show_lpv_slice and pipeline.last_lpv is not None else None),
+                      lambda: lpv_slice(pipeline.last_indirect, display.lpv_slice_axis, display.lpv_slice_position, origin)
+                      if display.show_lpv_slice and pipeline.last_indirect is not None else None),
             "warp_status": ((light, display.show_warp_status),
                             lambda: warp_status_image(warped) if display.show_warp_status and warped else None),
         }

@@ -13,8 +13,8 @@ from .properties import settings_from_properties
 
 SETTING_GROUPS = {
     "Method": ("method", "rsm_resolution", "vpls_per_light"),
-    "Light Propagation": ("lpv_resolution", "propagation_iterations", "occlusion", "indirect_intensity",
-                          "shadow_bias", "grid_phases", "grid_shift"),
+    "Indirect Light": ("indirect_method", "lpv_resolution", "grid_levels", "propagation_iterations", "occlusion",
+                       "indirect_intensity", "shadow_bias", "grid_phases", "grid_shift"),
     "Warping": ("warp_alpha", "warp_iterations", "warp_significant_figures"),
     "Tessellation": ("tessellation_unit", "tessellated_warp_alpha"),
     "Overlays": ("show_vpls", "vpl_point_size", "show_lpv_slice", "lpv_slice_axis", "lpv_slice_position",
@@ -29,7 +29,8 @@ FROM_BLENDER = ("width", "height")
 """Settings Blender supplies: the render resolution, or the viewport's size."""
 
 STAGES = (("extract_ms", "Extract"), ("rsm_ms", "RSM"), ("warp_ms", "Warp"), ("vpl_ms", "VPLs"),
-          ("inject_ms", "Inject"), ("propagate_ms", "Propagate"), ("gbuffer_ms", "G-buffer"),
+          ("gbuffer_ms", "G-buffer"), ("place_ms", "Place grids"), ("inject_ms", "Inject"),
+          ("propagate_ms", "Propagate"), ("gather_ms", "Gather"),
           ("direct_ms", "Direct"), ("indirect_ms", "Indirect"), ("debug_ms", "Debug passes"),
           ("readback_ms", "Readback"), ("total_ms", "Total"))
 

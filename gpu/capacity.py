@@ -9,6 +9,8 @@ so there the GPU bytes count against it too.
 import os
 
 from .errors import LPVError
+from .grids import VIEW_LATTICE
+from .light_grid import CLUSTER_INTS, DIRECTIONS, EMITTER_BYTES, VOXELS_PER_CELL, cluster_capacity
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import face_atlas_size, map_face_count
 from .surface_images import BYTES_PER_TEXEL, layer_size
@@ -17,6 +19,7 @@ GIB = 2 ** 30
 
 CAMERA_BYTES_PER_PIXEL = 3 * 16 + 16 + 4
 """Direct, indirect and combined (RGBA32F), the G-buffer's packed texel (RGBA32UI) and depth."""
+SEEN_POINTS_BYTES = VIEW_LATTICE ** 2 * 16  # gpu/shade.py seen_points' buffer
 DEBUG_BYTES_PER_PIXEL = 2 * 16        # VPL Splats and Warp Status (RGBA32F)
 DISPLAY_BYTES_PER_PIXEL = 16          # the viewport's RGBA32F rows
 READBACK_BYTES_PER_PIXEL = 16         # a pass as the GPU gives it back (RGBA32F), before its RGB copy
@@ -37,6 +40,9 @@ LPV_BYTES_PER_CELL = 12 * 4 + 9 * 16
 """The injection's integer accumulator (12 channels) and the ping, pong and sum volumes
 (three RGBA32F volumes each, one per colour)."""
 GEOMETRY_VOLUME_BYTES_PER_CELL = 16 + 16  # its accumulator and its volume, one cell larger a side
+LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16 + VOXELS_PER_CELL ** 3
+"""Six RGBA32F irradiances and the occupancy's one-byte voxels."""
+CLUSTER_BYTES = 4 + CLUSTER_INTS * 4 + EMITTER_BYTES  # per hash slot: key, sums, compacted emitter
 
 VERTEX_BYTES = 12 * 4                 # position, normal, albedo, surface coordinate (mesh_buffer.py)
 RIM_LIST_BYTES_PER_TRIANGLE = 2 * 3 * 4
@@ -69,11 +75,16 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     per_layout = SHARED_BYTES_PER_TEXEL + MAP_BYTES_PER_TEXEL * warped
     maps += sum(width * height * per_layout + s.vpls_per_light * VPL_CELL_BYTES for width, height in set(atlases))
     n = s.lpv_resolution
-    lpv = s.grid_phases * (n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL)
+    grids = s.grid_levels * s.grid_phases
+    if s.indirect_method == "lpv":
+        indirect = grids * (n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL)
+    else:
+        indirect = grids * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
+        indirect += cluster_capacity(s.vpls_per_light * len(scene.lights)) * CLUSTER_BYTES
     mesh = scene.triangle_count * (3 * VERTEX_BYTES + 2 * RIM_LIST_BYTES_PER_TRIANGLE * (s.method != "cm"))
     mesh += len(scene.images) * layer_size(scene.images) ** 2 * BYTES_PER_TEXEL
     host = pixels * (READBACK_BYTES_PER_PIXEL * bool(passes) + PASS_BYTES_PER_PIXEL * len(passes))
-    return camera + maps + lpv + mesh, host
+    return camera + SEEN_POINTS_BYTES + maps + indirect + mesh, host
 
 
 def available_host_bytes():
@@ -107,10 +118,11 @@ def check_limits(limits, renderer, settings, scene):
         if width > widest or height > tallest:
             raise LPVError(f"An RSM resolution of {s.rsm_resolution} makes {width} x {height} light maps, larger "
                            f"than {renderer} can render ({widest} x {tallest} at most); lower the RSM resolution.")
-    if s.lpv_resolution + 1 > limits["GL_MAX_3D_TEXTURE_SIZE"]:
-        raise LPVError(f"An LPV resolution of {s.lpv_resolution} needs volumes of {s.lpv_resolution + 1} cells a "
-                       f"side, more than {renderer} allows ({limits['GL_MAX_3D_TEXTURE_SIZE']}); lower the LPV "
-                       f"resolution.")
+    side = s.lpv_resolution + 1 if s.indirect_method == "lpv" else DIRECTIONS * s.lpv_resolution
+    if side > limits["GL_MAX_3D_TEXTURE_SIZE"]:
+        raise LPVError(f"A grid resolution of {s.lpv_resolution} needs volumes of {side} cells a side with "
+                       f"indirect method {s.indirect_method}, more than {renderer} allows "
+                       f"({limits['GL_MAX_3D_TEXTURE_SIZE']}); lower the LPV resolution.")
 
 
 def check_frame_fits(glc, settings, scene, passes=PASS_NAMES, display=False, held_bytes=0):

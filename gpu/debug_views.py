@@ -12,7 +12,6 @@ import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms
-from .lpv import LightPropagationVolume
 from .shade import bind_gbuffer, gbuffer_uniforms
 
 STATUS_COLOURS = np.array([
@@ -72,17 +71,16 @@ class LPVSlice:
     light: np.ndarray
 
 
-def lpv_slice(lpv, axis, position, world_origin=(0.0, 0.0, 0.0)):
-    """The layer of cells at `position` (0 low side .. 1 high side) across `axis`, with
+def lpv_slice(indirect, axis, position, world_origin=(0.0, 0.0, 0.0)):
+    """The layer of cells of the finest indirect grid (gpu/indirect.py IndirectGrids) at
+    `position` (0 low side .. 1 high side) across `axis`, with
     colours scaled by the brightest cell of the whole volume (the slice keeps its
     brightness as it moves); corners in world space (the grid's are relative to the
     scene's `world_origin`)."""
     a = "xyz".index(axis)
-    grid = lpv.grid
+    grid = indirect.grids[0]
     n = grid.size
-    # ∫ I(ω) dω of 2-band SH: the first coefficient times 2√π (the others integrate to zero).
-    volume = np.stack([LightPropagationVolume.read(v)[..., 0] for v in lpv.sums], axis=-1) * 2 * math.sqrt(math.pi)
-    volume = np.maximum(volume, 0.0).transpose(2, 1, 0, 3)  # (x, y, z, channel)
+    volume = np.maximum(indirect.cell_light(), 0.0)  # (x, y, z, channel)
     layer = min(int(position * n), n - 1)
     u, v = [i for i in range(3) if i != a]
     light = np.take(volume, layer, axis=a)  # (u, v, channel)

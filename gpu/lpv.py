@@ -4,7 +4,6 @@ Cell contents are 2-band SH of radiant intensity (W/sr) per colour channel, in t
 RGBA float volumes (one per channel, the four coefficients in RGBA).
 """
 import math
-from dataclasses import dataclass
 
 import moderngl
 import numpy as np
@@ -32,39 +31,6 @@ def cos_lobe(n):
     """SH projection of the clamped cosine max(0, n.w), float64."""
     n = np.asarray(n, dtype=np.float64)
     return np.stack([np.full(n.shape[:-1], LOBE_C0), -LOBE_C1 * n[..., 1], LOBE_C1 * n[..., 2], -LOBE_C1 * n[..., 0]], -1)
-
-
-@dataclass(frozen=True)
-class Grid:
-    """Cubic cells: cell (i, j, k) spans origin + [i, i+1] * cell_size, and so on."""
-
-    origin: tuple
-    cell_size: float
-    size: int
-
-
-GRID_ANCHOR_STEPS = 16
-"""The grid's centre follows the bounds' centre in steps of about 1/GRID_ANCHOR_STEPS of a
-cell (a power of two), so it moves with the scene when the scene moves (the picture
-does not depend on where in the world the scene stands) and not when the bounds change
-by less."""
-
-
-def fit_grid(bounds, size, shift=0.0):
-    """A grid of size^3 cubic cells around the bounds with a cell of margin on every side,
-    moved by `shift` cells along every axis.
-
-    The cell size is snapped to quarter octaves and the centre to GRID_ANCHOR_STEPS of a
-    cell, so the grid does not swim when the bounds change slightly.
-    """
-    low, high = (np.asarray(b, dtype=np.float64) for b in bounds)
-    extent = max(float(np.max(high - low)), 1e-6)
-    cell = extent / max(size - 2, 1)
-    cell = 2.0 ** (math.ceil(math.log2(cell) * 4) / 4)
-    step = 2.0 ** math.floor(math.log2(cell / GRID_ANCHOR_STEPS))
-    centre = np.round((low + high) / 2 / step) * step
-    origin = centre - cell * (size // 2 - shift)
-    return Grid(tuple(float(v) for v in origin), cell, size)
 
 
 GEOMETRY_TEXELS_PER_CELL = 2
@@ -121,12 +87,9 @@ class LightPropagationVolume:
             set_uniforms(program, vpl_count=vpls.count, fixed_point_scale=self.fixed_point_scale,
                          **self._grid_uniforms())
             dispatch(program, vpls.count, local=(64,))
+        # The sums start from the injected light, as in the paper: propagation adds to it.
         self._resolve(self.accumulator, self.ping, 1.0 / self.fixed_point_scale)
-        # The sums hold propagated light only: a VPL's own cell sits on its surface, where its
-        # lobe's negative band-1 part would darken the very surface it stands for.
-        zeros = np.zeros((self.grid.size,) * 3 + (4,), dtype=np.float32).tobytes()
-        for volume in self.sums:
-            volume.write(zeros)
+        self._resolve(self.accumulator, self.sums, 1.0 / self.fixed_point_scale)
 
     def inject_geometry(self, rsms):
         """Add the RSM surfels' blocking potential into the geometry volume: one texel of

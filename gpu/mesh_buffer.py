@@ -43,7 +43,7 @@ class MeshBuffer:
         if (program, indices) not in self._arrays:
             self._arrays[program, indices] = self.glc.gl.vertex_array(
                 program, [(self.buffer, "3f 3f 3f 3f", "in_position", "in_normal", "in_albedo", "in_surface")],
-                index_buffer=indices, index_element_size=4)
+                index_buffer=indices, index_element_size=4, skip_errors=True)
         self.images.bind(program)
         return self._arrays[program, indices]
 

@@ -14,12 +14,13 @@ from .capacity import check_frame_fits
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
 from .errors import LPVError
-from .lpv import LightPropagationVolume, fit_grid
+from .grids import keep_or_move, place_levels
+from .indirect import IndirectGrids
 from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
 from .settings import DisplaySettings, Settings
-from .shade import FrameTargets, render_gbuffer, shade_direct, shade_indirect
+from .shade import FrameTargets, render_gbuffer, seen_points, shade_direct, shade_indirect
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES, warp_paraboloid_map
 
@@ -107,7 +108,7 @@ class Pipeline:
         self.vpl_sampler = VPLSampler(self.glc)
         self._mesh = None          # (geometry key, MeshBuffer)
         self._lights = {}          # light cache key -> LightMaps
-        self._lpv = None           # (key, LightPropagationVolume)
+        self._indirect = None      # (key, IndirectGrids)
         self._targets = None
         self._shown_keys = ()      # the light cache keys of the last frame
         self._fits = None          # what the last frame that fitted the machine depended on
@@ -119,14 +120,15 @@ class Pipeline:
         return [self._lights[key] for key in self._shown_keys if key in self._lights]
 
     @property
-    def last_lpv(self):
-        """The last frame's first LPV (the one at the grid's own offset), for the overlays."""
-        return self._lpv[1][0] if self._lpv is not None else None
+    def last_indirect(self):
+        """The last frame's IndirectGrids (gpu/indirect.py), for the overlays."""
+        return self._indirect[1] if self._indirect is not None else None
 
     @property
-    def last_lpv_key(self):
-        """What the LPV's content depends on: every light's key, the grid and the steps."""
-        return self._lpv[0] if self._lpv is not None else None
+    def last_indirect_key(self):
+        """What the indirect grids' content depends on: the method, every light's key, the
+        grids and the steps."""
+        return self._indirect[0] if self._indirect is not None else None
 
     @property
     def targets(self):
@@ -206,25 +208,6 @@ class Pipeline:
         start = time.perf_counter()
         stats = {}
         maps, keys = self.light_maps(scene, stats)
-        grids = tuple(fit_grid(scene.bounds(), s.lpv_resolution, s.grid_shift + phase / s.grid_phases)
-                      for phase in range(s.grid_phases))
-        lpv_key = (tuple(keys), grids, s.propagation_iterations, s.occlusion)
-        if self._lpv is None or self._lpv[0] != lpv_key:
-            lpvs = self._lpv[1] if self._lpv is not None else []
-            if tuple(lpv.grid for lpv in lpvs) != grids:
-                for lpv in lpvs:
-                    lpv.release()
-                lpvs = [LightPropagationVolume(self.glc, grid) for grid in grids]
-            with self.glc.timed(stats, "inject_ms"):
-                for lpv in lpvs:
-                    lpv.inject([m.vpls for m in maps], sum(m.rsm.flux_bound for m in maps))
-                    if s.occlusion:
-                        lpv.inject_geometry([m.rsm for m in maps])
-            with self.glc.timed(stats, "propagate_ms"):
-                for lpv in lpvs:
-                    lpv.propagate(s.propagation_iterations, s.occlusion)
-            self._lpv = (lpv_key, lpvs)
-        lpvs = self._lpv[1]
         if self._targets is None or self._targets.size != (s.width, s.height):
             if self._targets is not None:
                 self._targets.release()
@@ -233,11 +216,30 @@ class Pipeline:
         targets = self._targets
         with self.glc.timed(stats, "gbuffer_ms"):
             render_gbuffer(self.glc, self._mesh[1], scene.camera, targets)
+        with self.glc.timed(stats, "place_ms"):
+            seen = seen_points(self.glc, targets, scene.camera)
+            phases = [place_levels(seen, scene.bounds(), s.lpv_resolution, s.grid_levels,
+                                   s.grid_shift + phase / s.grid_phases) for phase in range(s.grid_phases)]
+        previous = self._indirect[1].grids if self._indirect is not None else None
+        grids = keep_or_move(previous, tuple(grid for level in zip(*phases) for grid in level))
+        levels = list(grids[::s.grid_phases])
+        indirect_key = (s.indirect_method, tuple(keys), grids, s.propagation_iterations, s.occlusion)
+        if self._indirect is None or self._indirect[0] != indirect_key:
+            indirect = self._indirect[1] if self._indirect is not None else None
+            if indirect is not None and (indirect.method, indirect.grids) != (s.indirect_method, grids):
+                indirect.release()
+                indirect = None
+            if indirect is None:
+                indirect = IndirectGrids(self.glc, s.indirect_method, grids)
+            indirect.build(maps, self._mesh[1], levels, scene.bounds(), s, stats)
+            self._indirect = (indirect_key, indirect)
+        indirect = self._indirect[1]
         with self.glc.timed(stats, "direct_ms"):
             for m in maps:
                 shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
         with self.glc.timed(stats, "indirect_ms"):
-            shade_indirect(self.glc, targets, scene.camera, lpvs, s.indirect_intensity, display_into is not None)
+            shade_indirect(self.glc, targets, scene.camera, indirect, len(levels), s.grid_phases, s.indirect_intensity,
+                           display_into is not None)
         if any(name in DEBUG_PASS_NAMES for name in passes):
             with self.glc.timed(stats, "debug_ms"):
                 render_debug_passes(self.glc, targets, scene.camera, maps,
@@ -262,8 +264,10 @@ class Pipeline:
             "approximated_materials": list(scene.approximated_materials),
             "rsm_resolution": s.rsm_resolution,
             "rsm_faces": int(sum(m.rsm.face_count for m in maps)),
+            "indirect_method": s.indirect_method,
             "lpv_resolution": s.lpv_resolution,
             "lpv_cell_size": grids[0].cell_size,
+            "grid_levels": len(levels),
             "propagation_iterations": s.propagation_iterations,
             "image_size": [s.width, s.height],
             "renderer": self.glc.renderer,
@@ -274,8 +278,7 @@ class Pipeline:
         """GPU memory the pipeline holds now: mesh, light maps, VPLs, LPV, camera images."""
         held = [*self.vpl_sampler.resources()]
         held += self._mesh[1].resources() if self._mesh is not None else ()
-        for lpv in self._lpv[1] if self._lpv is not None else ():
-            held += lpv.resources()
+        held += self._indirect[1].resources() if self._indirect is not None else ()
         for maps in self._lights.values():
             held += maps.resources()
         held += self._targets.resources() if self._targets is not None else ()
@@ -286,8 +289,8 @@ class Pipeline:
         for maps in self._lights.values():
             maps.release()
         self._lights.clear()
-        if self._lpv is not None:
-            self._lpv = (None, self._lpv[1])  # keep the volume's memory, forget its content
+        if self._indirect is not None:
+            self._indirect = (None, self._indirect[1])  # keep the volumes' memory, forget their content
 
     def _upload(self, scene, stats):
         key = scene.geometry_key()
@@ -300,9 +303,9 @@ class Pipeline:
 
     def release(self):
         self.invalidate()
-        for lpv in self._lpv[1] if self._lpv is not None else ():
-            lpv.release()
-        self._lpv = None
+        if self._indirect is not None:
+            self._indirect[1].release()
+        self._indirect = None
         if self._mesh is not None:
             self._mesh[1].release()
         if self._targets is not None:

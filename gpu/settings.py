@@ -11,6 +11,7 @@ from dataclasses import dataclass, field, fields, replace
 from .errors import LPVError
 
 METHODS = ("cm", "dpm", "wdpm", "tdpm", "twdpm", "auto")
+INDIRECT_METHODS = ("lpv", "light_grid")
 SLICE_AXES = ("x", "y", "z")
 
 
@@ -58,7 +59,12 @@ class Settings(Validated):
     method: str = _param("cm", "How omnidirectional reflective shadow maps are made", choices=METHODS)
     rsm_resolution: int = _param(512, "Texels along one side of each RSM face", 16, 2048)
     vpls_per_light: int = _param(2048, "Virtual point lights sampled per light", 1, 65536)
-    lpv_resolution: int = _param(32, "Cells along each side of the light propagation volume", 4, 128)
+    indirect_method: str = _param("lpv", "How the VPLs' light reaches the surfaces: a light propagation volume "
+                                         "(lpv) or a light grid that gathers every VPL's light with visibility "
+                                         "(light_grid)", choices=INDIRECT_METHODS)
+    lpv_resolution: int = _param(32, "Cells along each side of each grid of the indirect light", 4, 128)
+    grid_levels: int = _param(3, "Most nested grid levels around what the camera sees, each twice the size of "
+                                 "the one before (cascades)", 1, 4)
     propagation_iterations: int = _param(8, "Propagation steps through the volume", 1, 64)
     warp_alpha: float = _param(0.7, "WDPM step damping per iteration while the error exceeds a texel", 0.05, 1.0)
     tessellated_warp_alpha: float = _param(0.9, "TWDPM step damping per iteration (the thesis: 0.9)", 0.05, 1.0)

@@ -4,6 +4,7 @@ import numpy as np
 
 from .context import dispatch, set_uniforms
 from .errors import LPVError
+from .grids import VIEW_LATTICE
 
 
 class FrameTargets:
@@ -34,6 +35,7 @@ class FrameTargets:
         self.framebuffer = gl.framebuffer(color_attachments=[self.surface], depth_attachment=self.depth)
         self.direct_framebuffer = gl.framebuffer(color_attachments=[self.direct])
         self.display = None  # the composite as RGBA rows, made on a viewport's first request
+        self.seen = gl.buffer(reserve=VIEW_LATTICE * VIEW_LATTICE * 16)  # seen_points' positions
         self.vpl_splats = self.warp_status = None  # debug passes (gpu/debug_views.py), made on first use
         self.splat_framebuffer = None
 
@@ -69,7 +71,7 @@ class FrameTargets:
     def resources(self):
         """Every texture and buffer made so far (the display and debug ones on request)."""
         return tuple(resource for resource in (self.depth, self.surface, self.direct, self.indirect, self.combined,
-                                               self.display, self.vpl_splats, self.warp_status)
+                                               self.seen, self.display, self.vpl_splats, self.warp_status)
                      if resource is not None)
 
     def release(self):
@@ -119,24 +121,34 @@ def shade_direct(glc, targets, camera, rsm, shadow_bias):
     dispatch(program, *targets.size)
 
 
-def shade_indirect(glc, targets, camera, lpvs, intensity, display=False):
-    """Look the LPVs (grids of one size at staggered offsets) up at every pixel, average
-    them and write the indirect and combined images, and with `display` the combined one
-    into the display buffer too."""
-    program = glc.compute("shade_indirect", PHASES=len(lpvs))
+def seen_points(glc, targets, camera):
+    """The surface points the camera sees on a lattice of VIEW_LATTICE^2 pixels, (k, 3)
+    float64: where gpu/grids.py places the grids."""
+    program = glc.compute("view_points")
     bind_gbuffer(targets)
-    units = {}
-    for channel, name in enumerate(("lpv_r", "lpv_g", "lpv_b")):
-        units[name] = [2 + 3 * phase + channel for phase in range(len(lpvs))]
-        for lpv, unit in zip(lpvs, units[name]):
-            lpv.sums[channel].use(location=unit)
+    targets.seen.bind_to_storage_buffer(0)
+    set_uniforms(program, **gbuffer_uniforms(camera), lattice=VIEW_LATTICE)
+    dispatch(program, VIEW_LATTICE, VIEW_LATTICE)
+    points = np.frombuffer(targets.seen.read(), dtype=np.float32).reshape(-1, 4)
+    return points[points[:, 3] > 0, :3].astype(np.float64)
+
+
+def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, display=False):
+    """Look the indirect grids (gpu/indirect.py: `levels` nested levels of `phases` grids
+    each) up at every pixel and write the indirect and combined images, and with `display`
+    the combined one into the display buffer too."""
+    program = glc.compute("shade_indirect", LEVELS=levels, PHASES=phases,
+                          LIGHT_GRID=int(indirect.method == "light_grid"))
+    bind_gbuffer(targets)
+    units = indirect.lookup_uniforms(first_unit=2)
     targets.direct.bind_to_image(0, read=True, write=False)
     targets.indirect.bind_to_image(1, read=False, write=True)
     targets.combined.bind_to_image(2, read=False, write=True)
     if display:
         targets.display_buffer().bind_to_storage_buffer(0)
-    grid = lpvs[0].grid
-    set_uniforms(program, **gbuffer_uniforms(camera), **{name: np.array(unit_list) for name, unit_list in units.items()},
-                 write_display=display, grid_origins=np.array([lpv.grid.origin for lpv in lpvs]),
-                 cell_size=grid.cell_size, grid_size=grid.size, intensity=intensity)
+    grids = indirect.grids
+    set_uniforms(program, **gbuffer_uniforms(camera), **units, write_display=display,
+                 grid_origins=np.array([grid.origin for grid in grids]),
+                 cell_sizes=np.array([grid.cell_size for grid in grids]), grid_size=grids[0].size,
+                 intensity=intensity)
     dispatch(program, *targets.size)

@@ -25,10 +25,13 @@ def lit_room():
     return scene
 
 
-@pytest.mark.parametrize("method", ["cm", "dpm", "wdpm", "auto"])
-def test_the_estimate_covers_what_a_pipeline_holds_after_a_frame(method, glc):
+@pytest.mark.parametrize("method, indirect_method", [("cm", "lpv"), ("dpm", "lpv"), ("wdpm", "lpv"), ("auto", "lpv"),
+                                                     ("wdpm", "light_grid")])
+def test_the_estimate_covers_what_a_pipeline_holds_after_a_frame(method, indirect_method, glc):
+    """With one grid level: the estimate counts every level the setting allows."""
     scene = lit_room()
-    settings = Settings(method=method, width=96, height=64, rsm_resolution=64, vpls_per_light=512, lpv_resolution=16)
+    settings = Settings(method=method, width=96, height=64, rsm_resolution=64, vpls_per_light=512, lpv_resolution=16,
+                        indirect_method=indirect_method, grid_levels=1)
     passes = tuple(p.name for p in render_passes(debug=True))
     pipeline = Pipeline(settings, glc)
     try:
@@ -57,8 +60,12 @@ def test_a_driver_with_smaller_limits_refuses_what_it_cannot_render(glc):
                                 "render (4096 x 4096 at most); lower the RSM resolution.")
     with pytest.raises(LPVError) as error:
         check_limits(limits, "a small GPU", Settings(lpv_resolution=32), scene)
-    assert str(error.value) == ("An LPV resolution of 32 needs volumes of 33 cells a side, more than a small GPU "
-                                "allows (32); lower the LPV resolution.")
+    assert str(error.value) == ("A grid resolution of 32 needs volumes of 33 cells a side with indirect method lpv, "
+                                "more than a small GPU allows (32); lower the LPV resolution.")
+    with pytest.raises(LPVError) as error:
+        check_limits(limits, "a small GPU", Settings(lpv_resolution=16, indirect_method="light_grid"), scene)
+    assert str(error.value) == ("A grid resolution of 16 needs volumes of 96 cells a side with indirect method "
+                                "light_grid, more than a small GPU allows (32); lower the LPV resolution.")
 
 
 def test_a_frame_larger_than_the_memory_free_is_refused_before_it_is_allocated(glc):

@@ -111,10 +111,11 @@ def test_vpl_points_hold_every_valid_vpl_with_colours_by_flux(rendered):
 @pytest.mark.parametrize("axis, position, layer", [("z", 0.5, 8), ("x", 0.0, 0), ("y", 1.0, 15)])
 def test_the_lpv_slice_is_the_volumes_layer_at_its_place(rendered, axis, position, layer):
     _, pipeline, _ = rendered
-    lpv = pipeline.last_lpv
+    indirect = pipeline.last_indirect
+    lpv = indirect.volumes[0]
     grid = lpv.grid
     a = "xyz".index(axis)
-    piece = lpv_slice(lpv, axis, position)
+    piece = lpv_slice(indirect, axis, position)
     volume = np.stack([LightPropagationVolume.read(v)[..., 0] for v in lpv.sums], -1).transpose(2, 1, 0, 3)
     expected = np.maximum(np.take(volume, layer, axis=a), 0) * 2 * math.sqrt(math.pi)
     np.testing.assert_allclose(piece.light, expected.transpose(1, 0, 2), rtol=1e-6, atol=1e-12)

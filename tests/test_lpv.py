@@ -4,8 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from lpv_preview.gpu import lpv
-from lpv_preview.gpu.lpv import Grid, LightPropagationVolume, fit_grid
+from lpv_preview.gpu import grids, lpv
+from lpv_preview.gpu.grids import Grid, fit_grid
+from lpv_preview.gpu.lpv import LightPropagationVolume
 from lpv_preview.gpu.vpl import VPLSet
 
 
@@ -59,8 +60,8 @@ def test_propagation_through_an_empty_grid_moves_light_one_cell_a_step(glc, volu
 def test_many_vpls_in_one_cell_all_add_up(glc, volume):
     count = 1000
     vpls = np.zeros((count, 3, 4), dtype=np.float32)
-    vpls[:, 0] = (2.5, 2.5, 2.0, 1.0)      # position, valid
-    vpls[:, 1] = (0.0, 0.0, 1.0, 0.0)      # normal +z (shifted half a cell: the centre of cell 2,2,2)
+    vpls[:, 0] = (2.5, 2.5, 1.5, 1.0)      # position, valid
+    vpls[:, 1] = (0.0, 0.0, 1.0, 0.0)      # normal +z (shifted a cell: the centre of cell 2,2,2)
     vpls[:, 2] = (1.0, 0.5, 0.25, 0.0)     # flux
     buffer = glc.gl.buffer(vpls.tobytes())
     volume.inject([VPLSet(buffer, count)], flux_bound=count * 1.0)
@@ -73,7 +74,7 @@ def test_many_vpls_in_one_cell_all_add_up(glc, volume):
 
 def test_a_vpl_between_cell_centres_is_shared_by_trilinear_weights(glc, volume):
     vpls = np.zeros((1, 3, 4), dtype=np.float32)
-    vpls[0, 0] = (3.25, 3.0, 2.5, 1.0)   # with the half-cell shift along +z: (3.25, 3.0, 3.0)
+    vpls[0, 0] = (3.25, 3.0, 2.0, 1.0)   # with the one-cell shift along +z: (3.25, 3.0, 3.0)
     vpls[0, 1] = (0.0, 0.0, 1.0, 0.0)
     vpls[0, 2] = (1.0, 1.0, 1.0, 0.0)
     buffer = glc.gl.buffer(vpls.tobytes())
@@ -95,7 +96,7 @@ def test_fitted_grid_encloses_the_bounds_snaps_and_moves_with_the_scene():
     low = np.array(grid.origin)
     high = low + grid.cell_size * grid.size
     assert np.all(low <= bounds[0] - grid.cell_size) and np.all(high >= bounds[1] + grid.cell_size)
-    step = 2.0 ** math.floor(math.log2(grid.cell_size / lpv.GRID_ANCHOR_STEPS))
+    step = 2.0 ** math.floor(math.log2(grid.cell_size / grids.GRID_ANCHOR_STEPS))
     assert step == 2.0 ** -8
     nudged = fit_grid((bounds[0] - 0.4 * step, bounds[1] - 0.2 * step), 32)
     assert nudged == grid  # a change of bounds below the anchor step does not move the grid

@@ -10,7 +10,8 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 from hypothesis.extra.numpy import arrays
 
 from lpv_preview.gpu import lpv, paraboloid
-from lpv_preview.gpu.lpv import Grid, LightPropagationVolume
+from lpv_preview.gpu.grids import Grid
+from lpv_preview.gpu.lpv import LightPropagationVolume
 from lpv_preview.gpu.pipeline import Pipeline, render_once
 from lpv_preview.gpu.scene import Camera, Light, Scene
 from lpv_preview.gpu.settings import Settings

@@ -55,7 +55,7 @@ void main() {
     if (index < vpl_count && vpls[index].position.w > 0.0) {
         VPL v = vpls[index];
         vec3 n = v.normal.xyz;
-        vec3 q = (v.position.xyz + 0.5 * cell_size * n - grid_origin) / cell_size - 0.5;  // in cell centres
+        vec3 q = (v.position.xyz + cell_size * n - grid_origin) / cell_size - 0.5;  // in cell centres
         ivec3 first = ivec3(floor(q));
         vec3 f = q - vec3(first);
         vec4 lobe = cos_lobe(n) / PI * fixed_point_scale;

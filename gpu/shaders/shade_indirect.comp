@@ -1,23 +1,35 @@
 #version 450 core
-// Indirect light from the LPV (cosine convolution, METHOD §7) and the composite; when
-// asked, the composite also as RGBA rows, bottom row first, in a buffer (a viewport reads
-// a buffer back several times faster than a texture).
+// Indirect light and the composite; when asked, the composite also as RGBA rows, bottom row
+// first, in a buffer (a viewport reads a buffer back several times faster than a texture).
+// The indirect light comes from LEVELS nested grids (gpu/grids.py), each PHASES grids
+// offset by a fraction of a cell whose answers are averaged; a pixel takes the finest
+// level that holds it, blended into the next over the last cells of its box. The grids
+// hold an LPV (LIGHT_GRID 0) or a light grid (LIGHT_GRID 1).
 #include "common.glsl"
 #include "gbuffer.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
-// PHASES grids, each offset by a fraction of a cell: their lookups are averaged.
-uniform sampler3D lpv_r[PHASES];
-uniform sampler3D lpv_g[PHASES];
-uniform sampler3D lpv_b[PHASES];
+#define GRIDS (LEVELS * PHASES)
+uniform vec3 grid_origins[GRIDS];
+uniform float cell_sizes[GRIDS];
+uniform int grid_size;
+#if LIGHT_GRID
+#include "light_grid_lookup.glsl"
+#else
+#include "lpv_lookup.glsl"
+#endif
 layout(rgba32f, binding = 0) uniform readonly image2D direct;
 layout(rgba32f, binding = 1) uniform writeonly image2D indirect;
 layout(rgba32f, binding = 2) uniform writeonly image2D combined;
 layout(std430, binding = 0) writeonly buffer Display { vec4 display_rows[]; };
 uniform bool write_display;
-uniform vec3 grid_origins[PHASES];
-uniform float cell_size;
-uniform int grid_size;
 uniform float intensity;
+
+// How much a level answers at q: all of it from two cells inside its box, none within one.
+float level_share(int grid, vec3 q) {
+    vec3 g = (q - grid_origins[grid]) / cell_sizes[grid];
+    vec3 inside = min(g, float(grid_size) - g);
+    return clamp(min(inside.x, min(inside.y, inside.z)) - 1.0, 0.0, 1.0);
+}
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -26,15 +38,16 @@ void main() {
     vec3 light = vec3(0.0);
     vec3 p, n, albedo;
     if (gbuffer_surface(pixel, p, n, albedo)) {
-        vec4 lobe = cos_lobe(-n);
         vec3 irradiance = vec3(0.0);
-        for (int phase = 0; phase < PHASES; ++phase) {
-            vec3 uvw = (p + 0.5 * cell_size * n - grid_origins[phase]) / (cell_size * float(grid_size));
-            irradiance += max(vec3(dot(texture(lpv_r[phase], uvw), lobe), dot(texture(lpv_g[phase], uvw), lobe),
-                                   dot(texture(lpv_b[phase], uvw), lobe)), 0.0);
+        float remaining = 1.0;
+        for (int level = 0; level < LEVELS && remaining > 0.0; ++level) {
+            float share = level == LEVELS - 1 ? 1.0 : level_share(level * PHASES, p);
+            if (share <= 0.0) continue;
+            vec3 level_light = vec3(0.0);
+            for (int phase = 0; phase < PHASES; ++phase) level_light += grid_irradiance(level * PHASES + phase, p, n);
+            irradiance += remaining * share * level_light / float(PHASES);
+            remaining *= 1.0 - share;
         }
-        // Intensity per cell to irradiance: divide by the cell's face area.
-        irradiance /= float(PHASES) * cell_size * cell_size;
         light = albedo / PI * irradiance * intensity;
     }
     imageStore(indirect, pixel, vec4(light, 1.0));

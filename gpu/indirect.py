@@ -1,0 +1,79 @@
+"""The indirect-light stage's grids for either method: LPVs (the thesis's: inject VPLs,
+propagate) or a light grid (gather every emitter's light at every cell centre), one per
+level and phase, built from the lights' VPLs and looked up by shaders/shade_indirect.comp."""
+import math
+
+import numpy as np
+
+from .grids import fit_grid
+from .light_grid import LightGrid
+from .lpv import LightPropagationVolume
+
+INDIRECT_STAGES = {"lpv": ("inject_ms", "propagate_ms"), "light_grid": ("inject_ms", "gather_ms")}
+"""The timed stages of each method (stats keys): for the light grid, voxelising the scene
+and clustering the emitters, then the gather."""
+
+
+class IndirectGrids:
+    """The volumes of one method over `grids` (level-major, each level's phases together)."""
+
+    def __init__(self, glc, method, grids):
+        self.glc = glc
+        self.method = method
+        self.grids = tuple(grids)
+        if method == "lpv":
+            self.volumes = [LightPropagationVolume(glc, grid) for grid in self.grids]
+        else:
+            self.volumes = [LightGrid(glc, self.grids)]
+
+    def build(self, maps, mesh, levels, scene_bounds, settings, stats):
+        """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage."""
+        timed = self.glc.timed
+        flux_bound = sum(m.rsm.flux_bound for m in maps)
+        first, second = INDIRECT_STAGES[self.method]
+        if self.method == "lpv":
+            with timed(stats, first):
+                for lpv in self.volumes:
+                    lpv.inject([m.vpls for m in maps], flux_bound)
+                    if settings.occlusion:
+                        lpv.inject_geometry([m.rsm for m in maps])
+            with timed(stats, second):
+                for lpv in self.volumes:
+                    lpv.propagate(settings.propagation_iterations, settings.occlusion)
+            return
+        light_grid = self.volumes[0]
+        with timed(stats, first):
+            light_grid.voxelise(mesh)
+            light_grid.cluster([(m.vpls.buffer, m.vpls.count) for m in maps], flux_bound,
+                               list(levels) + [fit_grid(scene_bounds, settings.lpv_resolution)])
+        with timed(stats, second):
+            light_grid.gather()
+
+    def lookup_uniforms(self, first_unit):
+        """Bind the volumes for the lookup from texture unit `first_unit` on; the uniforms
+        that name them."""
+        if self.method == "light_grid":
+            return self.volumes[0].lookup_uniforms(first_unit)
+        uniforms = {}
+        for channel, name in enumerate(("lpv_r", "lpv_g", "lpv_b")):
+            units = first_unit + channel * len(self.volumes) + np.arange(len(self.volumes))
+            for lpv, unit in zip(self.volumes, units):
+                lpv.sums[channel].use(location=int(unit))
+            uniforms[name] = units
+        return uniforms
+
+    def cell_light(self):
+        """The light in each cell of the first grid, (x, y, z, rgb) float32, for the slice
+        overlay: an LPV's ∫ I(ω) dω (the first SH coefficient times 2√π; the others
+        integrate to zero), a light grid's mean irradiance over its six directions."""
+        if self.method == "lpv":
+            sums = [LightPropagationVolume.read(v)[..., 0] for v in self.volumes[0].sums]
+            return (np.stack(sums, axis=-1) * 2 * math.sqrt(math.pi)).transpose(2, 1, 0, 3)
+        return self.volumes[0].read_irradiance(0).mean(axis=0).transpose(2, 1, 0, 3)
+
+    def resources(self):
+        return tuple(resource for volume in self.volumes for resource in volume.resources())
+
+    def release(self):
+        for volume in self.volumes:
+            volume.release()

@@ -1,0 +1,180 @@
+"""The light grid: every cell centre gathers the light of every point emitter that sees it.
+
+Where the LPV spreads light cell by cell (and blurs it), the light grid sums at each cell
+centre the exact irradiance of every emitter, with visibility through a voxelisation of
+the scene, as an ambient cube (the irradiance of six surfaces facing the axes: exact for
+them, and no SH ringing that lets a surface light itself). Emitters come as buffers of
+the VPL layout (shaders/emitter.glsl): the lights' VPLs now, emissive surfaces and
+particles next. They are first summed into clusters, one per grid cell of the finest level
+holding them and normal direction, so the gather's cost follows the cells lit, not the
+emitter count.
+"""
+import math
+
+import moderngl
+import numpy as np
+
+from .context import dispatch, set_uniforms
+
+VOXELS_PER_CELL = 3
+"""Occupancy voxels along a cell's side: odd, so a cell centre is a voxel's centre, and
+enough that a wall thinner than a cell lies between the cells on its two sides."""
+CLUSTER_INTS = 10  # flux rgb, weighted place xyz, weighted normal xyz, weight
+EMITTER_BYTES = 48
+FIXED_POINT_RANGE = 2.0 ** 30
+DIRECTIONS = 6  # +x, -x, +y, -y, +z, -z
+MARCH_STEP = 0.7  # voxels, as in shaders/occupancy.glsl
+LOOP_LIMIT = 60000  # llvmpipe stops a loop nest after 65,535 iterations
+
+
+def cluster_capacity(emitter_total):
+    """Slots of the clusters' hash table: a power of two, at least twice the emitters (no
+    more clusters than emitters), at most 2^20 (more clusters than surface cells to fill)."""
+    return min(1 << max(10, math.ceil(math.log2(max(2 * emitter_total, 1)))), 1 << 20)
+
+
+def axis_projections(grid):
+    """Orthographic view-projections that map the grid's box onto clip space looking along
+    x, y and z (the three draws of the voxelisation)."""
+    side = grid.cell_size * grid.size
+    scale = np.diag([2.0 / side] * 3 + [1.0])
+    scale[:3, 3] = -1.0 - 2.0 * np.asarray(grid.origin) / side
+    swaps = (np.array([1, 2, 0]), np.array([2, 0, 1]), np.array([0, 1, 2]))
+    projections = []
+    for order in swaps:
+        permute = np.zeros((4, 4))
+        permute[3, 3] = 1.0
+        permute[np.arange(3), order] = 1.0
+        projections.append(permute @ scale)
+    return projections
+
+
+class LightGrid:
+    """The irradiance volumes and occupancy of a set of grids (levels x phases) and the
+    emitter clusters they gather from."""
+
+    def __init__(self, glc, grids):
+        self.glc = glc
+        self.grids = tuple(grids)
+        gl = glc.gl
+        n = self.grids[0].size
+        self.voxels = n * VOXELS_PER_CELL
+        self.irradiance, self.occupancy = [], []
+        for _ in self.grids:
+            volume = gl.texture3d((n, n, DIRECTIONS * n), 4, dtype="f4")
+            volume.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            self.irradiance.append(volume)
+            occupancy = gl.texture3d((self.voxels,) * 3, 1, dtype="u1")
+            occupancy.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            self.occupancy.append(occupancy)
+        self._canvas = gl.renderbuffer((self.voxels, self.voxels), 1, dtype="f1")
+        self._framebuffer = gl.framebuffer(color_attachments=[self._canvas])
+        self._empty = bytes(self.voxels ** 3)
+        self.count = gl.buffer(reserve=16)
+        self.keys = self.sums = self.emitters = None
+        self.capacity = 0
+        self.emitter_count = 0
+
+    def voxelise(self, mesh):
+        """Mark the voxels the lights' triangles pass through, in every grid."""
+        gl = self.glc.gl
+        program = self.glc.program("raster", "occupancy")
+        self._framebuffer.viewport = (0, 0, self.voxels, self.voxels)
+        self._framebuffer.use()
+        gl.disable(moderngl.DEPTH_TEST)
+        gl.disable(moderngl.CULL_FACE)
+        for grid, occupancy in zip(self.grids, self.occupancy):
+            occupancy.write(self._empty)
+            occupancy.bind_to_image(0, read=False, write=True)
+            set_uniforms(program, grid_origin=grid.origin, voxel_size=grid.cell_size / VOXELS_PER_CELL)
+            for projection in axis_projections(grid):
+                set_uniforms(program, view_projection=projection)
+                mesh.draw(program, moderngl.TRIANGLES, mesh.light_triangles)
+        gl.memory_barrier()
+
+    def _cluster_buffers(self, emitter_total):
+        capacity = cluster_capacity(emitter_total)
+        if capacity != self.capacity:
+            for buffer in (self.keys, self.sums, self.emitters):
+                if buffer is not None:
+                    buffer.release()
+            gl = self.glc.gl
+            self.keys = gl.buffer(reserve=capacity * 4)
+            self.sums = gl.buffer(reserve=capacity * CLUSTER_INTS * 4)
+            self.emitters = gl.buffer(reserve=capacity * EMITTER_BYTES)
+            self.capacity = capacity
+        self.keys.write(np.full(capacity, -1, dtype=np.int32).tobytes())
+        self.sums.clear()
+        self.count.clear()
+
+    def cluster(self, emitter_sets, flux_bound, cluster_grids):
+        """Sum the emitters (buffers with counts) into clusters of `cluster_grids` (the
+        levels, finest first, and a last grid that holds every emitter)."""
+        total = sum(count for _, count in emitter_sets)
+        self._cluster_buffers(total)
+        defines = {"LEVELS": len(cluster_grids), "CLUSTER_INTS": CLUSTER_INTS}
+        levels = {"level_origins": np.array([g.origin for g in cluster_grids]),
+                  "level_cells": np.array([g.cell_size for g in cluster_grids]),
+                  "grid_size": cluster_grids[0].size, "capacity": self.capacity,
+                  "flux_scale": FIXED_POINT_RANGE / flux_bound if flux_bound > 0 else 1.0}
+        program = self.glc.compute("emitter_cluster", **defines)
+        self.keys.bind_to_storage_buffer(1)
+        self.sums.bind_to_storage_buffer(2)
+        for buffer, count in emitter_sets:
+            buffer.bind_to_storage_buffer(0)
+            set_uniforms(program, emitter_count=count, **levels)
+            dispatch(program, count, local=(64,))
+        program = self.glc.compute("emitter_compact", **defines)
+        for binding, buffer in enumerate((self.emitters, self.keys, self.sums, self.count)):
+            buffer.bind_to_storage_buffer(binding)
+        set_uniforms(program, **levels)
+        dispatch(program, self.capacity, local=(64,))
+
+    def gather(self):
+        """Every grid's cells gather the clustered emitters' light, in batches of emitters
+        whose marches stay under llvmpipe's loop limit (shaders/light_grid_gather.comp)."""
+        program = self.glc.compute("light_grid_gather")
+        self.emitters.bind_to_storage_buffer(0)
+        self.count.bind_to_storage_buffer(1)
+        self.emitter_count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
+        longest_march = math.ceil(self.voxels * math.sqrt(3) / MARCH_STEP) + 1
+        batch = max(1, LOOP_LIMIT // longest_march)
+        for grid, irradiance, occupancy in zip(self.grids, self.irradiance, self.occupancy):
+            irradiance.bind_to_image(0, read=True, write=True)
+            occupancy.use(location=0)
+            set_uniforms(program, occupancy=0, grid_origin=grid.origin, cell_size=grid.cell_size,
+                         grid_size=grid.size, voxels_per_cell=VOXELS_PER_CELL, batch=batch)
+            for first in range(0, max(self.emitter_count, 1), batch):
+                set_uniforms(program, first_emitter=first)
+                dispatch(program, grid.size ** 3, local=(64,))
+
+    def build(self, mesh, emitter_sets, flux_bound, cluster_grids):
+        self.voxelise(mesh)
+        self.cluster(emitter_sets, flux_bound, cluster_grids)
+        self.gather()
+
+    def lookup_uniforms(self, first_unit):
+        """Bind the volumes for shaders/light_grid_lookup.glsl from texture unit `first_unit` on."""
+        units = len(self.grids)
+        for i, (irradiance, occupancy) in enumerate(zip(self.irradiance, self.occupancy)):
+            irradiance.use(location=first_unit + i)
+            occupancy.use(location=first_unit + units + i)
+        return {"light_grid": np.arange(first_unit, first_unit + units),
+                "occupancy": np.arange(first_unit + units, first_unit + 2 * units),
+                "voxels_per_cell": VOXELS_PER_CELL}
+
+    def read_irradiance(self, index):
+        """Grid `index`'s irradiance as (direction, z, y, x, rgb) float32, the directions
+        +x, -x, +y, -y, +z, -z."""
+        n = self.grids[index].size
+        data = np.frombuffer(self.irradiance[index].read(), dtype=np.float32)
+        return data.reshape(DIRECTIONS, n, n, n, 4)[..., :3]
+
+    def resources(self):
+        buffers = [b for b in (self.keys, self.sums, self.emitters) if b is not None]
+        return (*self.irradiance, *self.occupancy, self._canvas, self.count, *buffers)
+
+    def release(self):
+        self._framebuffer.release()
+        for resource in self.resources():
+            resource.release()

@@ -1,0 +1,57 @@
+#version 450 core
+// Emitters into clusters: the finest level whose box holds an emitter decides its cluster
+// cell, and its normal's main axis and sign (or "no normal") the bin; a hash table finds
+// the cluster, which sums the flux and the flux-weighted place in its cell and normal
+// in fixed-point integer atomics (the same sums whatever order the emitters come in).
+#include "common.glsl"
+#include "emitter.glsl"
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
+layout(std430, binding = 1) buffer Keys { int keys[]; };     // -1: empty
+layout(std430, binding = 2) buffer Sums { int sums[]; };     // CLUSTER_INTS per slot
+uniform int emitter_count;
+uniform int capacity;                  // a power of two
+uniform vec3 level_origins[LEVELS];
+uniform float level_cells[LEVELS];
+uniform int grid_size;
+uniform float flux_scale;              // fixed-point units per W
+
+void main() {
+    int index = int(gl_GlobalInvocationID.x);
+    if (index >= emitter_count || emitters[index].position.w <= 0.0) return;
+    Emitter e = emitters[index];
+    int level = LEVELS - 1;
+    for (int l = LEVELS - 1; l >= 0; --l) {
+        vec3 g = (e.position.xyz - level_origins[l]) / level_cells[l];
+        if (all(greaterThanEqual(g, vec3(0.0))) && all(lessThan(g, vec3(grid_size)))) level = l;
+    }
+    vec3 g = clamp((e.position.xyz - level_origins[level]) / level_cells[level], vec3(0.0), vec3(grid_size) - 1e-3);
+    ivec3 cell = ivec3(floor(g));
+    vec3 n = e.normal.xyz;
+    int bin = 6;
+    if (dot(n, n) > 0.5) {
+        vec3 a = abs(n);
+        int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+        bin = 2 * axis + (n[axis] < 0.0 ? 1 : 0);
+    }
+    int key = (((level * grid_size + cell.z) * grid_size + cell.y) * grid_size + cell.x) * 7 + bin;
+    int slot = int(uint(key) * 2654435761u) & (capacity - 1);
+    for (int probe = 0; probe < capacity; ++probe) {
+        int held = atomicCompSwap(keys[slot], -1, key);
+        if (held == -1 || held == key) break;
+        slot = (slot + 1) & (capacity - 1);
+    }
+    vec3 flux = e.flux.rgb * flux_scale;
+    float weight = (flux.r + flux.g + flux.b) / 3.0;
+    int base = slot * CLUSTER_INTS;
+    atomicAdd(sums[base + 0], int(round(flux.r)));
+    atomicAdd(sums[base + 1], int(round(flux.g)));
+    atomicAdd(sums[base + 2], int(round(flux.b)));
+    vec3 place = (g - vec3(cell)) * weight;
+    vec3 turned = n * weight;
+    for (int k = 0; k < 3; ++k) {
+        atomicAdd(sums[base + 3 + k], int(round(place[k])));
+        atomicAdd(sums[base + 6 + k], int(round(turned[k])));
+    }
+    atomicAdd(sums[base + 9], int(round(weight)));
+}

@@ -5,6 +5,7 @@ import bpy
 
 from ..gpu.settings import ALL_PARAMETERS, PRESETS, matching_preset
 from ..gpu.metrics import figure_text
+from ..gpu.pipeline import STAGES as PIPELINE_STAGES
 from .comparison import last_comparison
 from .cycles_reference import ReferenceCache
 from .engine import ENGINE_ID
@@ -28,11 +29,8 @@ ENABLED_BY = {"lpv_slice_axis": "show_lpv_slice", "lpv_slice_position": "show_lp
 FROM_BLENDER = ("width", "height")
 """Settings Blender supplies: the render resolution, or the viewport's size."""
 
-STAGES = (("extract_ms", "Extract"), ("rsm_ms", "RSM"), ("warp_ms", "Warp"), ("vpl_ms", "VPLs"),
-          ("gbuffer_ms", "G-buffer"), ("place_ms", "Place grids"), ("inject_ms", "Inject"),
-          ("propagate_ms", "Propagate"), ("gather_ms", "Gather"),
-          ("direct_ms", "Direct"), ("indirect_ms", "Indirect"), ("debug_ms", "Debug passes"),
-          ("readback_ms", "Readback"), ("total_ms", "Total"))
+STAGES = (("extract_ms", "Extract"), *((key, label[0].upper() + label[1:]) for key, label in PIPELINE_STAGES.items()),
+          ("debug_ms", "Debug passes"), ("readback_ms", "Readback"), ("total_ms", "Total"))
 
 
 def draw_presets(layout, properties):

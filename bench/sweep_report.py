@@ -11,12 +11,11 @@ import numpy as np
 
 from ..gpu.errors import LPVError
 from ..gpu.metrics import figure_text
+from ..gpu.pipeline import STAGES
 from ..gpu.settings import PRESET_PARAMETERS
 
 ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
 ERROR_SOURCES = {"errors_vs_cycles": "Cycles one bounce", "errors_vs_cm": "CM-LPV"}
-STAGES = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms", "gbuffer_ms", "direct_ms", "indirect_ms")
-STAGE_LABELS = ("RSM", "warp", "VPL", "inject", "propagate", "G-buffer", "direct", "indirect")
 
 
 REFERENCE_CHANGES = {"method": "cm", "rsm_resolution": 2048, "vpls_per_light": 65536}
@@ -84,7 +83,7 @@ def pareto_front(points):
                               lambda p: p["timings_ms"]["total_ms"], lambda p: p[source][ERROR_METRIC])
 
 
-GRID_KEYS = ("lpv_resolution", "propagation_iterations")
+GRID_KEYS = ("indirect_method", "lpv_resolution", "propagation_iterations")
 LIGHT_SIDE_KEYS = tuple(key for key in PRESET_PARAMETERS if key not in GRID_KEYS)
 
 
@@ -165,7 +164,7 @@ def markdown_report(report, command=None):
     for scene, group in points_by_scene(points).items():
         front = {id(p) for p in pareto_front(group)}
         sources = [source for source in ERROR_SOURCES if any(source in p for p in group)][::-1]
-        head = ["method", *varied, "frame ms (spread)", *STAGE_LABELS, "GPU MB",
+        head = ["method", *varied, "frame ms (spread)", *STAGES.values(), "GPU MB",
                 *(f"{metric} vs {ERROR_SOURCES[source]}" for source in sources for metric in ("PSNR dB", "relMSE", "FLIP")),
                 "Pareto"]
         sizes = {tuple(p.get("error_size", (p["settings"]["width"], p["settings"]["height"]))) for p in group}

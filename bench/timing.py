@@ -6,6 +6,8 @@ points (the H100 idles at 345 MHz against 1980 under load).
 import statistics
 import time
 
+from ..gpu.pipeline import STAGES
+
 WARM_UP_FRAMES = 5
 THROUGHPUT_WARM_UP_SECONDS = 0.5  # of work before timing: brings the GPU's clocks up
 
@@ -26,8 +28,7 @@ def timed_frames(pipeline, scene, repeats, passes=None):
     for _ in range(repeats):
         pipeline.invalidate()
         samples.append(pipeline.render(scene, **kwargs).stats)
-    keys = ("rsm_ms", "warp_ms", "vpl_ms", "inject_ms", "propagate_ms", "gbuffer_ms", "direct_ms", "indirect_ms",
-            "total_ms")
+    keys = (*STAGES, "total_ms")
     keys += tuple("gpu_" + key for key in keys[:-1] if any("gpu_" + key in s for s in samples))
     result = {key: statistics.median(s.get(key, 0.0) for s in samples) for key in keys}
     result["total_ms_spread"] = [min(s["total_ms"] for s in samples), max(s["total_ms"] for s in samples)]

@@ -15,6 +15,10 @@ class Grid:
     cell_size: float
     size: int
 
+    def coarser(self, factor):
+        """The grid over the same box with cells `factor` times as wide."""
+        return Grid(self.origin, self.cell_size * factor, max(1, self.size // factor))
+
     def contains(self, points):
         """Whether each of the points (..., 3) lies inside the grid's box."""
         cells = (np.asarray(points, dtype=np.float64) - self.origin) / self.cell_size

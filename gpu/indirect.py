@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 from .grids import fit_grid
-from .light_grid import LightGrid
+from .light_grid import CLUSTER_CELLS, LightGrid
 from .lpv import LightPropagationVolume
 
 INDIRECT_STAGES = {"lpv": ("inject_ms", "propagate_ms"), "light_grid": ("inject_ms", "gather_ms")}
@@ -44,8 +44,9 @@ class IndirectGrids:
         light_grid = self.volumes[0]
         with timed(stats, first):
             light_grid.voxelise(mesh)
-            light_grid.cluster([(m.vpls.buffer, m.vpls.count) for m in maps], flux_bound,
-                               list(levels) + [fit_grid(scene_bounds, settings.lpv_resolution)])
+            cluster_grids = [grid.coarser(CLUSTER_CELLS) for grid in levels]
+            cluster_grids.append(fit_grid(scene_bounds, cluster_grids[0].size))
+            light_grid.cluster([(m.vpls.buffer, m.vpls.count) for m in maps], flux_bound, cluster_grids)
         with timed(stats, second):
             light_grid.gather()
 

@@ -32,6 +32,12 @@ AUTO_TESSELLATION_SHARE = 0.10
 
 AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 
+STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
+          "inject_ms": "inject", "propagate_ms": "propagate", "gather_ms": "gather", "direct_ms": "direct",
+          "indirect_ms": "indirect"}
+"""A frame's timed stages (its stats keys) in the order they run, with their names: the
+indirect stage's inject and propagate (LPV) or inject and gather (light grid)."""
+
 
 def render_once(scene, settings, glc=None, **render_args):
     """One frame of `scene` by a pipeline built for it and released after."""

@@ -134,7 +134,8 @@ PRESETS = {
 sweep_report.py) picked from the Pareto fronts of the `fronts` sweep on the H100, the
 method from the `methods` sweep (docs/benchmarks.md, "Presets"). The panel's buttons and
 the command line's --preset apply them; other settings keep their values."""
-PRESET_PARAMETERS = ("method", "rsm_resolution", "vpls_per_light", "lpv_resolution", "propagation_iterations")
+PRESET_PARAMETERS = ("method", "rsm_resolution", "vpls_per_light", "indirect_method", "lpv_resolution",
+                     "propagation_iterations")
 
 
 def preset_settings(name, **changes):

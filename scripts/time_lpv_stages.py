@@ -1,16 +1,19 @@
-"""Per-stage GPU milliseconds of the light side on exported scenes, as JSON lines.
+"""Per-stage GPU milliseconds of the light side on exported scenes, and GPU memory, as JSON lines.
 
-    python scripts/time_lpv_stages.py DIR [--grid-phases 1 2]
+    python scripts/time_lpv_stages.py DIR [--grid-phases 1 2] [--indirect-methods lpv light_grid]
 
-reads DIR/cornell.npz (1024²) and DIR/city130k_point.npz (1920×1080), made with
-`python -m lpv_preview export`, and times every stage redone (warm-up excluded, no image
-read back) at the defaults, the balanced preset and WDPM 1024², 65,536 VPLs, 32³, 8 steps.
+reads DIR/cornell.npz (1024²), DIR/city130k_point.npz and, where it is there,
+DIR/city1200k_point.npz (1920×1080), made with `python -m lpv_preview export` (the
+last: `export city --triangles 1200000 --lights 1`), and times every stage redone
+(warm-up excluded, no image read back) at the defaults, the balanced preset and WDPM
+1024², 65,536 VPLs, 32³, 8 steps, for each indirect method asked for.
 It runs on the package it is given as well as on this one's first version (295b65b,
 before bench/ existed), so a before/after comparison uses one driver
 (docs/numerical_stability.md).
 """
 import argparse
 import json
+import os
 
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.settings import Settings
@@ -28,19 +31,23 @@ CASES = (("default", {}),
                        "propagation_iterations": 4}),
          ("accurate32", {"method": "wdpm", "rsm_resolution": 1024, "vpls_per_light": 65536, "lpv_resolution": 32,
                          "propagation_iterations": 8}))
-SCENES = (("cornell", (1024, 1024)), ("city130k_point", (1920, 1080)))
-KEYS = ("gpu_rsm_ms", "gpu_warp_ms", "gpu_vpl_ms", "gpu_inject_ms", "gpu_propagate_ms", "gpu_gbuffer_ms",
-        "gpu_direct_ms", "gpu_indirect_ms", "total_ms")
+SCENES = (("cornell", (1024, 1024)), ("city130k_point", (1920, 1080)), ("city1200k_point", (1920, 1080)))
+KEYS = ("gpu_rsm_ms", "gpu_warp_ms", "gpu_vpl_ms", "gpu_place_ms", "gpu_inject_ms", "gpu_propagate_ms",
+        "gpu_gather_ms", "gpu_gbuffer_ms", "gpu_direct_ms", "gpu_indirect_ms", "total_ms")
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("folder")
 parser.add_argument("--grid-phases", type=int, nargs="*", default=[], help="time each of these grid_phases")
+parser.add_argument("--indirect-methods", nargs="*", default=[], help="time each of these indirect methods")
 args = parser.parse_args()
 for scene_name, (width, height) in SCENES:
+    if not os.path.exists(f"{args.folder}/{scene_name}.npz"):
+        continue
     scene = load_scene(f"{args.folder}/{scene_name}.npz")
     for case, changes in CASES:
-        for phases in args.grid_phases or [None]:
+        for phases, indirect in [(p, m) for p in args.grid_phases or [None] for m in args.indirect_methods or [None]]:
             more = {} if phases is None else {"grid_phases": phases}
+            more.update({} if indirect is None else {"indirect_method": indirect})
             settings = Settings(width=width, height=height, **changes, **more)
             settle = Pipeline(settings)  # the first pipeline after a large one runs slow for its life (H100)
             settle.render(scene, passes=())
@@ -48,7 +55,8 @@ for scene_name, (width, height) in SCENES:
             pipeline = Pipeline(settings)
             try:
                 timings, _ = timed_frames(pipeline, scene, 7, passes=())
+                held = pipeline.gpu_bytes()
             finally:
                 pipeline.release()
-            print(json.dumps({"scene": scene_name, "case": case, **more,
-                              **{key: round(timings.get(key, 0.0), 3) for key in KEYS}}), flush=True)
+            print(json.dumps({"scene": scene_name, "triangles": scene.triangle_count, "case": case, **more,
+                              **{key: round(timings.get(key, 0.0), 3) for key in KEYS}, "gpu_bytes": held}), flush=True)

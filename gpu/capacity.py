@@ -40,9 +40,10 @@ LPV_BYTES_PER_CELL = 12 * 4 + 9 * 16
 """The injection's integer accumulator (12 channels) and the ping, pong and sum volumes
 (three RGBA32F volumes each, one per colour)."""
 GEOMETRY_VOLUME_BYTES_PER_CELL = 16 + 16  # its accumulator and its volume, one cell larger a side
-LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16 + VOXELS_PER_CELL ** 3
-"""Six RGBA32F irradiances and the occupancy's one-byte voxels."""
+LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16 + VOXELS_PER_CELL ** 3 + 1
+"""Six RGBA32F irradiances, the occupancy's one-byte voxels and its coarse byte."""
 CLUSTER_BYTES = 4 + CLUSTER_INTS * 4 + EMITTER_BYTES  # per hash slot: key, sums, compacted emitter
+LARGE_TRIANGLE_BYTES = 3 * 4  # room to list every triangle as one the voxelisation rasterises
 
 VERTEX_BYTES = 12 * 4                 # position, normal, albedo, surface coordinate (mesh_buffer.py)
 RIM_LIST_BYTES_PER_TRIANGLE = 2 * 3 * 4
@@ -80,6 +81,7 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
         indirect = grids * (n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL)
     else:
         indirect = grids * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
+        indirect += scene.triangle_count * LARGE_TRIANGLE_BYTES
         indirect += cluster_capacity(s.vpls_per_light * len(scene.lights)) * CLUSTER_BYTES
     mesh = scene.triangle_count * (3 * VERTEX_BYTES + 2 * RIM_LIST_BYTES_PER_TRIANGLE * (s.method != "cm"))
     mesh += len(scene.images) * layer_size(scene.images) ** 2 * BYTES_PER_TEXEL

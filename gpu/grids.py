@@ -60,8 +60,8 @@ CORE_SHARE = 0.5
 """The finest level covers twice the box of the middle CORE_SHARE of what the camera sees."""
 
 
-def place_levels(seen_points, bounds, size, max_levels, shift=0.0):
-    """Nested grids of `size`^3 cells, each twice the one before, around the surface
+def level_boxes(seen_points, bounds, max_levels):
+    """The boxes of nested grid levels, each twice the one before, around the surface
     points the camera sees (`seen_points`, (k, 3), the G-buffer sampled); the scene's
     `bounds` when it sees none.
 
@@ -71,21 +71,26 @@ def place_levels(seen_points, bounds, size, max_levels, shift=0.0):
     2010, cascaded LPVs); a pixel looks up the finest level that holds it.
     """
     points = np.asarray(seen_points, dtype=np.float64).reshape(-1, 3)
-    points = points[np.all(np.isfinite(points), axis=1)]
-    if len(points) < 8:
-        return [fit_grid(bounds, size, shift)]
+    axes = np.ascontiguousarray(points[np.all(np.isfinite(points), axis=1)].T)
+    count = axes.shape[1]
+    if count < 8:
+        return [tuple(np.asarray(b, dtype=np.float64) for b in bounds)]
     tail = (1.0 - SEEN_SHARE) / 2
-    low, high = np.quantile(points, [tail, 1.0 - tail], axis=0)
-    core_low, core_high = np.quantile(points, [(1 - CORE_SHARE) / 2, (1 + CORE_SHARE) / 2], axis=0)
-    centre = np.median(points, axis=0)
+    shares = (tail, (1 - CORE_SHARE) / 2, 0.5, (1 + CORE_SHARE) / 2, 1.0 - tail)
+    ranks = {share: min(int(share * count), count - 1) for share in shares}
+    axes = np.partition(axes, sorted(set(ranks.values())), axis=1)
+
+    def quantile(share):
+        return axes[:, ranks[share]]
+
+    low, high, centre = quantile(tail), quantile(1.0 - tail), quantile(0.5)
     spread = float(np.max(np.maximum(high - centre, centre - low))) * 2
-    core = float(np.max(core_high - core_low)) * 2
+    core = float(np.max(quantile((1 + CORE_SHARE) / 2) - quantile((1 - CORE_SHARE) / 2))) * 2
     finest = max(min(max(core, spread / 2 ** (max_levels - 1)), spread), 1e-30)
     levels = 1
     while finest * 2 ** (levels - 1) < spread and levels < max_levels:
         levels += 1
-    return [fit_grid((centre - finest * 2 ** level / 2, centre + finest * 2 ** level / 2), size, shift)
-            for level in range(levels)]
+    return [(centre - finest * 2 ** level / 2, centre + finest * 2 ** level / 2) for level in range(levels)]
 
 
 KEEP_WITHIN_CELLS = 2.0

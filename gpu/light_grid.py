@@ -29,6 +29,7 @@ FIXED_POINT_RANGE = 2.0 ** 30
 DIRECTIONS = 6  # +x, -x, +y, -y, +z, -z
 MARCH_STEP = 0.7  # voxels, as in shaders/occupancy.glsl
 LOOP_LIMIT = 60000  # llvmpipe stops a loop nest after 65,535 iterations
+GATHER_LANES = 64  # invocations sharing one cell's emitters (shaders/light_grid_gather.comp)
 
 
 def cluster_capacity(emitter_total):
@@ -63,36 +64,59 @@ class LightGrid:
         gl = glc.gl
         n = self.grids[0].size
         self.voxels = n * VOXELS_PER_CELL
-        self.irradiance, self.occupancy = [], []
+        self.irradiance = []
         for _ in self.grids:
             volume = gl.texture3d((n, n, DIRECTIONS * n), 4, dtype="f4")
             volume.filter = (moderngl.NEAREST, moderngl.NEAREST)
             self.irradiance.append(volume)
-            occupancy = gl.texture3d((self.voxels,) * 3, 1, dtype="u1")
-            occupancy.filter = (moderngl.NEAREST, moderngl.NEAREST)
-            self.occupancy.append(occupancy)
+        # Every grid's voxels and cells, one grid after the other along z.
+        self.occupancy = gl.texture3d((self.voxels, self.voxels, self.voxels * len(self.grids)), 1, dtype="u1")
+        self.coarse = gl.texture3d((n, n, n * len(self.grids)), 1, dtype="u1")
+        for volume in (self.occupancy, self.coarse):
+            volume.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self._empty = bytes(self.voxels ** 3 * len(self.grids))
+        self._empty_coarse = bytes(n ** 3 * len(self.grids))
         self._canvas = gl.renderbuffer((self.voxels, self.voxels), 1, dtype="f1")
         self._framebuffer = gl.framebuffer(color_attachments=[self._canvas])
-        self._empty = bytes(self.voxels ** 3)
+        self.large = gl.buffer(reserve=3 * 4)  # the large triangles' vertex indices, grown as needed
+        self.command = gl.buffer(reserve=5 * 4)
         self.count = gl.buffer(reserve=16)
         self.keys = self.sums = self.emitters = None
         self.capacity = 0
         self.emitter_count = 0
 
     def voxelise(self, mesh):
-        """Mark the voxels the lights' triangles pass through, in every grid."""
+        """Mark the voxels the lights' triangles pass through, in every grid: the small
+        triangles sampled in a compute pass, the large ones it lists rasterised."""
         gl = self.glc.gl
+        first, count = mesh.light_triangles
+        if self.large.size < 3 * 4 * max(count, 1):
+            self.large.release()
+            self.large = gl.buffer(reserve=3 * 4 * max(count, 1))
+        self.occupancy.write(self._empty)
+        self.coarse.write(self._empty_coarse)
+        self.occupancy.bind_to_image(0, read=False, write=True)
+        self.coarse.bind_to_image(1, read=False, write=True)
+        program = self.glc.compute("voxelise_small", GRIDS=len(self.grids))
+        for binding, buffer in enumerate((mesh.buffer, self.command, self.large)):
+            buffer.bind_to_storage_buffer(binding)
+        set_uniforms(program, grid_origins=np.array([grid.origin for grid in self.grids]),
+                     voxel_sizes=np.array([grid.cell_size / VOXELS_PER_CELL for grid in self.grids]),
+                     voxels=self.voxels, voxels_per_cell=VOXELS_PER_CELL, first_triangle=first,
+                     triangle_count=count, reset=True)
+        dispatch(program, 5, local=(64,))
+        set_uniforms(program, reset=False)
+        dispatch(program, count, local=(64,))
         program = self.glc.program("raster", "occupancy", geometry="occupancy")
         self._framebuffer.viewport = (0, 0, self.voxels, self.voxels)
         self._framebuffer.use()
         gl.disable(moderngl.DEPTH_TEST)
         gl.disable(moderngl.CULL_FACE)
-        for grid, occupancy in zip(self.grids, self.occupancy):
-            occupancy.write(self._empty)
-            occupancy.bind_to_image(0, read=False, write=True)
+        for layer, grid in enumerate(self.grids):
             set_uniforms(program, grid_origin=grid.origin, voxel_size=grid.cell_size / VOXELS_PER_CELL,
+                         voxels_per_cell=VOXELS_PER_CELL, voxels=self.voxels, layer=layer,
                          view_projection=np.eye(4), axis_projections=np.array(axis_projections(grid)))
-            mesh.draw(program, moderngl.TRIANGLES, mesh.light_triangles)
+            mesh.vertex_array(program, self.large).render_indirect(self.command, moderngl.TRIANGLES, count=1)
         gl.memory_barrier()
 
     def _cluster_buffers(self, emitter_total):
@@ -141,15 +165,16 @@ class LightGrid:
         self.count.bind_to_storage_buffer(1)
         self.emitter_count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
         longest_march = math.ceil(self.voxels * math.sqrt(3) / MARCH_STEP) + 1
-        batch = max(1, LOOP_LIMIT // longest_march)
-        for grid, irradiance, occupancy in zip(self.grids, self.irradiance, self.occupancy):
+        batch = GATHER_LANES * max(1, LOOP_LIMIT // longest_march)
+        self.occupancy.use(location=0)
+        self.coarse.use(location=1)
+        for layer, (grid, irradiance) in enumerate(zip(self.grids, self.irradiance)):
             irradiance.bind_to_image(0, read=True, write=True)
-            occupancy.use(location=0)
-            set_uniforms(program, occupancy=0, grid_origin=grid.origin, cell_size=grid.cell_size,
+            set_uniforms(program, occupancy=0, coarse=1, layer=layer, grid_origin=grid.origin, cell_size=grid.cell_size,
                          grid_size=grid.size, voxels_per_cell=VOXELS_PER_CELL, batch=batch)
             for first in range(0, max(self.emitter_count, 1), batch):
                 set_uniforms(program, first_emitter=first)
-                dispatch(program, grid.size ** 3, local=(64,))
+                dispatch(program, grid.size ** 3, local=(1,))  # a workgroup per cell
 
     def build(self, mesh, emitter_sets, flux_bound, cluster_grids):
         self.voxelise(mesh)
@@ -159,11 +184,12 @@ class LightGrid:
     def lookup_uniforms(self, first_unit):
         """Bind the volumes for shaders/light_grid_lookup.glsl from texture unit `first_unit` on."""
         units = len(self.grids)
-        for i, (irradiance, occupancy) in enumerate(zip(self.irradiance, self.occupancy)):
-            irradiance.use(location=first_unit + i)
-            occupancy.use(location=first_unit + units + i)
-        return {"light_grid": np.arange(first_unit, first_unit + units),
-                "occupancy": np.arange(first_unit + units, first_unit + 2 * units),
+        for i, volume in enumerate(self.irradiance):
+            volume.use(location=first_unit + i)
+        self.occupancy.use(location=first_unit + units)
+        self.coarse.use(location=first_unit + units + 1)
+        return {"light_grid": np.arange(first_unit, first_unit + units), "occupancy": first_unit + units,
+                "coarse": first_unit + units + 1,
                 "voxels_per_cell": VOXELS_PER_CELL}
 
     def read_irradiance(self, index):
@@ -175,7 +201,8 @@ class LightGrid:
 
     def resources(self):
         buffers = [b for b in (self.keys, self.sums, self.emitters) if b is not None]
-        return (*self.irradiance, *self.occupancy, self._canvas, self.count, *buffers)
+        return (*self.irradiance, self.occupancy, self.coarse, self._canvas, self.large, self.command, self.count,
+                *buffers)
 
     def release(self):
         self._framebuffer.release()

@@ -14,7 +14,7 @@ from .capacity import check_frame_fits
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
 from .errors import LPVError
-from .grids import keep_or_move, place_levels
+from .grids import fit_grid, keep_or_move, level_boxes
 from .indirect import IndirectGrids
 from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
@@ -223,11 +223,11 @@ class Pipeline:
         with self.glc.timed(stats, "gbuffer_ms"):
             render_gbuffer(self.glc, self._mesh[1], scene.camera, targets)
         with self.glc.timed(stats, "place_ms"):
-            seen = seen_points(self.glc, targets, scene.camera)
-            phases = [place_levels(seen, scene.bounds(), s.lpv_resolution, s.grid_levels,
-                                   s.grid_shift + phase / s.grid_phases) for phase in range(s.grid_phases)]
+            boxes = level_boxes(seen_points(self.glc, targets, scene.camera), scene.bounds(), s.grid_levels)
+            placed = tuple(fit_grid(box, s.lpv_resolution, s.grid_shift + phase / s.grid_phases)
+                           for box in boxes for phase in range(s.grid_phases))
         previous = self._indirect[1].grids if self._indirect is not None else None
-        grids = keep_or_move(previous, tuple(grid for level in zip(*phases) for grid in level))
+        grids = keep_or_move(previous, placed)
         levels = list(grids[::s.grid_phases])
         indirect_key = (s.indirect_method, tuple(keys), grids, s.propagation_iterations, s.occlusion)
         if self._indirect is None or self._indirect[0] != indirect_key:

@@ -1,10 +1,12 @@
 // Irradiance from a light grid (light_grid_gather.comp): the ambient cube of the eight cell
 // centres around p + n cell/2, each weighted by its trilinear weight if it lies in front of
 // the surface, and by whether the surface sees it through the occupancy (no light
-// through a wall thinner than a cell, none from the inside of a closed box).
+// through a wall thinner than a cell, none from the inside of a closed box); a centre on a
+// surface is left out.
 #include "occupancy.glsl"
 uniform sampler3D light_grid[GRIDS];
-uniform usampler3D occupancy[GRIDS];
+uniform usampler3D occupancy;
+uniform usampler3D coarse;
 uniform int voxels_per_cell;
 const float SURFACE_RADIUS = 1.5;  // voxels around the surface point where the march sees no occluder
 
@@ -29,7 +31,8 @@ vec3 grid_irradiance(int grid, vec3 p, vec3 n) {
         vec3 centre_voxels = (vec3(c) + 0.5) * float(voxels_per_cell);
         vec3 to = (vec3(c) + 0.5) * cell + origin - p;
         float weight = dot(to, n) > 0.0 ? w3.x * w3.y * w3.z : 0.0;
-        if (weight <= 0.0 || segment_blocked(occupancy[grid], q_voxels, centre_voxels, surface_voxels, SURFACE_RADIUS))
+        if (weight <= 0.0 || segment_blocked(occupancy, coarse, voxels_per_cell, grid, q_voxels, centre_voxels, surface_voxels,
+                                                SURFACE_RADIUS, false))
             continue;
         vec3 e = n2.x * texelFetch(light_grid[grid], ivec3(c.xy, c.z + side.x * grid_size), 0).rgb
                + n2.y * texelFetch(light_grid[grid], ivec3(c.xy, c.z + (2 + side.y) * grid_size), 0).rgb

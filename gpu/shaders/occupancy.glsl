@@ -1,28 +1,39 @@
-// The scene's surfaces voxelised (occupancy.frag): a voxel is non-zero where a surface
-// passes. Points are in voxel units (voxel (i, j, k) spans [i, i+1] x ...).
+// The scene's surfaces voxelised (voxelise_small.comp, occupancy.frag): a voxel is non-zero
+// where a surface passes, and a cell (per_cell voxels a side) of the coarse occupancy where
+// any of its voxels is. Each grid's voxels follow the one before's along z (`layer`).
+// Points are in voxel units of their grid (voxel (i, j, k) spans [i, i+1] x ...).
 const float MARCH_STEP = 0.7;  // voxels between samples: a surface one voxel thick is not stepped over
 
-// Whether the segment a -> b crosses a surface, not counting the voxel b lies in, samples
-// within `radius` of `surface` (the surface the segment leaves, and where it bends away
-// from it at an edge) or anything outside the grid.
-bool segment_blocked(usampler3D occupancy, vec3 a, vec3 b, vec3 surface, float radius) {
+// Whether the segment a -> b crosses a surface, not counting samples within `radius` of
+// `surface` (the surface the segment leaves, and where it bends away from it at an edge),
+// anything outside the grid, and with `skip_end` the voxel b lies in (a cell centre on a
+// surface still gathers light; a lookup does not use it). Empty cells are crossed in one step.
+bool segment_blocked(usampler3D occupancy, usampler3D coarse, int per_cell, int layer, vec3 a, vec3 b,
+                     vec3 surface, float radius, bool skip_end) {
     vec3 d = b - a;
-    ivec3 size = textureSize(occupancy, 0);
-    // The part of the segment inside the grid (slabs), marched from end to end.
+    int cells = textureSize(coarse, 0).x;
+    ivec3 size = ivec3(cells * per_cell);
+    ivec3 voxel_layer = ivec3(0, 0, layer * cells * per_cell), cell_layer = ivec3(0, 0, layer * cells);
+    // The part of the segment inside the grid (slabs).
     vec3 inverse = 1.0 / (d + vec3(1e-30));
     vec3 t0 = (vec3(0.0) - a) * inverse, t1 = (vec3(size) - a) * inverse;
     vec3 near = min(t0, t1), far = max(t0, t1);
-    float enter = max(0.0, max(near.x, max(near.y, near.z)));
     float leave = min(1.0, min(far.x, min(far.y, far.z)));
-    if (enter >= leave) return false;
-    int steps = int(ceil(length(d) * (leave - enter) / MARCH_STEP));
+    float step = MARCH_STEP / max(length(d), 1e-30);
+    float t = max(0.0, max(near.x, max(near.y, near.z))) + step;
     ivec3 end = ivec3(floor(b));
-    for (int i = 1; i < steps; ++i) {
-        vec3 x = a + d * mix(enter, leave, float(i) / float(steps));
+    while (t < leave) {
+        vec3 x = a + d * t;
+        ivec3 cell = ivec3(floor(x / float(per_cell)));
+        if (texelFetch(coarse, cell + cell_layer, 0).r == 0u) {
+            vec3 low = vec3(cell * per_cell), high = low + float(per_cell);
+            vec3 exits = (mix(low, high, greaterThan(d, vec3(0.0))) - a) * inverse;
+            t = max(t + step, min(exits.x, min(exits.y, exits.z)) + 1e-4 * step);
+            continue;
+        }
         ivec3 v = ivec3(floor(x));
-        if (v == end || distance(x, surface) < radius) continue;
-        if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, size))) continue;
-        if (texelFetch(occupancy, v, 0).r != 0u) return true;
+        if ((v != end || !skip_end) && distance(x, surface) >= radius && texelFetch(occupancy, v + voxel_layer, 0).r != 0u) return true;
+        t += step;
     }
     return false;
 }

@@ -13,6 +13,8 @@ import bpy
 import numpy as np
 from mathutils import Vector
 
+from lpv_preview.addon.render_scene import scene_to_render
+
 from .test_extract import mesh_object
 
 GREY = (0.8, 0.8, 0.8)
@@ -22,13 +24,27 @@ COOL = (0.4, 0.6, 0.8)
 
 @dataclass
 class LeakScene:
-    """A built scene: its name, the Blender scene, and where the view shows no direct
-    light at all (a closed box seen from outside), a camera inside whose direct light
-    gives a leak its scale (None: the view's own direct light does)."""
+    """A built scene: its name, the Blender scene, and the objects that hold the light in
+    where the view shows no direct light at all (the closed box): without them the view
+    gets the light they keep from it, which gives a leak its scale."""
 
     name: str
     scene: object
-    scale_camera: object = None
+    occluders: tuple = ()
+
+
+def unblocked_scene(built):
+    """The gpu Scene of the view with the occluders hidden in renders; None when the
+    scene has none."""
+    if not built.occluders:
+        return None
+    for obj in built.occluders:
+        obj.hide_render = True
+    try:
+        return scene_to_render(built.scene)
+    finally:
+        for obj in built.occluders:
+            obj.hide_render = False
 
 
 def diffuse(name, albedo):
@@ -113,11 +129,10 @@ def closed_box(size=(64, 48)):
     its bottom face and the floor do not overlap."""
     scene = empty_scene(size)
     quad("Floor", 5.0, 0.0, diffuse("floor", WARM))
-    box("Box", (-0.5, -0.5, 0.005), (0.5, 0.5, 1.005), diffuse("box", GREY))
+    closed = box("Box", (-0.5, -0.5, 0.005), (0.5, 0.5, 1.005), diffuse("box", GREY))
     light("POINT", (0.0, 0.0, 0.5), energy=100.0)
     scene.camera = camera("Outside", (2.5, -3.0, 2.0), (0.0, 0.0, 0.4))
-    inside = camera("Inside", (0.4, -0.4, 0.9), (-0.5, 0.5, 0.0), lens=12.0)
-    return LeakScene("closed_box", scene, inside)
+    return LeakScene("closed_box", scene, (closed,))
 
 
 def thin_wall(size=(64, 48), scale=1.0):

@@ -12,7 +12,7 @@ import numpy as np
 from ..gpu.errors import LPVError
 from ..gpu.metrics import figure_text
 from ..gpu.pipeline import STAGES
-from ..gpu.settings import PRESET_PARAMETERS
+from ..gpu.settings import INDIRECT_METHOD_ONLY, PRESET_PARAMETERS
 
 ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
 ERROR_SOURCES = {"errors_vs_cycles": "Cycles one bounce", "errors_vs_cm": "CM-LPV"}
@@ -83,8 +83,10 @@ def pareto_front(points):
                               lambda p: p["timings_ms"]["total_ms"], lambda p: p[source][ERROR_METRIC])
 
 
-GRID_KEYS = ("indirect_method", "lpv_resolution", "propagation_iterations")
-LIGHT_SIDE_KEYS = tuple(key for key in PRESET_PARAMETERS if key not in GRID_KEYS)
+FAST_ERROR_FACTOR = 10.0
+"""`fast` is the fastest point of the front within this factor of the most accurate
+point's error against Cycles: a preset ten times further from Cycles than another helps
+no one however fast it is."""
 
 
 def _geometric_mean(values):
@@ -92,57 +94,51 @@ def _geometric_mean(values):
 
 
 def choose_presets(report):
-    """Fast, balanced and accurate settings from a sweep that crosses the grid with the
-    light side on several scenes, every point compared with Cycles.
+    """Fast, balanced and accurate settings from a sweep that crosses the indirect method,
+    the grid and the light side on several scenes, every point compared with Cycles.
 
-    Against Cycles the grid and the steps decide the error (docs/accuracy.md: the LPV
-    loses most), so all three presets share the grid whose worst scene is nearest its own
-    best: per grid, each scene's geometric-mean ratio of Cycles relMSE to the scene's
-    best, the largest of those, the smallest over grids. The light side (method, RSM,
-    VPLs) is measured against the CM-LPV reference of that grid: its Pareto front on the
-    mean frame time over scenes and the geometric-mean relMSE gives fast (its fastest
-    point), accurate (its most accurate) and balanced (the point with the least product
-    of time and error, each over the front's best)."""
+    Each set of preset parameters measured on every scene is a candidate, with its mean
+    frame time over the scenes and its geometric-mean relMSE against Cycles' one bounce
+    (a parameter the point's indirect method does not read is left out, its points
+    merged). On their Pareto front, accurate is the most accurate point, fast the fastest
+    within FAST_ERROR_FACTOR of accurate's error, and balanced the point with the least
+    product of time and error, each over the front's best."""
     points = [p for p in report["points"] if p.get("errors_vs_cycles", {}).get("relative_mse")]
     scenes = sorted({p["scene"] for p in points})
-    best = {scene: min(p["errors_vs_cycles"]["relative_mse"] for p in points if p["scene"] == scene)
-            for scene in scenes}
-    ratios = defaultdict(lambda: defaultdict(list))
+    combos = defaultdict(lambda: defaultdict(list))
     for p in points:
-        ratios[tuple(p["settings"][k] for k in GRID_KEYS)][p["scene"]].append(
-            p["errors_vs_cycles"]["relative_mse"] / best[p["scene"]])
-    worst = {grid: max(_geometric_mean(by_scene[s]) for s in scenes)
-             for grid, by_scene in ratios.items() if set(by_scene) == set(scenes)}
-    grid = min(worst, key=worst.get)
-    combos = defaultdict(dict)
-    for p in points:
-        if tuple(p["settings"][k] for k in GRID_KEYS) == grid:
-            combos[tuple(p["settings"][k] for k in LIGHT_SIDE_KEYS)][p["scene"]] = p
+        method = p["settings"]["indirect_method"]
+        used = tuple((k, p["settings"][k]) for k in PRESET_PARAMETERS
+                     if INDIRECT_METHOD_ONLY.get(k, method) == method)
+        combos[used][p["scene"]].append(p)
     candidates = []
-    for combo, by_scene in combos.items():
+    for used, by_scene in combos.items():
         if set(by_scene) != set(scenes):
             continue
-        group = [by_scene[s] for s in scenes]
+        group = [p for s in scenes for p in by_scene[s]]
         candidates.append({
-            "settings": {**dict(zip(LIGHT_SIDE_KEYS, combo)), **dict(zip(GRID_KEYS, grid))},
+            "settings": dict(used),
             "frame_ms": float(np.mean([p["timings_ms"]["total_ms"] for p in group])),
             "relative_mse_vs_cm": _geometric_mean([p["errors_vs_cm"]["relative_mse"] for p in group]),
-            "relative_mse_vs_cycles": _geometric_mean([p["errors_vs_cycles"]["relative_mse"] for p in group]),
-            "worst_grid_ratio": worst[grid]})
-    front = lowest_error_front(candidates, lambda c: c["frame_ms"], lambda c: c["relative_mse_vs_cm"])
-    fastest, most_accurate = front[0]["frame_ms"], front[-1]["relative_mse_vs_cm"]
-    balanced = min(front, key=lambda c: c["frame_ms"] / fastest * c["relative_mse_vs_cm"] / most_accurate)
-    return {"fast": front[0], "balanced": balanced, "accurate": front[-1]}
+            "relative_mse_vs_cycles": _geometric_mean([p["errors_vs_cycles"]["relative_mse"] for p in group])})
+    front = lowest_error_front(candidates, lambda c: c["frame_ms"], lambda c: c["relative_mse_vs_cycles"])
+    accurate = front[-1]
+    fast = next(c for c in front
+                if c["relative_mse_vs_cycles"] <= FAST_ERROR_FACTOR * accurate["relative_mse_vs_cycles"])
+    balanced = min(front, key=lambda c: c["frame_ms"] / front[0]["frame_ms"]
+                   * c["relative_mse_vs_cycles"] / accurate["relative_mse_vs_cycles"])
+    return {"fast": fast, "balanced": balanced, "accurate": accurate}
 
 
 def presets_table(chosen):
     """Markdown rows of choose_presets' result."""
-    lines = ["| preset | method | RSM | VPLs | grid | steps | mean frame ms | relMSE vs CM-LPV | relMSE vs Cycles |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| preset | method | RSM | VPLs | indirect | grid | steps | mean frame ms | relMSE vs CM-LPV | "
+             "relMSE vs Cycles |", "|---|---|---|---|---|---|---|---|---|---|"]
     for name, c in chosen.items():
         s = c["settings"]
         lines.append(f"| {name} | {s['method'].upper()} | {s['rsm_resolution']}² | {s['vpls_per_light']} | "
-                     f"{s['lpv_resolution']}³ | {s['propagation_iterations']} | {c['frame_ms']:.2f} | "
+                     f"{s['indirect_method']} | {s['lpv_resolution']}³ | {s.get('propagation_iterations', '—')} | "
+                     f"{c['frame_ms']:.2f} | "
                      f"{c['relative_mse_vs_cm']:.3g} | {c['relative_mse_vs_cycles']:.3g} |")
     return lines
 

@@ -42,7 +42,7 @@ LPV_BYTES_PER_CELL = 12 * 4 + 9 * 16
 GEOMETRY_VOLUME_BYTES_PER_CELL = 16 + 16  # its accumulator and its volume, one cell larger a side
 LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16 + VOXELS_PER_CELL ** 3 + 1
 """Six RGBA32F irradiances, the occupancy's one-byte voxels and its coarse byte."""
-CLUSTER_BYTES = 4 + CLUSTER_INTS * 4 + EMITTER_BYTES  # per hash slot: key, sums, compacted emitter
+CLUSTER_BYTES = 4 + CLUSTER_INTS * 4 + EMITTER_BYTES + 1  # per hash slot: key, sums, emitter, its block's count
 LARGE_TRIANGLE_BYTES = 3 * 4  # room to list every triangle as one the voxelisation rasterises
 
 VERTEX_BYTES = 12 * 4                 # position, normal, albedo, surface coordinate (mesh_buffer.py)

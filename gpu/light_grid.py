@@ -81,7 +81,7 @@ class LightGrid:
         self.large = gl.buffer(reserve=3 * 4)  # the large triangles' vertex indices, grown as needed
         self.command = gl.buffer(reserve=5 * 4)
         self.count = gl.buffer(reserve=16)
-        self.keys = self.sums = self.emitters = None
+        self.keys = self.sums = self.emitters = self.blocks = None
         self.capacity = 0
         self.emitter_count = 0
 
@@ -122,10 +122,11 @@ class LightGrid:
     def _cluster_buffers(self, emitter_total):
         capacity = cluster_capacity(emitter_total)
         if capacity != self.capacity:
-            for buffer in (self.keys, self.sums, self.emitters):
+            for buffer in (self.keys, self.sums, self.emitters, self.blocks):
                 if buffer is not None:
                     buffer.release()
             gl = self.glc.gl
+            self.blocks = gl.buffer(reserve=-(-capacity // 64) * 4)
             self.keys = gl.buffer(reserve=capacity * 4)
             self.sums = gl.buffer(reserve=capacity * CLUSTER_INTS * 4)
             self.emitters = gl.buffer(reserve=capacity * EMITTER_BYTES)
@@ -151,11 +152,12 @@ class LightGrid:
             buffer.bind_to_storage_buffer(0)
             set_uniforms(program, emitter_count=count, **levels)
             dispatch(program, count, local=(64,))
-        program = self.glc.compute("emitter_compact", **defines)
-        for binding, buffer in enumerate((self.emitters, self.keys, self.sums, self.count)):
+        for binding, buffer in enumerate((self.emitters, self.keys, self.sums, self.count, self.blocks)):
             buffer.bind_to_storage_buffer(binding)
-        set_uniforms(program, **levels)
-        dispatch(program, self.capacity, local=(64,))
+        for stage in range(3):
+            program = self.glc.compute("emitter_compact", STAGE=stage, **defines)
+            set_uniforms(program, **levels)
+            dispatch(program, 1 if stage == 1 else self.capacity, local=(64,))
 
     def gather(self):
         """Every grid's cells gather the clustered emitters' light, in batches of emitters
@@ -200,7 +202,7 @@ class LightGrid:
         return data.reshape(DIRECTIONS, n, n, n, 4)[..., :3]
 
     def resources(self):
-        buffers = [b for b in (self.keys, self.sums, self.emitters) if b is not None]
+        buffers = [b for b in (self.keys, self.sums, self.emitters, self.blocks) if b is not None]
         return (*self.irradiance, self.occupancy, self.coarse, self._canvas, self.large, self.command, self.count,
                 *buffers)
 

@@ -59,10 +59,10 @@ class Settings(Validated):
     method: str = _param("cm", "How omnidirectional reflective shadow maps are made", choices=METHODS)
     rsm_resolution: int = _param(512, "Texels along one side of each RSM face", 16, 2048)
     vpls_per_light: int = _param(2048, "Virtual point lights sampled per light", 1, 65536)
-    indirect_method: str = _param("lpv", "How the VPLs' light reaches the surfaces: a light propagation volume "
+    indirect_method: str = _param("light_grid", "How the VPLs' light reaches the surfaces: a light propagation volume "
                                          "(lpv) or a light grid that gathers every VPL's light with visibility "
                                          "(light_grid)", choices=INDIRECT_METHODS)
-    lpv_resolution: int = _param(32, "Cells along each side of each grid of the indirect light", 4, 128)
+    lpv_resolution: int = _param(16, "Cells along each side of each grid of the indirect light", 4, 128)
     grid_levels: int = _param(3, "Most nested grid levels around what the camera sees, each twice the size of "
                                  "the one before (cascades)", 1, 4)
     propagation_iterations: int = _param(8, "Propagation steps through the volume", 1, 64)
@@ -123,17 +123,20 @@ ALL_PARAMETERS = {**PARAMETERS, **DISPLAY_PARAMETERS, **COMPARISON_PARAMETERS}
 
 
 PRESETS = {
-    "fast": {"method": "wdpm", "rsm_resolution": 256, "vpls_per_light": 2048, "lpv_resolution": 16,
-             "propagation_iterations": 4},
-    "balanced": {"method": "wdpm", "rsm_resolution": 512, "vpls_per_light": 65536, "lpv_resolution": 16,
-                 "propagation_iterations": 4},
-    "accurate": {"method": "wdpm", "rsm_resolution": 1024, "vpls_per_light": 65536, "lpv_resolution": 16,
-                 "propagation_iterations": 4},
+    "fast": {"method": "wdpm", "rsm_resolution": 256, "vpls_per_light": 2048, "indirect_method": "light_grid",
+             "lpv_resolution": 16},
+    "balanced": {"method": "wdpm", "rsm_resolution": 256, "vpls_per_light": 2048, "indirect_method": "light_grid",
+                 "lpv_resolution": 32},
+    "accurate": {"method": "wdpm", "rsm_resolution": 256, "vpls_per_light": 65536, "indirect_method": "light_grid",
+                 "lpv_resolution": 32},
 }
 """Named quality levels, each a set of Settings values: what `choose_presets` (bench/
-sweep_report.py) picked from the Pareto fronts of the `fronts` sweep on the H100, the
-method from the `methods` sweep (docs/benchmarks.md, "Presets"). The panel's buttons and
-the command line's --preset apply them; other settings keep their values."""
+sweep_report.py) picked from the Pareto front of the `fronts` sweep on the H100
+(docs/benchmarks.md, "Presets"); a parameter the preset's indirect method does not read
+is left out. The panel's buttons and the command line's --preset apply them; other
+settings keep their values."""
+INDIRECT_METHOD_ONLY = {"propagation_iterations": "lpv", "occlusion": "lpv"}
+"""Parameters only one indirect method reads, and that method."""
 PRESET_PARAMETERS = ("method", "rsm_resolution", "vpls_per_light", "indirect_method", "lpv_resolution",
                      "propagation_iterations")
 
@@ -149,10 +152,13 @@ def preset_settings(name, **changes):
 
 
 def describe_preset(name):
-    """A preset's values in a few words, like 'WDPM, RSM 512², 2048 VPLs, 16³, 8 steps'."""
+    """A preset's values in a few words, like 'WDPM, RSM 512², 2048 VPLs, LPV 16³, 8 steps' or
+    'WDPM, RSM 256², 2048 VPLs, light grid 32³'."""
     s = preset_settings(name)
-    return (f"{s.method.upper()}, RSM {s.rsm_resolution}², {s.vpls_per_light} VPLs, {s.lpv_resolution}³, "
-            f"{s.propagation_iterations} steps")
+    words = f"{s.method.upper()}, RSM {s.rsm_resolution}², {s.vpls_per_light} VPLs, "
+    if s.indirect_method == "lpv":
+        return words + f"LPV {s.lpv_resolution}³, {s.propagation_iterations} steps"
+    return words + f"light grid {s.lpv_resolution}³"
 
 
 def matching_preset(settings):

@@ -48,8 +48,8 @@ def test_the_estimate_covers_what_a_pipeline_holds_after_a_frame(method, indirec
 def test_a_driver_with_smaller_limits_refuses_what_it_cannot_render(glc):
     scene = lit_room()
     limits = dict(glc.gl.info, GL_MAX_TEXTURE_SIZE=4096, GL_MAX_3D_TEXTURE_SIZE=32)
-    check_limits(limits, "a small GPU", Settings(width=4096, height=4096, rsm_resolution=1024, lpv_resolution=16),
-                 scene)
+    check_limits(limits, "a small GPU", Settings(width=4096, height=4096, rsm_resolution=1024, lpv_resolution=16,
+                                                 indirect_method="lpv"), scene)
     with pytest.raises(LPVError) as error:
         check_limits(limits, "a small GPU", Settings(width=8192, height=4320), scene)
     assert str(error.value) == ("A 8192 x 4320 image is larger than a small GPU can render (4096 x 4096 at most); "
@@ -59,7 +59,7 @@ def test_a_driver_with_smaller_limits_refuses_what_it_cannot_render(glc):
     assert str(error.value) == ("An RSM resolution of 2048 makes 6144 x 4096 light maps, larger than a small GPU can "
                                 "render (4096 x 4096 at most); lower the RSM resolution.")
     with pytest.raises(LPVError) as error:
-        check_limits(limits, "a small GPU", Settings(lpv_resolution=32), scene)
+        check_limits(limits, "a small GPU", Settings(lpv_resolution=32, indirect_method="lpv"), scene)
     assert str(error.value) == ("A grid resolution of 32 needs volumes of 33 cells a side with indirect method lpv, "
                                 "more than a small GPU allows (32); lower the LPV resolution.")
     with pytest.raises(LPVError) as error:

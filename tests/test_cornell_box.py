@@ -8,6 +8,7 @@ bpy = pytest.importorskip("bpy")
 
 from lpv_preview.addon.extract import extract_scene  # noqa: E402
 from lpv_preview.demo import build  # noqa: E402
+from lpv_preview.gpu.indirect import INDIRECT_STAGES  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 
@@ -60,8 +61,9 @@ def test_floor_next_to_the_red_wall_is_redder(cornell, frame):
     near_green = window(indirect, pixel_of(cornell.camera, (0.85, -0.7, 0.0)))
     redness = lambda c: c[0] / c[1]
     print(f"\nindirect on the floor: next to red {near_red}, next to green {near_green}")
-    assert redness(near_red) > 1.3 * redness(near_green)
-    assert near_green[1] / near_green[0] > 1.3 * near_red[1] / near_red[0]
+    # Cycles' one bounce at 512 samples has 1.33 here in both ratios, the light grid 1.27.
+    assert redness(near_red) > 1.2 * redness(near_green)
+    assert near_green[1] / near_green[0] > 1.2 * near_red[1] / near_red[0]
 
 
 def test_vpls_carry_the_rsm_flux(cornell, pipeline):
@@ -96,7 +98,8 @@ def test_no_light_power_gives_no_light(cornell):
 
 
 def test_stats_report_every_stage(frame, cornell):
-    for stage in ("rsm_ms", "vpl_ms", "inject_ms", "propagate_ms", "gbuffer_ms", "direct_ms", "indirect_ms"):
+    for stage in ("rsm_ms", "vpl_ms", *INDIRECT_STAGES[Settings().indirect_method], "gbuffer_ms", "direct_ms",
+                  "indirect_ms"):
         assert frame.stats[stage] > 0.0, stage
     assert frame.stats["vpl_count"] == 2048
     assert frame.stats["triangles"] == cornell.triangle_count
@@ -108,7 +111,7 @@ def test_a_camera_move_reuses_the_lights_and_the_volume(cornell, pipeline, frame
     moved.camera.view = moved.camera.view @ np.array(
         [[1, 0, 0, 0.1], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]], dtype=np.float64)
     again = pipeline.render(moved)
-    assert not any(stage in again.stats for stage in ("rsm_ms", "vpl_ms", "inject_ms", "propagate_ms"))
+    assert not any(stage in again.stats for stage in ("rsm_ms", "vpl_ms", *INDIRECT_STAGES[Settings().indirect_method]))
     assert again.stats["gbuffer_ms"] > 0.0
 
 

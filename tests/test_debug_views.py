@@ -25,7 +25,7 @@ def room():
 @pytest.fixture(scope="module", params=["cm", "wdpm"])
 def rendered(request, glc, room):
     pipeline = Pipeline(Settings(method=request.param, width=SIZE, height=SIZE, rsm_resolution=128,
-                                 vpls_per_light=2048, lpv_resolution=16), glc)
+                                 vpls_per_light=2048, lpv_resolution=16, indirect_method="lpv"), glc)
     frame = pipeline.render(room, passes=DEBUG, display_settings=DisplaySettings(vpl_point_size=1.0))
     yield request.param, pipeline, frame
     pipeline.release()
@@ -171,3 +171,17 @@ def test_the_exact_transfer_matches_the_sum_over_vpls_done_in_numpy(glc, room):
     expected = 0.6 / math.pi * np.einsum("ijv,vc->ijc", falloff, vpls["flux"][v]) / math.pi
     assert expected.mean() > 0
     np.testing.assert_allclose(gathered, expected, rtol=2e-3, atol=1e-6 * expected.max())
+
+
+def test_the_light_grid_slice_shows_each_cells_mean_irradiance(glc, room):
+    pipeline = Pipeline(Settings(width=SIZE, height=SIZE, rsm_resolution=64, vpls_per_light=256, lpv_resolution=8,
+                                 indirect_method="light_grid"), glc)
+    try:
+        pipeline.render(room, passes=("indirect",))
+        indirect = pipeline.last_indirect
+        piece = lpv_slice(indirect, "z", 0.5)
+        irradiance = indirect.volumes[0].read_irradiance(0).mean(axis=0)  # (z, y, x, rgb)
+        np.testing.assert_allclose(piece.light, np.maximum(irradiance[4], 0), rtol=1e-6)
+        assert piece.light.max() > 0
+    finally:
+        pipeline.release()

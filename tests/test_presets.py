@@ -78,4 +78,4 @@ def test_the_committed_fronts_report_still_chooses_the_presets():
     chosen = choose_presets(report)
     assert list(chosen) == list(PRESETS)
     for name, values in PRESETS.items():
-        assert chosen[name]["settings"] == {key: values[key] for key in PRESET_PARAMETERS}, name
+        assert chosen[name]["settings"] == values, name

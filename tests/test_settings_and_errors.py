@@ -12,7 +12,7 @@ from lpv_preview.gpu.settings import PARAMETERS, Settings
 def test_defaults_are_valid_and_documented():
     settings = Settings()
     assert settings.rsm_resolution == 512 and settings.vpls_per_light == 2048
-    assert settings.lpv_resolution == 32 and settings.propagation_iterations == 8
+    assert settings.indirect_method == "light_grid" and settings.lpv_resolution == 16
     for field in PARAMETERS.values():
         assert field.metadata["description"]
 

@@ -10,9 +10,11 @@ from lpv_preview import demo  # noqa: E402
 from lpv_preview.addon.viewport import ViewportSession  # noqa: E402
 from lpv_preview.addon.extract import extract_camera  # noqa: E402
 from lpv_preview.addon.sync import CAMERA, EVERYTHING, GEOMETRY, LIGHTS, changed_parts, record_updates  # noqa: E402
+from lpv_preview.gpu.indirect import INDIRECT_STAGES  # noqa: E402
+from lpv_preview.gpu.settings import Settings  # noqa: E402
 
 LIGHT_STAGES = ("rsm_ms", "vpl_ms")
-LPV_STAGES = ("inject_ms", "propagate_ms")
+INDIRECT_STAGES_NOW = INDIRECT_STAGES[Settings().indirect_method]
 CAMERA_STAGES = ("gbuffer_ms", "direct_ms", "indirect_ms")
 
 
@@ -78,10 +80,10 @@ def edit_material():
 
 
 @pytest.mark.parametrize("edit, parts, extracted, reruns, reused", [
-    (move_camera, {CAMERA}, [], CAMERA_STAGES, LIGHT_STAGES + LPV_STAGES),
-    (move_light, {LIGHTS}, [LIGHTS], LIGHT_STAGES + LPV_STAGES + CAMERA_STAGES, ()),
-    (edit_mesh, {GEOMETRY}, [GEOMETRY], LIGHT_STAGES + LPV_STAGES + CAMERA_STAGES, ()),
-    (edit_material, {GEOMETRY}, [GEOMETRY], LIGHT_STAGES + LPV_STAGES + CAMERA_STAGES, ()),
+    (move_camera, {CAMERA}, [], CAMERA_STAGES, LIGHT_STAGES + INDIRECT_STAGES_NOW),
+    (move_light, {LIGHTS}, [LIGHTS], LIGHT_STAGES + INDIRECT_STAGES_NOW + CAMERA_STAGES, ()),
+    (edit_mesh, {GEOMETRY}, [GEOMETRY], LIGHT_STAGES + INDIRECT_STAGES_NOW + CAMERA_STAGES, ()),
+    (edit_material, {GEOMETRY}, [GEOMETRY], LIGHT_STAGES + INDIRECT_STAGES_NOW + CAMERA_STAGES, ()),
 ], ids=["camera", "light", "mesh", "material"])
 def test_an_edit_reruns_exactly_the_stages_that_depend_on_it(session, edit, parts, extracted, reruns, reused):
     first = frame(session)  # settle: whatever was pending is done
@@ -102,7 +104,7 @@ def test_the_first_frame_reads_everything_and_an_idle_redraw_nothing(cornell_sce
         assert frame(session).stats["extracted"] == [GEOMETRY, LIGHTS]
         again = frame(session)
         assert again.stats["extracted"] == []
-        assert not any(stage in again.stats for stage in LIGHT_STAGES + LPV_STAGES)
+        assert not any(stage in again.stats for stage in LIGHT_STAGES + INDIRECT_STAGES_NOW)
     finally:
         session.release()
 

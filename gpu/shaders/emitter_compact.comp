@@ -1,7 +1,10 @@
 #version 450 core
 // Each filled cluster of emitter_cluster.comp becomes one emitter at the flux-weighted mean
-// of its emitters' places, with their mean normal and summed flux, standing for a disk
-// as wide as its cell; the count goes to `emitter_count`.
+// of its emitters' places, with their mean normal and summed flux, standing for a disk as
+// wide as its cell. The list keeps the hash table's slot order, so a frame's sums come out
+// the same every time: STAGE 0 counts each block of 64 slots, STAGE 1 (one invocation)
+// turns the counts into offsets and the total into `emitter_count`, STAGE 2 writes each
+// cluster at its block's offset plus its rank in the block.
 #include "common.glsl"
 #include "emitter.glsl"
 layout(local_size_x = 64) in;
@@ -9,19 +12,50 @@ layout(std430, binding = 0) writeonly buffer Emitters { Emitter emitters[]; };
 layout(std430, binding = 1) readonly buffer Keys { int keys[]; };
 layout(std430, binding = 2) readonly buffer Sums { int sums[]; };
 layout(std430, binding = 3) buffer Count { int emitter_count; };
+layout(std430, binding = 4) buffer Blocks { int blocks[]; };  // per 64 slots: count, then offset
 uniform int capacity;
 uniform vec3 level_origins[LEVELS];
 uniform float level_cells[LEVELS];
 uniform int grid_size;
 uniform float flux_scale;
 
+shared int filled[64];
+
+bool is_filled(int slot) {
+    if (slot >= capacity || keys[slot] < 0) return false;
+    int base = slot * CLUSTER_INTS;
+    return sums[base + 9] > 0 && max(sums[base], max(sums[base + 1], sums[base + 2])) > 0;
+}
+
 void main() {
     int slot = int(gl_GlobalInvocationID.x);
-    if (slot >= capacity || keys[slot] < 0) return;
+    int lane = int(gl_LocalInvocationID.x);
+    int block = int(gl_WorkGroupID.x);
+#if STAGE == 1
+    if (slot != 0) return;
+    int total = 0;
+    for (int b = 0; b < (capacity + 63) / 64; ++b) {
+        int count = blocks[b];
+        blocks[b] = total;
+        total += count;
+    }
+    emitter_count = total;
+#else
+    filled[lane] = is_filled(slot) ? 1 : 0;
+    barrier();
+#if STAGE == 0
+    if (lane == 0) {
+        int count = 0;
+        for (int i = 0; i < 64; ++i) count += filled[i];
+        blocks[block] = count;
+    }
+#else
+    if (filled[lane] == 0) return;
+    int rank = 0;
+    for (int i = 0; i < lane; ++i) rank += filled[i];
     int base = slot * CLUSTER_INTS;
     float weight = float(sums[base + 9]);
     vec3 flux = vec3(sums[base], sums[base + 1], sums[base + 2]) / flux_scale;
-    if (weight <= 0.0 || max(flux.r, max(flux.g, flux.b)) <= 0.0) return;
     int key = keys[slot];
     int bin = key % 7;
     int cell_index = key / 7;
@@ -32,7 +66,8 @@ void main() {
     vec3 place = vec3(sums[base + 3], sums[base + 4], sums[base + 5]) / weight;
     vec3 n = vec3(sums[base + 6], sums[base + 7], sums[base + 8]) / weight;
     vec3 normal = bin < 6 && dot(n, n) > 1e-12 ? normalize(n) : vec3(0.0);
-    int out_index = atomicAdd(emitter_count, 1);
-    emitters[out_index] = Emitter(vec4(level_origins[level] + (vec3(cell) + clamp(place, 0.0, 1.0)) * size, 1.0),
-                                  vec4(normal, PI * 0.25 * size * size), vec4(flux, 0.0));
+    emitters[blocks[block] + rank] = Emitter(vec4(level_origins[level] + (vec3(cell) + clamp(place, 0.0, 1.0)) * size, 1.0),
+                                             vec4(normal, PI * 0.25 * size * size), vec4(flux, 0.0));
+#endif
+#endif
 }

@@ -29,14 +29,14 @@ class IndirectGrids:
     def build(self, maps, mesh, levels, scene_bounds, settings, stats):
         """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage."""
         timed = self.glc.timed
-        flux_bound = sum(m.rsm.flux_bound for m in maps)
+        flux_bound = sum(m.vpl_map.flux_bound for m in maps)
         first, second = INDIRECT_STAGES[self.method]
         if self.method == "lpv":
             with timed(stats, first):
                 for lpv in self.volumes:
                     lpv.inject([m.vpls for m in maps], flux_bound)
                     if settings.occlusion:
-                        lpv.inject_geometry([m.rsm for m in maps])
+                        lpv.inject_geometry([m.vpl_map for m in maps])
             with timed(stats, second):
                 for lpv in self.volumes:
                     lpv.propagate(settings.propagation_iterations, settings.occlusion)

@@ -75,23 +75,52 @@ def auto_method(light):
 
 @dataclass
 class LightMaps:
-    """One light's RSM (warped for WDPM), its VPLs, the method that made them and, for the
-    warped methods, the warp status."""
+    """One light's RSM (warped for WDPM), its VPLs, the method that made them, for the
+    warped methods the warp status, and for a sun whose map spans far more than the camera
+    sees, the map of the region it sees that the VPLs come from (`region`)."""
 
     rsm: object
     vpls: object
     method: str
     warp: object = None
+    region: object = None
+
+    @property
+    def vpl_map(self):
+        """The map the VPLs were sampled from."""
+        return self.region if self.region is not None else self.rsm
 
     def resources(self):
         """The GPU memory of the maps, VPLs and warp status."""
         held = (self.rsm.position, self.rsm.normal, self.rsm.flux, self.vpls.buffer)
-        return held + ((self.warp.texture,) if self.warp is not None else ())
+        held += (self.warp.texture,) if self.warp is not None else ()
+        held += (self.region.position, self.region.normal, self.region.flux) if self.region is not None else ()
+        return held
 
     def release(self):
-        for resource in (self.rsm, self.vpls, self.warp):
+        for resource in (self.rsm, self.vpls, self.warp, self.region):
             if resource is not None:
                 resource.release()
+
+
+SUN_REGION_SHARE = 0.5
+"""A sun's VPLs come from a map of the region the grids cover when that region is less
+than this share of the scene's size: over a 200 m ground, a map of the whole ground
+leaves a house the camera looks at a handful of VPLs."""
+
+
+def sun_region(levels, bounds):
+    """The box of the coarsest grid level within the scene's bounds, as a hashable pair
+    of tuples, when it is small enough to need a map of its own (SUN_REGION_SHARE); None
+    otherwise."""
+    if not levels:
+        return None
+    coarsest = levels[-1]
+    low = np.maximum(np.asarray(coarsest.origin), bounds[0])
+    high = np.minimum(np.asarray(coarsest.origin) + coarsest.cell_size * coarsest.size, bounds[1])
+    if np.any(high <= low) or np.max(high - low) >= SUN_REGION_SHARE * np.max(bounds[1] - bounds[0]):
+        return None
+    return tuple(map(float, low)), tuple(map(float, high))
 
 
 @dataclass
@@ -141,9 +170,9 @@ class Pipeline:
         """The camera's G-buffer and images of the last frame (gpu/shade.py FrameTargets)."""
         return self._targets
 
-    def light_maps(self, scene, stats=None):
-        """Each light's LightMaps, rendered only when the light, geometry or settings changed;
-        and their cache keys."""
+    def light_maps(self, scene, stats=None, levels=None):
+        """Each light's LightMaps, rendered only when the light, geometry, settings or (for
+        a sun) the region of the grid `levels` changed; and their cache keys."""
         stats = {} if stats is None else stats
         s = self.settings
         geometry_key = self._upload(scene, stats)
@@ -152,29 +181,31 @@ class Pipeline:
         recipes = tuple(map_recipe(s, m) for m in (AUTO_METHODS if s.method == "auto" else (s.method,)))
         if any(recipe.warp_alpha is not None for recipe in recipes):
             recipes += (s.warp_iterations, s.warp_significant_figures)
+        region = sun_region(levels, bounds)
         for light in scene.lights:
-            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes)
+            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes,
+                   region if light.kind == "SUN" else None)
             if key not in self._lights:
-                self._lights[key] = self._render_light(light, bounds, stats)
+                self._lights[key] = self._render_light(light, bounds, stats, key[-1])
             maps.append(self._lights[key])
             keys.append(key)
         for stale in set(self._lights) - set(keys):
             self._lights.pop(stale).release()
         return maps, keys
 
-    def _render_light(self, light, bounds, stats):
+    def _render_light(self, light, bounds, stats, region=None):
         if self.settings.method != "auto":
-            return self._render_light_with(self.settings.method, light, bounds, stats)
-        maps = self._render_light_with(auto_method(light), light, bounds, stats)
+            return self._render_light_with(self.settings.method, light, bounds, stats, region)
+        maps = self._render_light_with(auto_method(light), light, bounds, stats, region)
         if maps.warp is not None:
             found = sum(maps.warp.counts[name] for name in STATUS_NAMES[1:])
             unresolved = maps.warp.counts["failed"] + maps.warp.counts["approximate"]
             if unresolved > AUTO_TESSELLATION_SHARE * found:
                 maps.release()
-                maps = self._render_light_with("twdpm", light, bounds, stats)
+                maps = self._render_light_with("twdpm", light, bounds, stats, region)
         return maps
 
-    def _render_light_with(self, method, light, bounds, stats):
+    def _render_light_with(self, method, light, bounds, stats, region=None):
         s = self.settings
         recipe = map_recipe(s, method)
         with self.glc.timed(stats, "rsm_ms"):
@@ -187,9 +218,14 @@ class Pipeline:
                                                      s.warp_significant_figures)
             rsm.release()
             rsm = warped
+        region_map = None
+        if region is not None:
+            with self.glc.timed(stats, "rsm_ms"):
+                region_map = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution,
+                                        tuple(np.array(corner) for corner in region), reach=bounds)
         with self.glc.timed(stats, "vpl_ms"):
-            vpls = self.vpl_sampler.sample(rsm, s.vpls_per_light)
-        return LightMaps(rsm, vpls, method, status)
+            vpls = self.vpl_sampler.sample(rsm if region_map is None else region_map, s.vpls_per_light)
+        return LightMaps(rsm, vpls, method, status, region_map)
 
     def render(self, scene, settings=None, passes=PASS_NAMES, display_into=None, display_settings=None):
         """Render the scene from its camera; returns a Frame with the `passes` asked for
@@ -213,7 +249,7 @@ class Pipeline:
             self._fits = fits
         start = time.perf_counter()
         stats = {}
-        maps, keys = self.light_maps(scene, stats)
+        self._upload(scene, stats)
         if self._targets is None or self._targets.size != (s.width, s.height):
             if self._targets is not None:
                 self._targets.release()
@@ -229,6 +265,7 @@ class Pipeline:
         previous = self._indirect[1].grids if self._indirect is not None else None
         grids = keep_or_move(previous, placed)
         levels = list(grids[::s.grid_phases])
+        maps, keys = self.light_maps(scene, stats, levels)
         indirect_key = (s.indirect_method, tuple(keys), grids, s.propagation_iterations, s.occlusion)
         if self._indirect is None or self._indirect[0] != indirect_key:
             indirect = self._indirect[1] if self._indirect is not None else None

@@ -139,18 +139,24 @@ def light_uniforms(light, position):
     }
 
 
-def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_unit=None):
+def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_unit=None, reach=None):
     """Rasterise the light's RSM faces: cube faces for "cm", hemispheres for "dpm",
-    tessellated hemispheres (thesis eq. 8-9, unit in map units) when a unit is given."""
+    tessellated hemispheres (thesis eq. 8-9, unit in map units) when a unit is given. A
+    sun's map covers `bounds` across its rays and, along them, `reach` (a box holding
+    every occluder; `bounds` when None)."""
     low, high = bounds
     centre = (low + high) / 2
     radius = max(float(np.linalg.norm(high - low)) / 2, 1e-6)
     near = far = 0.0
     if light.kind == "SUN":
-        origin = centre - light.direction * radius * 1.01
+        depth_low, depth_high = bounds if reach is None else reach
+        corners = np.array([[x, y, z] for x in (depth_low[0], depth_high[0]) for y in (depth_low[1], depth_high[1])
+                            for z in (depth_low[2], depth_high[2])])
+        along = max(radius, float(np.max(np.linalg.norm(corners - centre, axis=1))))
+        origin = centre - light.direction * along * 1.01
         _, up, _ = light_frame(light)
         view = look_at_view(origin, light.direction, up)
-        depth = 2.02 * radius
+        depth = 2.02 * along
         projection = np.diag([1 / radius, 1 / radius, -2 / depth, 1.0])
         projection[2, 3] = -1.0
         kind, faces = PROJECTION_ORTHO, [projection @ view]

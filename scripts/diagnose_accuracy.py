@@ -4,11 +4,12 @@
 
 Renders the demo scene's Cycles one-bounce reference (cached), then prints the indirect
 image's errors against it for: Cycles itself at a quarter of the samples and another
-seed (the reference's noise floor); the method at default settings (RSM, VPLs, LPV);
-the LPV swapped for the exact transfer from the same VPLs (gpu/exact_stages.py: no grid,
-no SH, no visibility); that with 65,536 VPLs (the VPL sampling swapped too); and the same
-two with the scene's blocks hidden, where no surface hides one from another, so the
-missing visibility is swapped out as well. Last, the LPV alone: its image for a few
+seed (the reference's noise floor); the method at default settings with each indirect
+method (LPV, light grid); the grid swapped for the exact transfer from the same VPLs
+(bench/exact_stages.py: no grid, no SH, no visibility); that with 65,536 VPLs (the VPL
+sampling swapped too); and the same with the scene's blocks hidden, where no surface
+hides one from another, so the missing visibility is swapped out as well. Last, the
+LPV alone (its own grid, 16³ by default): its image for a few
 propagation settings against the exact transfer from the same VPLs, with the ratio of
 their means over each quarter of the picture's rows, top to bottom.
 """
@@ -22,7 +23,7 @@ from lpv_preview.demo import build
 from lpv_preview.bench.exact_stages import gathered_indirect
 from lpv_preview.gpu.metrics import image_errors
 from lpv_preview.gpu.pipeline import Pipeline
-from lpv_preview.gpu.settings import Settings
+from lpv_preview.gpu.settings import INDIRECT_METHODS, Settings
 
 ALL_TEXELS = 65536
 BLOCKS = {"cornell": ("Short box", "Tall box")}
@@ -36,13 +37,18 @@ def row(label, image, reference):
 
 def method_rows(scene_label, settings, reference):
     scene = scene_to_render(bpy.context.scene, (settings.width, settings.height))
+    for indirect in INDIRECT_METHODS:
+        pipeline = Pipeline(settings.with_changes(indirect_method=indirect))
+        try:
+            row(f"{scene_label}: {settings.method.upper()}, {indirect} {settings.lpv_resolution}³, "
+                f"{settings.vpls_per_light} VPLs", pipeline.render(scene).passes["indirect"], reference)
+        finally:
+            pipeline.release()
     for vpls in (settings.vpls_per_light, ALL_TEXELS):
         pipeline = Pipeline(settings.with_changes(vpls_per_light=vpls))
         try:
-            frame = pipeline.render(scene)
-            if vpls == settings.vpls_per_light:
-                row(f"{scene_label}: {settings.method.upper()} LPV, {vpls} VPLs", frame.passes["indirect"], reference)
-            row(f"{scene_label}: exact transfer from {vpls} VPLs (no LPV, no visibility)",
+            pipeline.render(scene)
+            row(f"{scene_label}: exact transfer from {vpls} VPLs (no grid, no visibility)",
                 gathered_indirect(pipeline, scene.camera), reference)
         finally:
             pipeline.release()
@@ -95,7 +101,7 @@ def main():
     method_rows("blocks hidden", settings, empty)
     for name in BLOCKS[args.scene]:
         scene.objects[name].hide_render = scene.objects[name].hide_viewport = False
-    lpv_alone_rows(settings)
+    lpv_alone_rows(settings.with_changes(indirect_method="lpv"))
 
 
 if __name__ == "__main__":

@@ -16,7 +16,6 @@ the light the box keeps from it).
 import argparse
 import os
 
-import bpy
 import numpy as np
 
 from lpv_preview.addon.cycles_reference import cycles_reference

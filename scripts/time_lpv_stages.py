@@ -5,8 +5,8 @@
 reads DIR/cornell.npz (1024²), DIR/city130k_point.npz and, where it is there,
 DIR/city1200k_point.npz (1920×1080), made with `python -m lpv_preview export` (the
 last: `export city --triangles 1200000 --lights 1`), and times every stage redone
-(warm-up excluded, no image read back) at the defaults, the balanced preset and WDPM
-1024², 65,536 VPLs, 32³, 8 steps, for each indirect method asked for.
+(warm-up excluded, no image read back) at each preset, with each indirect method asked
+for in place of the preset's.
 It runs on the package it is given as well as on this one's first version (295b65b,
 before bench/ existed), so a before/after comparison uses one driver
 (docs/numerical_stability.md).
@@ -16,7 +16,7 @@ import json
 import os
 
 from lpv_preview.gpu.pipeline import Pipeline
-from lpv_preview.gpu.settings import Settings
+from lpv_preview.gpu.settings import PRESETS, Settings
 
 try:
     from lpv_preview.bench.timing import timed_frames
@@ -26,11 +26,7 @@ except ImportError:  # the version before bench/ and gpu/scene_file.py
     from lpv_preview.gpu.scene import Scene
     load_scene = Scene.load
 
-CASES = (("default", {}),
-         ("balanced", {"method": "wdpm", "rsm_resolution": 512, "vpls_per_light": 65536, "lpv_resolution": 16,
-                       "propagation_iterations": 4}),
-         ("accurate32", {"method": "wdpm", "rsm_resolution": 1024, "vpls_per_light": 65536, "lpv_resolution": 32,
-                         "propagation_iterations": 8}))
+CASES = tuple(PRESETS.items())
 SCENES = (("cornell", (1024, 1024)), ("city130k_point", (1920, 1080)), ("city1200k_point", (1920, 1080)))
 KEYS = ("gpu_rsm_ms", "gpu_warp_ms", "gpu_vpl_ms", "gpu_place_ms", "gpu_inject_ms", "gpu_propagate_ms",
         "gpu_gather_ms", "gpu_gbuffer_ms", "gpu_direct_ms", "gpu_indirect_ms", "total_ms")
@@ -48,7 +44,7 @@ for scene_name, (width, height) in SCENES:
         for phases, indirect in [(p, m) for p in args.grid_phases or [None] for m in args.indirect_methods or [None]]:
             more = {} if phases is None else {"grid_phases": phases}
             more.update({} if indirect is None else {"indirect_method": indirect})
-            settings = Settings(width=width, height=height, **changes, **more)
+            settings = Settings(width=width, height=height, **{**changes, **more})
             settle = Pipeline(settings)  # the first pipeline after a large one runs slow for its life (H100)
             settle.render(scene, passes=())
             settle.release()

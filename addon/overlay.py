@@ -41,7 +41,8 @@ class OverlayData:
         wanted = {
             "vpls": ((light, display.show_vpls), lambda: vpl_points(maps, origin) if display.show_vpls else None),
             "slice": ((light, display.show_lpv_slice, display.lpv_slice_axis, display.lpv_slice_position),
-                      lambda: lpv_slice(pipeline.last_indirect, display.lpv_slice_axis, display.lpv_slice_position, origin)
+                      lambda: lpv_slice(pipeline.last_indirect, display.lpv_slice_axis, display.lpv_slice_position,
+                                        origin)
                       if display.show_lpv_slice and pipeline.last_indirect is not None else None),
             "warp_status": ((light, display.show_warp_status),
                             lambda: warp_status_image(warped) if display.show_warp_status and warped else None),

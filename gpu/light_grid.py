@@ -5,9 +5,9 @@ centre the exact irradiance of every emitter, with visibility through a voxelisa
 the scene, as an ambient cube (the irradiance of six surfaces facing the axes: exact for
 them, and no SH ringing that lets a surface light itself). Emitters come as buffers of
 the VPL layout (shaders/emitter.glsl): the lights' VPLs now, emissive surfaces and
-particles next. They are first summed into clusters, one per grid cell of the finest level
-holding them and normal direction, so the gather's cost follows the cells lit, not the
-emitter count.
+particles next. They are first summed into clusters, one per block of CLUSTER_CELLS³ cells
+of the finest level holding them and normal direction, so the gather's cost follows the
+surfaces lit, not the emitter count.
 """
 import math
 
@@ -20,9 +20,8 @@ VOXELS_PER_CELL = 3
 """Occupancy voxels along a cell's side: odd, so a cell centre is a voxel's centre, and
 enough that a wall thinner than a cell lies between the cells on its two sides."""
 CLUSTER_CELLS = 2
-"""A cluster of emitters spans this many cells of its level along each side: the Cornell
-box at 16³ and 32³ loses 0.03 and 0.4 dB against clusters of one cell, with a quarter to
-an eighth of the emitters to gather (docs/accuracy.md)."""
+"""A cluster of emitters spans this many cells of its level along each side: a quarter to
+an eighth as many clusters to gather as with one cell, for little loss (docs/method.md)."""
 CLUSTER_INTS = 10  # flux rgb, weighted place xyz, weighted normal xyz, weight
 EMITTER_BYTES = 48
 FIXED_POINT_RANGE = 2.0 ** 30
@@ -172,16 +171,11 @@ class LightGrid:
         self.coarse.use(location=1)
         for layer, (grid, irradiance) in enumerate(zip(self.grids, self.irradiance)):
             irradiance.bind_to_image(0, read=True, write=True)
-            set_uniforms(program, occupancy=0, coarse=1, layer=layer, grid_origin=grid.origin, cell_size=grid.cell_size,
-                         grid_size=grid.size, voxels_per_cell=VOXELS_PER_CELL, batch=batch)
+            set_uniforms(program, occupancy=0, coarse=1, layer=layer, grid_origin=grid.origin,
+                         cell_size=grid.cell_size, grid_size=grid.size, voxels_per_cell=VOXELS_PER_CELL, batch=batch)
             for first in range(0, max(self.emitter_count, 1), batch):
                 set_uniforms(program, first_emitter=first)
                 dispatch(program, grid.size ** 3, local=(1,))  # a workgroup per cell
-
-    def build(self, mesh, emitter_sets, flux_bound, cluster_grids):
-        self.voxelise(mesh)
-        self.cluster(emitter_sets, flux_bound, cluster_grids)
-        self.gather()
 
     def lookup_uniforms(self, first_unit):
         """Bind the volumes for shaders/light_grid_lookup.glsl from texture unit `first_unit` on."""

@@ -1,9 +1,11 @@
-"""Runs the stages RSM -> VPL -> LPV -> shade, caching each by what it depends on.
+"""Runs the stages G-buffer -> grid placement -> RSM -> VPL -> indirect grids (LPV or
+light grid) -> shade, caching each by what it depends on.
 
 A stage is redone only when its inputs change (docs/architecture.md, "A viewport update:
-what each edit redoes"): a camera move reuses every light's RSM and VPLs and the LPV; a
-light change redoes that light's RSM and VPLs and the LPV; a geometry change redoes
-everything.
+what each edit redoes"): a camera move reuses every light's RSM and VPLs and the indirect
+grids while the grids it asks for still fit (gpu/grids.py keep_or_move), and a sun's map
+while the region the grids cover stays; a light change redoes that light's RSM and VPLs
+and the grids; a geometry change redoes everything.
 """
 import time
 from dataclasses import dataclass

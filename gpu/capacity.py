@@ -10,7 +10,8 @@ import os
 
 from .errors import LPVError
 from .grids import VIEW_LATTICE
-from .light_grid import CLUSTER_INTS, DIRECTIONS, EMITTER_BYTES, VOXELS_PER_CELL, cluster_capacity
+from .light_grid import CLUSTER_INTS, DIRECTIONS, EMITTER_BYTES, cluster_capacity
+from .occupancy import VOXELS_PER_CELL
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import face_atlas_size, map_face_count
 from .surface_images import BYTES_PER_TEXEL, layer_size

@@ -43,7 +43,7 @@ class IndirectGrids:
             return
         light_grid = self.volumes[0]
         with timed(stats, first):
-            light_grid.voxelise(mesh)
+            light_grid.occupancy.voxelise(mesh)
             cluster_grids = [grid.coarser(CLUSTER_CELLS) for grid in levels]
             cluster_grids.append(fit_grid(scene_bounds, cluster_grids[0].size))
             light_grid.cluster([(m.vpls.buffer, m.vpls.count) for m in maps], flux_bound, cluster_grids)

@@ -1,0 +1,93 @@
+"""The scene's surfaces voxelised over a set of grids, for visibility marches
+(shaders/occupancy.glsl): the light grid's between emitters and cells and between
+surfaces and cells."""
+import moderngl
+import numpy as np
+
+from .context import dispatch, set_uniforms
+
+VOXELS_PER_CELL = 3
+"""Occupancy voxels along a cell's side: odd, so a cell centre is a voxel's centre, and
+enough that a wall thinner than a cell lies between the cells on its two sides."""
+MARCH_STEP = 0.7  # voxels between a march's samples, as in shaders/occupancy.glsl
+
+
+def axis_projections(grid):
+    """Orthographic view-projections that map the grid's box onto clip space looking along
+    x, y and z: the voxelisation draws each triangle along the one its normal is closest to."""
+    side = grid.cell_size * grid.size
+    scale = np.diag([2.0 / side] * 3 + [1.0])
+    scale[:3, 3] = -1.0 - 2.0 * np.asarray(grid.origin) / side
+    swaps = (np.array([1, 2, 0]), np.array([2, 0, 1]), np.array([0, 1, 2]))
+    projections = []
+    for order in swaps:
+        permute = np.zeros((4, 4))
+        permute[3, 3] = 1.0
+        permute[np.arange(3), order] = 1.0
+        projections.append(permute @ scale)
+    return projections
+
+
+class Occupancy:
+    """Every grid's voxels (VOXELS_PER_CELL a cell side) and cells (non-zero where any of
+    their voxels is), one grid after the other along z in one volume each."""
+
+    def __init__(self, glc, grids):
+        self.glc = glc
+        self.grids = tuple(grids)
+        gl = glc.gl
+        n = self.grids[0].size
+        self.voxels = n * VOXELS_PER_CELL
+        self.occupancy = gl.texture3d((self.voxels, self.voxels, self.voxels * len(self.grids)), 1, dtype="u1")
+        self.coarse = gl.texture3d((n, n, n * len(self.grids)), 1, dtype="u1")
+        for volume in (self.occupancy, self.coarse):
+            volume.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self._empty = bytes(self.voxels ** 3 * len(self.grids))
+        self._empty_coarse = bytes(n ** 3 * len(self.grids))
+        self._canvas = gl.renderbuffer((self.voxels, self.voxels), 1, dtype="f1")
+        self._framebuffer = gl.framebuffer(color_attachments=[self._canvas])
+        self.large = gl.buffer(reserve=3 * 4)  # the large triangles' vertex indices, grown as needed
+        self.command = gl.buffer(reserve=5 * 4)
+
+    def voxelise(self, mesh):
+        """Mark the voxels the lights' triangles pass through, in every grid: the small
+        triangles sampled in a compute pass, the large ones it lists rasterised."""
+        gl = self.glc.gl
+        first, count = mesh.light_triangles
+        if self.large.size < 3 * 4 * max(count, 1):
+            self.large.release()
+            self.large = gl.buffer(reserve=3 * 4 * max(count, 1))
+        self.occupancy.write(self._empty)
+        self.coarse.write(self._empty_coarse)
+        self.occupancy.bind_to_image(0, read=False, write=True)
+        self.coarse.bind_to_image(1, read=False, write=True)
+        program = self.glc.compute("voxelise_small", GRIDS=len(self.grids))
+        for binding, buffer in enumerate((mesh.buffer, self.command, self.large)):
+            buffer.bind_to_storage_buffer(binding)
+        set_uniforms(program, grid_origins=np.array([grid.origin for grid in self.grids]),
+                     voxel_sizes=np.array([grid.cell_size / VOXELS_PER_CELL for grid in self.grids]),
+                     voxels=self.voxels, voxels_per_cell=VOXELS_PER_CELL, first_triangle=first,
+                     triangle_count=count, reset=True)
+        dispatch(program, 5, local=(64,))
+        set_uniforms(program, reset=False)
+        dispatch(program, count, local=(64,))
+        program = self.glc.program("raster", "occupancy", geometry="occupancy")
+        self._framebuffer.viewport = (0, 0, self.voxels, self.voxels)
+        self._framebuffer.use()
+        gl.disable(moderngl.DEPTH_TEST)
+        gl.disable(moderngl.CULL_FACE)
+        for layer, grid in enumerate(self.grids):
+            set_uniforms(program, grid_origin=grid.origin, voxel_size=grid.cell_size / VOXELS_PER_CELL,
+                         voxels_per_cell=VOXELS_PER_CELL, voxels=self.voxels, layer=layer,
+                         view_projection=np.eye(4), axis_projections=np.array(axis_projections(grid)))
+            mesh.vertex_array(program, self.large).render_indirect(self.command, moderngl.TRIANGLES, count=1)
+        gl.memory_barrier()
+
+
+    def resources(self):
+        return (self.occupancy, self.coarse, self._canvas, self.large, self.command)
+
+    def release(self):
+        self._framebuffer.release()
+        for resource in self.resources():
+            resource.release()

@@ -44,6 +44,7 @@ GEOMETRY_VOLUME_BYTES_PER_CELL = 16 + 16  # its accumulator and its volume, one 
 LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16 + VOXELS_PER_CELL ** 3 + 1
 """Six RGBA32F irradiances, the occupancy's one-byte voxels and its coarse byte."""
 CLUSTER_BYTES = 4 + CLUSTER_INTS * 4 + EMITTER_BYTES + 1  # per hash slot: key, sums, emitter, its block's count
+GATHER_BYTES_PER_PIXEL = 2 * 16  # the VPL gather's sums and their filtered image (RGBA32F)
 LARGE_TRIANGLE_BYTES = 3 * 4  # room to list every triangle as one the voxelisation rasterises
 
 VERTEX_BYTES = 12 * 4                 # position, normal, albedo, surface coordinate (mesh_buffer.py)
@@ -80,6 +81,9 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     grids = s.grid_levels * s.grid_phases
     if s.indirect_method == "lpv":
         indirect = grids * (n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL)
+    elif s.indirect_method == "vpl_gather":
+        indirect = n ** 3 * (VOXELS_PER_CELL ** 3 + 1) + (VOXELS_PER_CELL * n) ** 2 + pixels * GATHER_BYTES_PER_PIXEL
+        indirect += scene.triangle_count * LARGE_TRIANGLE_BYTES
     else:
         indirect = grids * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
         indirect += scene.triangle_count * LARGE_TRIANGLE_BYTES
@@ -121,7 +125,8 @@ def check_limits(limits, renderer, settings, scene):
         if width > widest or height > tallest:
             raise LPVError(f"An RSM resolution of {s.rsm_resolution} makes {width} x {height} light maps, larger "
                            f"than {renderer} can render ({widest} x {tallest} at most); lower the RSM resolution.")
-    side = s.lpv_resolution + 1 if s.indirect_method == "lpv" else DIRECTIONS * s.lpv_resolution
+    side = {"lpv": s.lpv_resolution + 1, "light_grid": DIRECTIONS * s.lpv_resolution,
+            "vpl_gather": VOXELS_PER_CELL * s.lpv_resolution}[s.indirect_method]
     if side > limits["GL_MAX_3D_TEXTURE_SIZE"]:
         raise LPVError(f"A grid resolution of {s.lpv_resolution} needs volumes of {side} cells a side with "
                        f"indirect method {s.indirect_method}, more than {renderer} allows "

@@ -8,10 +8,13 @@ import numpy as np
 from .grids import fit_grid
 from .light_grid import CLUSTER_CELLS, LightGrid
 from .lpv import LightPropagationVolume
+from .vpl_gather import VPLGather
 
-INDIRECT_STAGES = {"lpv": ("inject_ms", "propagate_ms"), "light_grid": ("inject_ms", "gather_ms")}
-"""The timed stages of each method (stats keys): for the light grid, voxelising the scene
-and clustering the emitters, then the gather."""
+INDIRECT_STAGES = {"lpv": ("inject_ms", "propagate_ms"), "light_grid": ("inject_ms", "gather_ms"),
+                   "vpl_gather": ("inject_ms",)}
+"""The timed stages of each method (stats keys) redone when the lights or the grids
+change: for the light grid, voxelising the scene and clustering the emitters, then the
+gather; for VPL gathering, voxelising (its gather follows the camera: pixel_gather_ms)."""
 
 
 class IndirectGrids:
@@ -23,23 +26,29 @@ class IndirectGrids:
         self.grids = tuple(grids)
         if method == "lpv":
             self.volumes = [LightPropagationVolume(glc, grid) for grid in self.grids]
-        else:
+        elif method == "light_grid":
             self.volumes = [LightGrid(glc, self.grids)]
+        else:
+            self.volumes = [VPLGather(glc, self.grids[-1])]
 
     def build(self, maps, mesh, levels, scene_bounds, settings, stats):
         """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage."""
         timed = self.glc.timed
         flux_bound = sum(m.vpl_map.flux_bound for m in maps)
-        first, second = INDIRECT_STAGES[self.method]
+        first, *second = INDIRECT_STAGES[self.method]
         if self.method == "lpv":
             with timed(stats, first):
                 for lpv in self.volumes:
                     lpv.inject([m.vpls for m in maps], flux_bound)
                     if settings.occlusion:
                         lpv.inject_geometry([m.vpl_map for m in maps])
-            with timed(stats, second):
+            with timed(stats, second[0]):
                 for lpv in self.volumes:
                     lpv.propagate(settings.propagation_iterations, settings.occlusion)
+            return
+        if self.method == "vpl_gather":
+            with timed(stats, first):
+                self.volumes[0].build(mesh, [(m.vpls.buffer, m.vpls.count) for m in maps])
             return
         light_grid = self.volumes[0]
         with timed(stats, first):
@@ -47,13 +56,13 @@ class IndirectGrids:
             cluster_grids = [grid.coarser(CLUSTER_CELLS) for grid in levels]
             cluster_grids.append(fit_grid(scene_bounds, cluster_grids[0].size))
             light_grid.cluster([(m.vpls.buffer, m.vpls.count) for m in maps], flux_bound, cluster_grids)
-        with timed(stats, second):
+        with timed(stats, second[0]):
             light_grid.gather()
 
     def lookup_uniforms(self, first_unit):
         """Bind the volumes for the lookup from texture unit `first_unit` on; the uniforms
         that name them."""
-        if self.method == "light_grid":
+        if self.method != "lpv":
             return self.volumes[0].lookup_uniforms(first_unit)
         uniforms = {}
         for channel, name in enumerate(("lpv_r", "lpv_g", "lpv_b")):
@@ -70,7 +79,9 @@ class IndirectGrids:
         if self.method == "lpv":
             sums = [LightPropagationVolume.read(v)[..., 0] for v in self.volumes[0].sums]
             return (np.stack(sums, axis=-1) * 2 * math.sqrt(math.pi)).transpose(2, 1, 0, 3)
-        return self.volumes[0].read_irradiance(0).mean(axis=0).transpose(2, 1, 0, 3)
+        if self.method == "light_grid":
+            return self.volumes[0].read_irradiance(0).mean(axis=0).transpose(2, 1, 0, 3)
+        return np.zeros((self.grids[0].size,) * 3 + (3,), dtype=np.float32)  # a gather holds no cells
 
     def resources(self):
         return tuple(resource for volume in self.volumes for resource in volume.resources())

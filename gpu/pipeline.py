@@ -22,7 +22,8 @@ from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
 from .settings import DisplaySettings, Settings
-from .shade import FrameTargets, render_gbuffer, seen_points, shade_direct, shade_indirect
+from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, render_gbuffer, seen_points, shade_direct,
+                    shade_indirect)
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES, warp_paraboloid_map
 
@@ -36,7 +37,7 @@ AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
           "inject_ms": "inject", "propagate_ms": "propagate", "gather_ms": "gather", "direct_ms": "direct",
-          "indirect_ms": "indirect"}
+          "pixel_gather_ms": "pixel gather", "indirect_ms": "indirect"}
 """A frame's timed stages (its stats keys) in the order they run, with their names: the
 indirect stage's inject and propagate (LPV) or inject and gather (light grid)."""
 
@@ -282,6 +283,10 @@ class Pipeline:
         with self.glc.timed(stats, "direct_ms"):
             for m in maps:
                 shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
+        if s.indirect_method == "vpl_gather":
+            with self.glc.timed(stats, "pixel_gather_ms"):
+                bind_gbuffer(targets)
+                indirect.volumes[0].gather(targets, gbuffer_uniforms(scene.camera), scene.camera.position)
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, scene.camera, indirect, len(levels), s.grid_phases, s.indirect_intensity,
                            display_into is not None)

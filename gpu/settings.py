@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, fields, replace
 from .errors import LPVError
 
 METHODS = ("cm", "dpm", "wdpm", "tdpm", "twdpm", "auto")
-INDIRECT_METHODS = ("lpv", "light_grid")
+INDIRECT_METHODS = ("lpv", "light_grid", "vpl_gather")
 SLICE_AXES = ("x", "y", "z")
 
 
@@ -60,8 +60,9 @@ class Settings(Validated):
     rsm_resolution: int = _param(512, "Texels along one side of each RSM face", 16, 2048)
     vpls_per_light: int = _param(2048, "Virtual point lights sampled per light", 1, 65536)
     indirect_method: str = _param("light_grid", "How the VPLs' light reaches the surfaces: a light propagation volume "
-                                         "(lpv) or a light grid that gathers every VPL's light with visibility "
-                                         "(light_grid)", choices=INDIRECT_METHODS)
+                                         "(lpv), a light grid that gathers every VPL's light with visibility "
+                                         "(light_grid), or every pixel gathering it with visibility (vpl_gather)",
+                                  choices=INDIRECT_METHODS)
     lpv_resolution: int = _param(16, "Cells along each side of each grid of the indirect light", 4, 128)
     grid_levels: int = _param(3, "Most nested grid levels around what the camera sees, each twice the size of "
                                  "the one before (cascades)", 1, 4)

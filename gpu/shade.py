@@ -5,6 +5,7 @@ import numpy as np
 from .context import dispatch, set_uniforms
 from .errors import LPVError
 from .grids import VIEW_LATTICE
+from .settings import INDIRECT_METHODS
 
 
 class FrameTargets:
@@ -138,7 +139,7 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
     each) up at every pixel and write the indirect and combined images, and with `display`
     the combined one into the display buffer too."""
     program = glc.compute("shade_indirect", LEVELS=levels, PHASES=phases,
-                          LIGHT_GRID=int(indirect.method == "light_grid"))
+                          INDIRECT=INDIRECT_METHODS.index(indirect.method))
     bind_gbuffer(targets)
     units = indirect.lookup_uniforms(first_unit=2)
     targets.direct.bind_to_image(0, read=True, write=False)

@@ -26,7 +26,7 @@ def lit_room():
 
 
 @pytest.mark.parametrize("method, indirect_method", [("cm", "lpv"), ("dpm", "lpv"), ("wdpm", "lpv"), ("auto", "lpv"),
-                                                     ("wdpm", "light_grid")])
+                                                     ("wdpm", "light_grid"), ("wdpm", "vpl_gather")])
 def test_the_estimate_covers_what_a_pipeline_holds_after_a_frame(method, indirect_method, glc):
     """With one grid level: the estimate counts every level the setting allows."""
     scene = lit_room()

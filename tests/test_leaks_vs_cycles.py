@@ -132,3 +132,27 @@ def test_a_scaled_scene_scales_its_cells_and_keeps_its_picture(measured, name, s
     assert 2 ** -0.25 < cell_ratio / scale < 2 ** 0.25
     assert same > 30.0
     assert psnr(scaled.direct, unscaled.direct) > 60.0
+
+
+GATHER = SETTINGS.with_changes(indirect_method="vpl_gather")
+
+
+def test_the_vpl_gather_keeps_the_room_behind_a_thin_wall_at_cycles_level(measured):
+    """Issue 16's per-pixel gather marches through the same occupancy as the light grid.
+    Measured: 32.1 dB, ours/Cycles 0.87 (the light grid: 31.8 dB, 0.79)."""
+    built = BUILDERS["thin_wall"](SIZE)
+    errors = image_errors(render_once(scene_to_render(built.scene), GATHER).passes["indirect"],
+                          measured("thin_wall").reference.indirect)
+    print(f"\nVPL gather, thin wall: {errors['psnr']:.1f} dB, ours/Cycles {errors['mean'] / errors['reference_mean']:.3f}")
+    assert errors["psnr"] > 25.0
+    assert 0.7 < errors["mean"] / errors["reference_mean"] < 1.3
+
+
+@pytest.mark.xfail(strict=True, reason="3.1 % of the light the box holds leaks out in streaks across the floor (the "
+                                       "light grid: 1.0 %); the VPL gather's marches are still to be made tight")
+def test_the_vpl_gather_keeps_light_in_a_closed_box(measured):
+    built = BUILDERS["closed_box"](SIZE)
+    indirect = render_once(scene_to_render(built.scene), GATHER).passes["indirect"]
+    leak = indirect.mean() / measured("closed_box").unblocked_direct.mean()
+    print(f"\nVPL gather, closed box: leak {leak:.4f}")
+    assert leak < 0.025

@@ -4,7 +4,8 @@
 // The indirect light comes from LEVELS nested grids (gpu/grids.py), each PHASES grids
 // offset by a fraction of a cell whose answers are averaged; a pixel takes the finest
 // level that holds it, blended into the next over the last cells of its box. The grids
-// hold an LPV (LIGHT_GRID 0) or a light grid (LIGHT_GRID 1).
+// hold an LPV (INDIRECT 0) or a light grid (INDIRECT 1); with VPL gathering (INDIRECT 2)
+// the irradiance is the pixel's own, gathered before.
 #include "common.glsl"
 #include "gbuffer.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -12,10 +13,12 @@ layout(local_size_x = 8, local_size_y = 8) in;
 uniform vec3 grid_origins[GRIDS];
 uniform float cell_sizes[GRIDS];
 uniform int grid_size;
-#if LIGHT_GRID
+#if INDIRECT == 0
+#include "lpv_lookup.glsl"
+#elif INDIRECT == 1
 #include "light_grid_lookup.glsl"
 #else
-#include "lpv_lookup.glsl"
+#include "vpl_gather_lookup.glsl"
 #endif
 layout(rgba32f, binding = 0) uniform readonly image2D direct;
 layout(rgba32f, binding = 1) uniform writeonly image2D indirect;
@@ -39,6 +42,9 @@ void main() {
     vec3 p, n, albedo;
     if (gbuffer_surface(pixel, p, n, albedo)) {
         vec3 irradiance = vec3(0.0);
+#if INDIRECT == 2
+        irradiance = texelFetch(gathered, pixel, 0).rgb;
+#else
         float remaining = 1.0;
         for (int level = 0; level < LEVELS && remaining > 0.0; ++level) {
             float share = level == LEVELS - 1 ? 1.0 : level_share(level * PHASES, p);
@@ -48,6 +54,7 @@ void main() {
             irradiance += remaining * share * level_light / float(PHASES);
             remaining *= 1.0 - share;
         }
+#endif
         light = albedo / PI * irradiance * intensity;
     }
     imageStore(indirect, pixel, vec4(light, 1.0));

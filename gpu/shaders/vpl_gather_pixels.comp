@@ -1,0 +1,58 @@
+#version 450 core
+// VPL gathering (gpu/vpl_gather.py): every pixel of the camera's G-buffer sums the
+// irradiance of the VPLs that see it, through a march in the occupancy. Interleaved: the
+// pixel at (x, y) of each INTERLEAVE x INTERLEAVE block takes every INTERLEAVE²-th VPL
+// from its own offset, its sum scaled by INTERLEAVE² (vpl_gather_filter.comp puts the
+// block's subsets back together). One dispatch adds the VPLs [first, first + batch) of
+// one set to what the ones before left: llvmpipe ends a loop nest after 65,535 iterations.
+#include "common.glsl"
+#include "gbuffer.glsl"
+#include "emitter.glsl"
+#include "occupancy.glsl"
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
+layout(rgba32f, binding = 0) uniform image2D gathered;
+uniform usampler3D occupancy;
+uniform usampler3D coarse;
+uniform vec3 grid_origin;
+uniform float cell_size;
+uniform int voxels_per_cell;
+uniform int emitter_count;
+uniform int first_emitter;
+uniform int batch;
+uniform bool accumulate;
+const float OFF_SURFACE = 1.5;     // voxels off the pixel's surface where its marches end
+const float EMITTER_RADIUS = 0.5;  // voxels around a VPL where the march sees no occluder (its own surface)
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(pixel, imageSize(gathered)))) return;
+    vec3 p, n, albedo;
+    vec3 sum = vec3(0.0);
+    if (gbuffer_surface(pixel, p, n, albedo)) {
+        int subset = (pixel.y % INTERLEAVE) * INTERLEAVE + pixel.x % INTERLEAVE;
+        float voxel = cell_size / float(voxels_per_cell);
+        vec3 surface = (p - grid_origin) / voxel;
+        vec3 from_pixel = surface + OFF_SURFACE * n;
+        int last = min(first_emitter + batch, emitter_count);
+        int start = first_emitter + (subset - first_emitter % (INTERLEAVE * INTERLEAVE) + INTERLEAVE * INTERLEAVE)
+                    % (INTERLEAVE * INTERLEAVE);
+        for (int j = start; j < last; j += INTERLEAVE * INTERLEAVE) {
+            Emitter e = emitters[j];
+            if (e.position.w <= 0.0) continue;
+            vec3 d = p - e.position.xyz;
+            float facing = -dot(n, d) * inversesqrt(max(dot(d, d), 1e-30));
+            if (facing <= 0.0) continue;
+            vec3 light = emitter_light(e, d) * facing;
+            if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
+            vec3 emitter = (e.position.xyz - grid_origin) / voxel;
+            if (segment_blocked(occupancy, coarse, voxels_per_cell, 0, emitter + 0.75 * e.normal.xyz, from_pixel, emitter,
+                                EMITTER_RADIUS, true))
+                continue;
+            sum += light;
+        }
+        sum *= float(INTERLEAVE * INTERLEAVE);
+    }
+    vec4 before = accumulate ? imageLoad(gathered, pixel) : vec4(0.0);
+    imageStore(gathered, pixel, before + vec4(sum, 0.0));
+}

@@ -1,0 +1,84 @@
+"""VPL gathering: every pixel sums the light of the VPLs that see it (issue 16's accurate
+mode). Visibility is a march through the scene's occupancy (gpu/occupancy.py) over the
+coarsest grid level; each pixel of an INTERLEAVE² block takes its own subset of the VPLs
+and a filter that heeds depth and normal puts the block back together."""
+import math
+
+
+from .context import dispatch, set_uniforms
+from .occupancy import MARCH_STEP, VOXELS_PER_CELL, Occupancy
+
+INTERLEAVE = 4
+"""Pixels along each side of an interleaving block: each pixel gathers one VPL in
+INTERLEAVE²."""
+DEPTH_TOLERANCE = 0.02
+"""A neighbour this far off a pixel's plane, over the pixel's distance to the camera,
+counts half in the filter."""
+LOOP_LIMIT = 60000  # llvmpipe stops a loop nest after 65,535 iterations
+
+
+class VPLGather:
+    """The occupancy the gather marches through and the per-pixel images it writes."""
+
+    def __init__(self, glc, grid):
+        self.glc = glc
+        self.grid = grid
+        self.occupancy = Occupancy(glc, [grid])
+        self.emitter_sets = []
+        self.gathered = self.filtered = None
+
+    def build(self, mesh, emitter_sets):
+        """Voxelise the scene and keep the VPL buffers (buffer, count) to gather from."""
+        self.occupancy.voxelise(mesh)
+        self.emitter_sets = list(emitter_sets)
+
+    def _images(self, size):
+        if self.gathered is None or self.gathered.size != size:
+            for image in (self.gathered, self.filtered):
+                if image is not None:
+                    image.release()
+            self.gathered, self.filtered = (self.glc.gl.texture(size, 4, dtype="f4") for _ in range(2))
+        return self.gathered, self.filtered
+
+    def gather(self, targets, uniforms, camera_position):
+        """Gather every pixel's irradiance from the VPLs and filter it into `filtered`.
+        `uniforms` are the G-buffer's (gpu/shade.py gbuffer_uniforms), its textures bound."""
+        gathered, filtered = self._images(targets.size)
+        program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE)
+        gathered.bind_to_image(0, read=True, write=True)
+        self.occupancy.occupancy.use(location=2)
+        self.occupancy.coarse.use(location=3)
+        longest_march = math.ceil(self.occupancy.voxels * math.sqrt(3) / MARCH_STEP) + 1
+        batch = INTERLEAVE ** 2 * max(1, LOOP_LIMIT // longest_march)
+        set_uniforms(program, **uniforms, occupancy=2, coarse=3, grid_origin=self.grid.origin,
+                     cell_size=self.grid.cell_size, voxels_per_cell=VOXELS_PER_CELL, batch=batch)
+        accumulate = False
+        for buffer, count in self.emitter_sets:
+            buffer.bind_to_storage_buffer(0)
+            for first in range(0, count, batch):
+                set_uniforms(program, emitter_count=count, first_emitter=first, accumulate=accumulate)
+                dispatch(program, *targets.size)
+                accumulate = True
+        if not accumulate:
+            set_uniforms(program, emitter_count=0, first_emitter=0, accumulate=False)
+            dispatch(program, *targets.size)
+        program = self.glc.compute("vpl_gather_filter", INTERLEAVE=INTERLEAVE)
+        gathered.bind_to_image(0, read=True, write=False)
+        filtered.bind_to_image(1, read=False, write=True)
+        set_uniforms(program, **uniforms, camera_position=tuple(float(v) for v in camera_position),
+                     depth_tolerance=DEPTH_TOLERANCE)
+        dispatch(program, *targets.size)
+
+    def lookup_uniforms(self, first_unit):
+        self.filtered.use(location=first_unit)
+        return {"gathered": first_unit}
+
+    def resources(self):
+        images = tuple(image for image in (self.gathered, self.filtered) if image is not None)
+        return (*self.occupancy.resources(), *images)
+
+    def release(self):
+        self.occupancy.release()
+        for image in (self.gathered, self.filtered):
+            if image is not None:
+                image.release()

@@ -18,9 +18,10 @@ gather; for VPL gathering, voxelising (its gather follows the camera: pixel_gath
 
 
 class IndirectGrids:
-    """The volumes of one method over `grids` (level-major, each level's phases together)."""
+    """The volumes of one method over `grids` (level-major, each level's `phases` grids
+    together)."""
 
-    def __init__(self, glc, method, grids):
+    def __init__(self, glc, method, grids, phases):
         self.glc = glc
         self.method = method
         self.grids = tuple(grids)
@@ -29,7 +30,7 @@ class IndirectGrids:
         elif method == "light_grid":
             self.volumes = [LightGrid(glc, self.grids)]
         else:
-            self.volumes = [VPLGather(glc, self.grids[-1])]
+            self.volumes = [VPLGather(glc, self.grids[::phases])]
 
     def build(self, maps, mesh, levels, scene_bounds, settings, stats):
         """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage."""

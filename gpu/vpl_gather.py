@@ -1,8 +1,10 @@
 """VPL gathering: every pixel sums the light of the VPLs that see it (issue 16's accurate
 mode). Visibility is a march through the scene's occupancy (gpu/occupancy.py) over the
-coarsest grid level; each pixel of an INTERLEAVE² block takes its own subset of the VPLs
+grid levels, each part of a segment in the finest level that holds it; each pixel of an INTERLEAVE² block takes its own subset of the VPLs
 and a filter that heeds depth and normal puts the block back together."""
 import math
+
+import numpy as np
 
 
 from .context import dispatch, set_uniforms
@@ -20,10 +22,10 @@ LOOP_LIMIT = 60000  # llvmpipe stops a loop nest after 65,535 iterations
 class VPLGather:
     """The occupancy the gather marches through and the per-pixel images it writes."""
 
-    def __init__(self, glc, grid):
+    def __init__(self, glc, levels):
         self.glc = glc
-        self.grid = grid
-        self.occupancy = Occupancy(glc, [grid])
+        self.levels = tuple(levels)
+        self.occupancy = Occupancy(glc, self.levels)
         self.emitter_sets = []
         self.gathered = self.filtered = None
 
@@ -44,14 +46,16 @@ class VPLGather:
         """Gather every pixel's irradiance from the VPLs and filter it into `filtered`.
         `uniforms` are the G-buffer's (gpu/shade.py gbuffer_uniforms), its textures bound."""
         gathered, filtered = self._images(targets.size)
-        program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE)
+        program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE, LEVELS=len(self.levels))
         gathered.bind_to_image(0, read=True, write=True)
         self.occupancy.occupancy.use(location=2)
         self.occupancy.coarse.use(location=3)
-        longest_march = math.ceil(self.occupancy.voxels * math.sqrt(3) / MARCH_STEP) + 1
+        longest_march = len(self.levels) * (math.ceil(self.occupancy.voxels * math.sqrt(3) / MARCH_STEP) + 1)
         batch = INTERLEAVE ** 2 * max(1, LOOP_LIMIT // longest_march)
-        set_uniforms(program, **uniforms, occupancy=2, coarse=3, grid_origin=self.grid.origin,
-                     cell_size=self.grid.cell_size, voxels_per_cell=VOXELS_PER_CELL, batch=batch)
+        set_uniforms(program, **uniforms, occupancy=2, coarse=3,
+                     level_origins=np.array([level.origin for level in self.levels]),
+                     level_voxels=np.array([level.cell_size / VOXELS_PER_CELL for level in self.levels]),
+                     voxels=self.occupancy.voxels, voxels_per_cell=VOXELS_PER_CELL, batch=batch)
         accumulate = False
         for buffer, count in self.emitter_sets:
             buffer.bind_to_storage_buffer(0)

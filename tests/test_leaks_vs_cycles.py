@@ -148,9 +148,9 @@ def test_the_vpl_gather_keeps_the_room_behind_a_thin_wall_at_cycles_level(measur
     assert 0.7 < errors["mean"] / errors["reference_mean"] < 1.3
 
 
-@pytest.mark.xfail(strict=True, reason="3.1 % of the light the box holds leaks out in streaks across the floor (the "
-                                       "light grid: 1.0 %); the VPL gather's marches are still to be made tight")
 def test_the_vpl_gather_keeps_light_in_a_closed_box(measured):
+    """Measured: 1.1 % (the light grid 1.0 %; 3.5 % when the gather marched through the
+    coarsest level's voxels alone, 0.4 m against the box's 1 m)."""
     built = BUILDERS["closed_box"](SIZE)
     indirect = render_once(scene_to_render(built.scene), GATHER).passes["indirect"]
     leak = indirect.mean() / measured("closed_box").unblocked_direct.mean()

@@ -8,21 +8,18 @@ const float MARCH_STEP = 0.7;  // voxels between samples: a surface one voxel th
 // `surface` (the surface the segment leaves, and where it bends away from it at an edge),
 // anything outside the grid, and with `skip_end` the voxel b lies in (a cell centre on a
 // surface still gathers light; a lookup does not use it). Empty cells are crossed in one step.
-bool segment_blocked(usampler3D occupancy, usampler3D coarse, int per_cell, int layer, vec3 a, vec3 b,
-                     vec3 surface, float radius, bool skip_end) {
+// Whether the part [t_from, t_to] of the segment a -> b (in `layer`'s voxel units) crosses a
+// surface, with segment_blocked's exceptions. Empty cells are crossed in one step.
+bool part_blocked(usampler3D occupancy, usampler3D coarse, int per_cell, int layer, vec3 a, vec3 b, float t_from,
+                  float t_to, vec3 surface, float radius, bool skip_end) {
     vec3 d = b - a;
     int cells = textureSize(coarse, 0).x;
-    ivec3 size = ivec3(cells * per_cell);
     ivec3 voxel_layer = ivec3(0, 0, layer * cells * per_cell), cell_layer = ivec3(0, 0, layer * cells);
-    // The part of the segment inside the grid (slabs).
     vec3 inverse = 1.0 / (d + vec3(1e-30));
-    vec3 t0 = (vec3(0.0) - a) * inverse, t1 = (vec3(size) - a) * inverse;
-    vec3 near = min(t0, t1), far = max(t0, t1);
-    float leave = min(1.0, min(far.x, min(far.y, far.z)));
     float step = MARCH_STEP / max(length(d), 1e-30);
-    float t = max(0.0, max(near.x, max(near.y, near.z))) + step;
+    float t = t_from + step;
     ivec3 end = ivec3(floor(b));
-    while (t < leave) {
+    while (t < t_to) {
         vec3 x = a + d * t;
         ivec3 cell = ivec3(floor(x / float(per_cell)));
         if (texelFetch(coarse, cell + cell_layer, 0).r == 0u) {
@@ -32,8 +29,28 @@ bool segment_blocked(usampler3D occupancy, usampler3D coarse, int per_cell, int 
             continue;
         }
         ivec3 v = ivec3(floor(x));
-        if ((v != end || !skip_end) && distance(x, surface) >= radius && texelFetch(occupancy, v + voxel_layer, 0).r != 0u) return true;
+        if ((v != end || !skip_end) && distance(x, surface) >= radius && texelFetch(occupancy, v + voxel_layer, 0).r != 0u)
+            return true;
         t += step;
     }
     return false;
+}
+
+// The part of the segment a -> b (voxel units) inside a grid of `voxels` a side, as [enter, leave].
+vec2 part_inside(vec3 a, vec3 b, float voxels) {
+    vec3 inverse = 1.0 / (b - a + vec3(1e-30));
+    vec3 t0 = -a * inverse, t1 = (vec3(voxels) - a) * inverse;
+    vec3 near = min(t0, t1), far = max(t0, t1);
+    return vec2(max(0.0, max(near.x, max(near.y, near.z))), min(1.0, min(far.x, min(far.y, far.z))));
+}
+
+// Whether the segment a -> b crosses a surface, not counting samples within `radius` of
+// `surface` (the surface the segment leaves, and where it bends away from it at an edge),
+// anything outside the grid, and with `skip_end` the voxel b lies in (a cell centre on a
+// surface still gathers light; a lookup does not use it).
+bool segment_blocked(usampler3D occupancy, usampler3D coarse, int per_cell, int layer, vec3 a, vec3 b,
+                     vec3 surface, float radius, bool skip_end) {
+    vec2 inside = part_inside(a, b, float(textureSize(coarse, 0).x * per_cell));
+    return inside.x < inside.y && part_blocked(occupancy, coarse, per_cell, layer, a, b, inside.x, inside.y, surface,
+                                               radius, skip_end);
 }

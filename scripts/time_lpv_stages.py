@@ -29,7 +29,7 @@ except ImportError:  # the version before bench/ and gpu/scene_file.py
 CASES = tuple(PRESETS.items())
 SCENES = (("cornell", (1024, 1024)), ("city130k_point", (1920, 1080)), ("city1200k_point", (1920, 1080)))
 KEYS = ("gpu_rsm_ms", "gpu_warp_ms", "gpu_vpl_ms", "gpu_place_ms", "gpu_inject_ms", "gpu_propagate_ms",
-        "gpu_gather_ms", "gpu_gbuffer_ms", "gpu_direct_ms", "gpu_indirect_ms", "total_ms")
+        "gpu_gather_ms", "gpu_gbuffer_ms", "gpu_direct_ms", "gpu_pixel_gather_ms", "gpu_indirect_ms", "total_ms")
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("folder")

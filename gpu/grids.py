@@ -19,11 +19,6 @@ class Grid:
         """The grid over the same box with cells `factor` times as wide."""
         return Grid(self.origin, self.cell_size * factor, max(1, self.size // factor))
 
-    def contains(self, points):
-        """Whether each of the points (..., 3) lies inside the grid's box."""
-        cells = (np.asarray(points, dtype=np.float64) - self.origin) / self.cell_size
-        return np.all((cells >= 0.0) & (cells <= self.size), axis=-1)
-
 
 GRID_ANCHOR_STEPS = 16
 """The grid's centre follows the box's centre in steps of about 1/GRID_ANCHOR_STEPS of a

@@ -15,7 +15,7 @@ import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms
-from .occupancy import MARCH_STEP, VOXELS_PER_CELL, Occupancy
+from .occupancy import VOXELS_PER_CELL, Occupancy, march_batch
 
 CLUSTER_CELLS = 2
 """A cluster of emitters spans this many cells of its level along each side: a quarter to
@@ -24,7 +24,6 @@ CLUSTER_INTS = 10  # flux rgb, weighted place xyz, weighted normal xyz, weight
 EMITTER_BYTES = 48
 FIXED_POINT_RANGE = 2.0 ** 30
 DIRECTIONS = 6  # +x, -x, +y, -y, +z, -z
-LOOP_LIMIT = 60000  # llvmpipe stops a loop nest after 65,535 iterations
 GATHER_LANES = 64  # invocations sharing one cell's emitters (shaders/light_grid_gather.comp)
 
 
@@ -101,8 +100,7 @@ class LightGrid:
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
         self.emitter_count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
-        longest_march = math.ceil(self.occupancy.voxels * math.sqrt(3) / MARCH_STEP) + 1
-        batch = GATHER_LANES * max(1, LOOP_LIMIT // longest_march)
+        batch = march_batch(self.occupancy.voxels, lanes=GATHER_LANES)
         self.occupancy.occupancy.use(location=0)
         self.occupancy.coarse.use(location=1)
         for layer, (grid, irradiance) in enumerate(zip(self.grids, self.irradiance)):

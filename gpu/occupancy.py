@@ -1,6 +1,8 @@
 """The scene's surfaces voxelised over a set of grids, for visibility marches
 (shaders/occupancy.glsl): the light grid's between emitters and cells and between
 surfaces and cells."""
+import math
+
 import moderngl
 import numpy as np
 
@@ -10,6 +12,15 @@ VOXELS_PER_CELL = 3
 """Occupancy voxels along a cell's side: odd, so a cell centre is a voxel's centre, and
 enough that a wall thinner than a cell lies between the cells on its two sides."""
 MARCH_STEP = 0.7  # voxels between a march's samples, as in shaders/occupancy.glsl
+LOOP_LIMIT = 60000  # llvmpipe stops a loop nest after 65,535 iterations in all
+
+
+def march_batch(voxels, grids=1, lanes=1):
+    """How many emitters one dispatch of a gather may take when `lanes` invocations share
+    them and each march crosses up to `grids` grids of `voxels` a side: llvmpipe's loop
+    limit over the longest marches."""
+    longest = grids * (math.ceil(voxels * math.sqrt(3) / MARCH_STEP) + 1)
+    return lanes * max(1, LOOP_LIMIT // longest)
 
 
 def axis_projections(grid):

@@ -150,6 +150,7 @@ class Pipeline:
         self._targets = None
         self._shown_keys = ()      # the light cache keys of the last frame
         self._fits = None          # what the last frame that fitted the machine depended on
+        self._placement = None     # (what it depends on, the grids placed around the view)
         self.last_origin = np.zeros(3)  # the world point the last frame's positions are relative to
 
     @property
@@ -186,10 +187,10 @@ class Pipeline:
             recipes += (s.warp_iterations, s.warp_significant_figures)
         region = sun_region(levels, bounds)
         for light in scene.lights:
-            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes,
-                   region if light.kind == "SUN" else None)
+            light_region = region if light.kind == "SUN" else None
+            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes, light_region)
             if key not in self._lights:
-                self._lights[key] = self._render_light(light, bounds, stats, key[-1])
+                self._lights[key] = self._render_light(light, bounds, stats, light_region)
             maps.append(self._lights[key])
             keys.append(key)
         for stale in set(self._lights) - set(keys):
@@ -261,10 +262,15 @@ class Pipeline:
         targets = self._targets
         with self.glc.timed(stats, "gbuffer_ms"):
             render_gbuffer(self.glc, self._mesh[1], scene.camera, targets)
-        with self.glc.timed(stats, "place_ms"):
-            boxes = level_boxes(seen_points(self.glc, targets, scene.camera), scene.bounds(), s.grid_levels)
-            placed = tuple(fit_grid(box, s.lpv_resolution, s.grid_shift + phase / s.grid_phases)
-                           for box in boxes for phase in range(s.grid_phases))
+        placement_key = (scene.camera.key(), self._mesh[0], s.lpv_resolution, s.grid_levels, s.grid_phases,
+                         s.grid_shift, s.width, s.height)
+        if self._placement is None or self._placement[0] != placement_key:
+            with self.glc.timed(stats, "place_ms"):  # the G-buffer read back: only when the view changed
+                boxes = level_boxes(seen_points(self.glc, targets, scene.camera), scene.bounds(), s.grid_levels)
+                self._placement = (placement_key, tuple(
+                    fit_grid(box, s.lpv_resolution, s.grid_shift + phase / s.grid_phases)
+                    for box in boxes for phase in range(s.grid_phases)))
+        placed = self._placement[1]
         previous = self._indirect[1].grids if self._indirect is not None else None
         grids = keep_or_move(previous, placed)
         levels = list(grids[::s.grid_phases])
@@ -339,6 +345,7 @@ class Pipeline:
         for maps in self._lights.values():
             maps.release()
         self._lights.clear()
+        self._placement = None
         if self._indirect is not None:
             self._indirect = (None, self._indirect[1])  # keep the volumes' memory, forget their content
 

@@ -2,13 +2,11 @@
 mode). Visibility is a march through the scene's occupancy (gpu/occupancy.py) over the
 grid levels, each part of a segment in the finest level that holds it; each pixel of an INTERLEAVE² block takes its own subset of the VPLs
 and a filter that heeds depth and normal puts the block back together."""
-import math
-
 import numpy as np
 
 
 from .context import dispatch, set_uniforms
-from .occupancy import MARCH_STEP, VOXELS_PER_CELL, Occupancy
+from .occupancy import VOXELS_PER_CELL, Occupancy, march_batch
 
 INTERLEAVE = 4
 """Pixels along each side of an interleaving block: each pixel gathers one VPL in
@@ -16,7 +14,6 @@ INTERLEAVE²."""
 DEPTH_TOLERANCE = 0.02
 """A neighbour this far off a pixel's plane, over the pixel's distance to the camera,
 counts half in the filter."""
-LOOP_LIMIT = 60000  # llvmpipe stops a loop nest after 65,535 iterations
 
 
 class VPLGather:
@@ -50,8 +47,7 @@ class VPLGather:
         gathered.bind_to_image(0, read=True, write=True)
         self.occupancy.occupancy.use(location=2)
         self.occupancy.coarse.use(location=3)
-        longest_march = len(self.levels) * (math.ceil(self.occupancy.voxels * math.sqrt(3) / MARCH_STEP) + 1)
-        batch = INTERLEAVE ** 2 * max(1, LOOP_LIMIT // longest_march)
+        batch = march_batch(self.occupancy.voxels, len(self.levels), INTERLEAVE ** 2)
         set_uniforms(program, **uniforms, occupancy=2, coarse=3,
                      level_origins=np.array([level.origin for level in self.levels]),
                      level_voxels=np.array([level.cell_size / VOXELS_PER_CELL for level in self.levels]),

@@ -2,6 +2,7 @@
 // where a surface passes, and a cell (per_cell voxels a side) of the coarse occupancy where
 // any of its voxels is. Each grid's voxels follow the one before's along z (`layer`).
 // Points are in voxel units of their grid (voxel (i, j, k) spans [i, i+1] x ...).
+#include "segment.glsl"
 const float MARCH_STEP = 0.7;  // voxels between samples: a surface one voxel thick is not stepped over
 
 // Whether the segment a -> b crosses a surface, not counting samples within `radius` of
@@ -34,14 +35,6 @@ bool part_blocked(usampler3D occupancy, usampler3D coarse, int per_cell, int lay
         t += step;
     }
     return false;
-}
-
-// The part of the segment a -> b (voxel units) inside a grid of `voxels` a side, as [enter, leave].
-vec2 part_inside(vec3 a, vec3 b, float voxels) {
-    vec3 inverse = 1.0 / (b - a + vec3(1e-30));
-    vec3 t0 = -a * inverse, t1 = (vec3(voxels) - a) * inverse;
-    vec3 near = min(t0, t1), far = max(t0, t1);
-    return vec2(max(0.0, max(near.x, max(near.y, near.z))), min(1.0, min(far.x, min(far.y, far.z))));
 }
 
 // Whether the segment a -> b crosses a surface, not counting samples within `radius` of

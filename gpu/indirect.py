@@ -1,6 +1,7 @@
-"""The indirect-light stage's grids for either method: LPVs (the thesis's: inject VPLs,
-propagate) or a light grid (gather every emitter's light at every cell centre), one per
-level and phase, built from the lights' VPLs and looked up by shaders/shade_indirect.comp."""
+"""The indirect-light stage for each method: LPVs (the thesis's: inject VPLs, propagate)
+or a light grid (gather every emitter's light at every cell centre), one per level and
+phase, or VPL gathering (every pixel gathers, through the levels' occupancy); built from
+the lights' VPLs and looked up by shaders/shade_indirect.comp."""
 import math
 
 import numpy as np
@@ -25,25 +26,26 @@ class IndirectGrids:
         self.glc = glc
         self.method = method
         self.grids = tuple(grids)
+        self.levels = self.grids[::phases]
         if method == "lpv":
             self.volumes = [LightPropagationVolume(glc, grid) for grid in self.grids]
         elif method == "light_grid":
             self.volumes = [LightGrid(glc, self.grids)]
         else:
-            self.volumes = [VPLGather(glc, self.grids[::phases])]
+            self.volumes = [VPLGather(glc, self.levels)]
 
-    def build(self, maps, mesh, levels, scene_bounds, settings, stats):
+    def build(self, maps, mesh, scene_bounds, settings, stats):
         """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage."""
         timed = self.glc.timed
         flux_bound = sum(m.vpl_map.flux_bound for m in maps)
-        first, *second = INDIRECT_STAGES[self.method]
+        first, second = (INDIRECT_STAGES[self.method] + (None,))[:2]
         if self.method == "lpv":
             with timed(stats, first):
                 for lpv in self.volumes:
                     lpv.inject([m.vpls for m in maps], flux_bound)
                     if settings.occlusion:
                         lpv.inject_geometry([m.vpl_map for m in maps])
-            with timed(stats, second[0]):
+            with timed(stats, second):
                 for lpv in self.volumes:
                     lpv.propagate(settings.propagation_iterations, settings.occlusion)
             return
@@ -54,10 +56,10 @@ class IndirectGrids:
         light_grid = self.volumes[0]
         with timed(stats, first):
             light_grid.occupancy.voxelise(mesh)
-            cluster_grids = [grid.coarser(CLUSTER_CELLS) for grid in levels]
+            cluster_grids = [grid.coarser(CLUSTER_CELLS) for grid in self.levels]
             cluster_grids.append(fit_grid(scene_bounds, cluster_grids[0].size))
             light_grid.cluster([(m.vpls.buffer, m.vpls.count) for m in maps], flux_bound, cluster_grids)
-        with timed(stats, second[0]):
+        with timed(stats, second):
             light_grid.gather()
 
     def lookup_uniforms(self, first_unit):

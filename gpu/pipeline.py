@@ -283,7 +283,7 @@ class Pipeline:
                 indirect = None
             if indirect is None:
                 indirect = IndirectGrids(self.glc, s.indirect_method, grids, s.grid_phases)
-            indirect.build(maps, self._mesh[1], levels, scene.bounds(), s, stats)
+            indirect.build(maps, self._mesh[1], scene.bounds(), s, stats)
             self._indirect = (indirect_key, indirect)
         indirect = self._indirect[1]
         with self.glc.timed(stats, "direct_ms"):

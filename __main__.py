@@ -244,7 +244,7 @@ def bench_cycles_indirect(item, samples, width, height):
     if item.endswith(".npz"):
         from .gpu.scene_file import stored_cycles_indirect
         return stored_cycles_indirect(item)
-    return demo.one_bounce_indirect(demo.build(item), samples, width), samples
+    return demo.cycles_indirect(demo.build(item), samples, width), samples
 
 
 def command_bench(args):

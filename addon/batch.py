@@ -126,7 +126,7 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
             started = time.perf_counter()
             bpy_scene.frame_set(frame)
             scene = scene_to_render(bpy_scene, (settings.width, settings.height))
-            result = pipeline.render(scene, passes=passes)
+            result = pipeline.render_converged(scene, passes=passes)
             write_frame(frame_path(out_dir, frame), result.passes, record)
             timings.append(time.perf_counter() - started)
             print_progress(done + 1, len(todo), frame, timings)

@@ -12,6 +12,7 @@ import bpy
 from ..gpu.errors import LPVError
 from . import frame_stats, overlay
 from .final_render import render_final, scene_passes
+from .properties import display_settings_from_properties
 from .sync import record_updates
 from .viewport import ViewportSession, viewport_camera
 
@@ -72,7 +73,11 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
             return
         self.session.display.draw(self, depsgraph.scene)
         overlay.show(self.region, self.session.overlays)
-        self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms")
+        sets = frame.stats["vpl_sets"]
+        self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms" +
+                          (f", {sets} VPL sets" if sets > 1 else ""))
+        if self.session.converging(display_settings_from_properties(depsgraph.scene.lpv_preview)):
+            self.tag_redraw()  # a still view goes on converging
 
 
 SKIPPED_PANELS = {"VIEWLAYER_PT_filter", "VIEWLAYER_PT_layer_passes", "RENDER_PT_eevee_performance",

@@ -15,7 +15,8 @@ from .properties import settings_from_properties
 SETTING_GROUPS = {
     "Method": ("method", "rsm_resolution", "vpls_per_light"),
     "Indirect Light": ("indirect_method", "lpv_resolution", "grid_levels", "propagation_iterations", "occlusion",
-                       "indirect_intensity", "shadow_bias", "grid_phases", "grid_shift"),
+                       "bounces", "singularity_bound", "indirect_intensity", "shadow_bias", "grid_phases", "grid_shift"),
+    "Convergence": ("viewport_vpl_sets", "converge_sets", "converge_seconds"),
     "Warping": ("warp_alpha", "warp_iterations", "warp_significant_figures"),
     "Tessellation": ("tessellation_unit", "tessellated_warp_alpha"),
     "Overlays": ("show_vpls", "vpl_point_size", "show_lpv_slice", "lpv_slice_axis", "lpv_slice_position",
@@ -30,7 +31,8 @@ FROM_BLENDER = ("width", "height")
 """Settings Blender supplies: the render resolution, or the viewport's size."""
 
 STAGES = (("extract_ms", "Extract"), *((key, label[0].upper() + label[1:]) for key, label in PIPELINE_STAGES.items()),
-          ("debug_ms", "Debug passes"), ("readback_ms", "Readback"), ("total_ms", "Total"))
+          ("debug_ms", "Debug passes"), ("readback_ms", "Readback"), ("total_ms", "Total"),
+          ("converge_ms", "All VPL sets"))
 
 
 def draw_presets(layout, properties):
@@ -64,6 +66,8 @@ def draw_statistics(layout, stats):
             row.label(text=f"{stats[key]:.1f} ms")
     column.separator()
     column.label(text=f"{stats.get('vpl_count', 0):,} VPLs, {stats.get('triangles', 0):,} triangles")
+    if stats.get("vpl_sets", 1) > 1:
+        column.label(text=f"Converging: {stats['vpl_sets']} VPL sets, {stats['accumulated_vpls']:,} VPLs averaged")
     methods = stats.get("light_methods")
     if methods:
         column.label(text="Methods: " + ", ".join(m.upper() for m in methods))

@@ -61,31 +61,43 @@ class ViewportSession:
     def note_updates(self, updates):
         self.pending |= changed_parts(updates)
 
-    def frame(self, depsgraph, camera, size, view3d=None, settings=None):
+    def frame(self, depsgraph, camera, size, view3d=None, settings=None, accumulate=False):
         """Render the current scene from `camera` at `size` (width, height), with the
-        scene's settings unless given."""
+        scene's settings unless given; with `accumulate`, another VPL set averaged into
+        the last frame's indirect light (Pipeline.render)."""
         start = time.perf_counter()
         scene = self.sync.scene(depsgraph, self.pending, camera, view3d)
         self.pending = set()
         extract_ms = (time.perf_counter() - start) * 1000.0
         if settings is None:
             settings = settings_from_properties(depsgraph.scene.lpv_preview, width=size[0], height=size[1])
-        frame = self.pipeline.render(scene, settings, passes=(), display_into=self.display.target(size))
+        frame = self.pipeline.render(scene, settings, passes=(), display_into=self.display.target(size),
+                                     vpl_set=self.pipeline.vpl_pattern + 1 if accumulate else None,
+                                     accumulate=accumulate)
         frame.stats["extract_ms"] = extract_ms
         frame.stats["extracted"] = list(self.sync.extracted)
         frame_stats.remember(frame.stats)
         return frame
 
     def frame_to_draw(self, depsgraph, camera, size, view3d=None):
-        """The frame for a redraw: the last one again when no edit is pending and the
-        view, its size and the settings are unchanged (Blender redraws the viewport for
-        many reasons that change nothing we show), else a new one."""
-        settings = settings_from_properties(depsgraph.scene.lpv_preview, width=size[0], height=size[1])
+        """The frame for a redraw: a new one when an edit is pending or the view, its size
+        or the settings changed; while they stay, one more VPL set averaged in until the
+        still view has `viewport_vpl_sets` (`converging`), then the last one again
+        (Blender redraws the viewport for many reasons that change nothing we show)."""
+        properties = depsgraph.scene.lpv_preview
+        settings = settings_from_properties(properties, width=size[0], height=size[1])
+        display = display_settings_from_properties(properties)
         depends_on = (camera.key(), settings)
         if self.pending or self._shown is None or self._shown[0] != depends_on:
             self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings))
-        self.overlays.update(self.pipeline, display_settings_from_properties(depsgraph.scene.lpv_preview))
+        elif self.converging(display):
+            self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings, accumulate=True))
+        self.overlays.update(self.pipeline, display)
         return self._shown[1]
+
+    def converging(self, display):
+        """Whether the next redraw of the still view adds a VPL set."""
+        return self._shown is not None and self._shown[1].stats["vpl_sets"] < display.viewport_vpl_sets
 
     def release(self):
         self.pipeline.release()

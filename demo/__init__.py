@@ -44,14 +44,14 @@ def extracted(name, **params):
     return scene_to_render(build(name, **params))
 
 
-def one_bounce_indirect(bpy_scene, samples, width=None):
-    """A built scene's Cycles one-bounce indirect image (top row first) at `width` pixels
-    across (None: its own render width) with the scene's own aspect, rendered or taken
-    from the reference cache."""
+def cycles_indirect(bpy_scene, samples, width=None, kind="one_bounce"):
+    """A built scene's Cycles indirect image (top row first) of the reference `kind`
+    (one_bounce, full_gi) at `width` pixels across (None: its own render width) with the
+    scene's own aspect, rendered or taken from the reference cache."""
     from ..addon.cycles_reference import ReferenceCache, cycles_reference
     from ..addon.extract import render_resolution
     size = render_resolution(bpy_scene, width)
-    return cycles_reference(bpy_scene, "one_bounce", samples, 0, size, ReferenceCache()).indirect
+    return cycles_reference(bpy_scene, kind, samples, 0, size, ReferenceCache()).indirect
 
 
 def export_npz(name, path, lights=None, light_kind="point", cycles_samples=None, cycles_width=None, **params):
@@ -59,8 +59,9 @@ def export_npz(name, path, lights=None, light_kind="point", cycles_samples=None,
 
     With `lights`, its lights are replaced by that many of `light_kind` (gpu/scene_edits.py
     `with_lights`) in Blender too. With `cycles_samples`, its Cycles one-bounce indirect
-    image at `cycles_width` pixels across (the scene's aspect) is stored beside it for
-    sweeps on machines without Cycles (gpu/scene_file.py `stored_cycles_indirect`).
+    image at `cycles_width` pixels across (the scene's aspect), and its full-GI one, are
+    stored beside it for sweeps on machines without Cycles (gpu/scene_file.py
+    `stored_cycles_indirect`).
     Returns the extracted `Scene`.
     """
     from ..addon.render_scene import scene_to_render
@@ -74,5 +75,6 @@ def export_npz(name, path, lights=None, light_kind="point", cycles_samples=None,
         scene = scene_to_render(bpy_scene)
     save_scene(scene, path)
     if cycles_samples:
-        store_cycles_indirect(path, one_bounce_indirect(bpy_scene, cycles_samples, cycles_width), cycles_samples)
+        store_cycles_indirect(path, cycles_indirect(bpy_scene, cycles_samples, cycles_width), cycles_samples,
+                              cycles_indirect(bpy_scene, cycles_samples, cycles_width, "full_gi"))
     return scene

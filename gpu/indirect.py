@@ -9,13 +9,15 @@ import numpy as np
 from .grids import fit_grid
 from .light_grid import CLUSTER_CELLS, LightGrid
 from .lpv import LightPropagationVolume
+from .second_bounce import SecondBounce
 from .vpl_gather import VPLGather
 
 INDIRECT_STAGES = {"lpv": ("inject_ms", "propagate_ms"), "light_grid": ("inject_ms", "gather_ms"),
                    "vpl_gather": ("inject_ms",)}
 """The timed stages of each method (stats keys) redone when the lights or the grids
 change: for the light grid, voxelising the scene and clustering the emitters, then the
-gather; for VPL gathering, voxelising (its gather follows the camera: pixel_gather_ms)."""
+gather; for VPL gathering, voxelising (its gather follows the camera: pixel_gather_ms).
+With two bounces, both add the second bounce (bounce_ms) between them."""
 
 
 class IndirectGrids:
@@ -27,6 +29,7 @@ class IndirectGrids:
         self.method = method
         self.grids = tuple(grids)
         self.levels = self.grids[::phases]
+        self.second_bounce = SecondBounce(glc)
         if method == "lpv":
             self.volumes = [LightPropagationVolume(glc, grid) for grid in self.grids]
         elif method == "light_grid":
@@ -34,11 +37,13 @@ class IndirectGrids:
         else:
             self.volumes = [VPLGather(glc, self.levels)]
 
-    def build(self, maps, mesh, scene_bounds, settings, stats):
-        """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage."""
+    def build(self, maps, mesh, scene_bounds, settings, stats, pattern=0):
+        """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage;
+        with `settings.bounces` 2 (light grid and VPL gathering) from a second generation
+        of VPLs too, whose senders' subsets follow the VPL `pattern`."""
         timed = self.glc.timed
         flux_bound = sum(m.vpl_map.flux_bound for m in maps)
-        first, second = (INDIRECT_STAGES[self.method] + (None,))[:2]
+        first, second = INDIRECT_STAGES[self.method][0], INDIRECT_STAGES[self.method][-1]
         if self.method == "lpv":
             with timed(stats, first):
                 for lpv in self.volumes:
@@ -49,18 +54,26 @@ class IndirectGrids:
                 for lpv in self.volumes:
                     lpv.propagate(settings.propagation_iterations, settings.occlusion)
             return
-        if self.method == "vpl_gather":
-            with timed(stats, first):
-                self.volumes[0].build(mesh, [(m.vpls.buffer, m.vpls.count) for m in maps])
-            return
-        light_grid = self.volumes[0]
+        volume = self.volumes[0]
         with timed(stats, first):
-            light_grid.occupancy.voxelise(mesh)
+            volume.occupancy.voxelise(mesh)
+        emitters = [(m.vpls.buffer, m.vpls.count) for m in maps]
+        if settings.bounces == 2 and maps:
+            layers = range(0, len(self.grids), len(self.grids) // len(self.levels)) if self.method == "light_grid" \
+                else range(len(self.levels))
+            with timed(stats, "bounce_ms"):
+                emitters += self.second_bounce.build(maps, volume.occupancy, layers, settings.singularity_bound,
+                                                     pattern)
+            flux_bound *= 2  # the second generation carries less than the first
+        if self.method == "vpl_gather":
+            volume.emitter_sets = emitters
+            return
+        with timed(stats, first):
             cluster_grids = [grid.coarser(CLUSTER_CELLS) for grid in self.levels]
             cluster_grids.append(fit_grid(scene_bounds, cluster_grids[0].size))
-            light_grid.cluster([(m.vpls.buffer, m.vpls.count) for m in maps], flux_bound, cluster_grids)
+            volume.cluster(emitters, flux_bound, cluster_grids)
         with timed(stats, second):
-            light_grid.gather()
+            volume.gather(settings.singularity_bound)
 
     def lookup_uniforms(self, first_unit):
         """Bind the volumes for the lookup from texture unit `first_unit` on; the uniforms
@@ -87,8 +100,10 @@ class IndirectGrids:
         return np.zeros((self.grids[0].size,) * 3 + (3,), dtype=np.float32)  # a gather holds no cells
 
     def resources(self):
-        return tuple(resource for volume in self.volumes for resource in volume.resources())
+        return (*(resource for volume in self.volumes for resource in volume.resources()),
+                *self.second_bounce.resources())
 
     def release(self):
         for volume in self.volumes:
             volume.release()
+        self.second_bounce.release()

@@ -93,9 +93,10 @@ class LightGrid:
             set_uniforms(program, **levels)
             dispatch(program, 1 if stage == 1 else self.capacity, local=(64,))
 
-    def gather(self):
+    def gather(self, singularity_bound):
         """Every grid's cells gather the clustered emitters' light, in batches of emitters
-        whose marches stay under llvmpipe's loop limit (shaders/light_grid_gather.comp)."""
+        whose marches stay under llvmpipe's loop limit (shaders/light_grid_gather.comp),
+        its 1/r² bounded by `singularity_bound` (shaders/emitter.glsl)."""
         program = self.glc.compute("light_grid_gather")
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
@@ -106,7 +107,8 @@ class LightGrid:
         for layer, (grid, irradiance) in enumerate(zip(self.grids, self.irradiance)):
             irradiance.bind_to_image(0, read=True, write=True)
             set_uniforms(program, occupancy=0, coarse=1, layer=layer, grid_origin=grid.origin,
-                         cell_size=grid.cell_size, grid_size=grid.size, voxels_per_cell=VOXELS_PER_CELL, batch=batch)
+                         cell_size=grid.cell_size, grid_size=grid.size, voxels_per_cell=VOXELS_PER_CELL, batch=batch,
+                         singularity_bound=singularity_bound)
             for first in range(0, max(self.emitter_count, 1), batch):
                 set_uniforms(program, first_emitter=first)
                 dispatch(program, grid.size ** 3, local=(1,))  # a workgroup per cell

@@ -95,6 +95,18 @@ class Occupancy:
         gl.memory_barrier()
 
 
+    def march_uniforms(self, layers, first_unit):
+        """Bind the volumes from texture unit `first_unit` on; the uniforms of
+        shaders/levels_march.glsl marching the grids `layers` (indices, finest first)."""
+        self.occupancy.use(location=first_unit)
+        self.coarse.use(location=first_unit + 1)
+        grids = [self.grids[layer] for layer in layers]
+        return {"occupancy": first_unit, "coarse": first_unit + 1,
+                "level_origins": np.array([grid.origin for grid in grids]),
+                "level_voxels": np.array([grid.cell_size / VOXELS_PER_CELL for grid in grids]),
+                "level_layers": np.array(layers, dtype=np.int32), "voxels": self.voxels,
+                "voxels_per_cell": VOXELS_PER_CELL}
+
     def resources(self):
         return (self.occupancy, self.coarse, self._canvas, self.large, self.command)
 

@@ -36,17 +36,19 @@ AUTO_TESSELLATION_SHARE = 0.10
 AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
-          "inject_ms": "inject", "propagate_ms": "propagate", "gather_ms": "gather", "direct_ms": "direct",
+          "inject_ms": "inject", "bounce_ms": "second bounce", "propagate_ms": "propagate", "gather_ms": "gather",
+          "direct_ms": "direct",
           "pixel_gather_ms": "pixel gather", "indirect_ms": "indirect"}
 """A frame's timed stages (its stats keys) in the order they run, with their names: the
 indirect stage's inject and propagate (LPV) or inject and gather (light grid)."""
 
 
 def render_once(scene, settings, glc=None, **render_args):
-    """One frame of `scene` by a pipeline built for it and released after."""
+    """One frame of `scene`, converged as `settings` ask, by a pipeline built for it and
+    released after."""
     pipeline = Pipeline(settings, glc)
     try:
-        return pipeline.render(scene, **render_args)
+        return pipeline.render_converged(scene, **render_args)
     finally:
         pipeline.release()
 
@@ -79,14 +81,16 @@ def auto_method(light):
 @dataclass
 class LightMaps:
     """One light's RSM (warped for WDPM), its VPLs, the method that made them, for the
-    warped methods the warp status, and for a sun whose map spans far more than the camera
-    sees, the map of the region it sees that the VPLs come from (`region`)."""
+    warped methods the warp status, for a sun whose map spans far more than the camera
+    sees, the map of the region it sees that the VPLs come from (`region`), and the
+    Poisson pattern of the VPLs (gpu/vpl.py)."""
 
     rsm: object
     vpls: object
     method: str
     warp: object = None
     region: object = None
+    pattern: int = 0
 
     @property
     def vpl_map(self):
@@ -152,6 +156,8 @@ class Pipeline:
         self._fits = None          # what the last frame that fitted the machine depended on
         self._placement = None     # (what it depends on, the grids placed around the view)
         self.last_origin = np.zeros(3)  # the world point the last frame's positions are relative to
+        self.vpl_pattern = 0       # the Poisson pattern of the VPLs (gpu/vpl.py)
+        self._accumulated = None   # (what the last frame's image depends on, VPL sets in it, VPLs in it)
 
     @property
     def last_light_maps(self):
@@ -176,7 +182,8 @@ class Pipeline:
 
     def light_maps(self, scene, stats=None, levels=None):
         """Each light's LightMaps, rendered only when the light, geometry, settings or (for
-        a sun) the region of the grid `levels` changed; and their cache keys."""
+        a sun) the region of the grid `levels` changed, its VPLs sampled again when the
+        pattern (`vpl_pattern`) changed; and their cache keys."""
         stats = {} if stats is None else stats
         s = self.settings
         geometry_key = self._upload(scene, stats)
@@ -191,7 +198,13 @@ class Pipeline:
             key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes, light_region)
             if key not in self._lights:
                 self._lights[key] = self._render_light(light, bounds, stats, light_region)
-            maps.append(self._lights[key])
+            light_maps = self._lights[key]
+            if light_maps.pattern != self.vpl_pattern:
+                with self.glc.timed(stats, "vpl_ms"):
+                    vpls = self.vpl_sampler.sample(light_maps.vpl_map, s.vpls_per_light, self.vpl_pattern)
+                light_maps.vpls.release()
+                light_maps.vpls, light_maps.pattern = vpls, self.vpl_pattern
+            maps.append(light_maps)
             keys.append(key)
         for stale in set(self._lights) - set(keys):
             self._lights.pop(stale).release()
@@ -228,17 +241,24 @@ class Pipeline:
                 region_map = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution,
                                         tuple(np.array(corner) for corner in region), reach=bounds)
         with self.glc.timed(stats, "vpl_ms"):
-            vpls = self.vpl_sampler.sample(rsm if region_map is None else region_map, s.vpls_per_light)
-        return LightMaps(rsm, vpls, method, status, region_map)
+            vpls = self.vpl_sampler.sample(rsm if region_map is None else region_map, s.vpls_per_light,
+                                           self.vpl_pattern)
+        return LightMaps(rsm, vpls, method, status, region_map, self.vpl_pattern)
 
-    def render(self, scene, settings=None, passes=PASS_NAMES, display_into=None, display_settings=None):
+    def render(self, scene, settings=None, passes=PASS_NAMES, display_into=None, display_settings=None,
+               vpl_set=None, accumulate=False):
         """Render the scene from its camera; returns a Frame with the `passes` asked for
         (read back from the GPU; PASS_NAMES and the debug passes DEBUG_PASS_NAMES, whose
         splat size `display_settings` gives), and with `display_into` (a writable buffer
         of width x height x 4 float32) the combined image read into it as RGBA rows,
         bottom row first: what a viewport draws, read with no copy on the way. A frame
         the driver's limits or the memory free cannot hold is refused before anything of
-        it is allocated (capacity.py)."""
+        it is allocated (capacity.py).
+
+        `vpl_set` picks the VPLs' Poisson pattern (None: the one the last frame used).
+        With `accumulate`, a frame of the same view, scene and settings as the last one
+        averages its indirect light with the last one's, VPL set by VPL set (stats
+        `vpl_sets`, `accumulated_vpls`); anything else starts the average again."""
         if settings is not None:
             self.settings = settings
         s = self.settings
@@ -274,8 +294,18 @@ class Pipeline:
         previous = self._indirect[1].grids if self._indirect is not None else None
         grids = keep_or_move(previous, placed)
         levels = list(grids[::s.grid_phases])
+        if vpl_set is not None:
+            self.vpl_pattern = vpl_set
         maps, keys = self.light_maps(scene, stats, levels)
-        indirect_key = (s.indirect_method, tuple(keys), grids, s.propagation_iterations, s.occlusion)
+        still = (scene.camera.key(), tuple(keys), s)
+        vpl_count = int(sum(m.vpls.count for m in maps))
+        if accumulate and self._accumulated is not None and self._accumulated[0] == still:
+            sets, accumulated_vpls = self._accumulated[1] + 1, self._accumulated[2] + vpl_count
+        else:
+            sets, accumulated_vpls = 1, vpl_count
+        self._accumulated = (still, sets, accumulated_vpls)
+        indirect_key = (s.indirect_method, tuple(keys), self.vpl_pattern, grids, s.propagation_iterations,
+                        s.occlusion, s.singularity_bound, s.bounces)
         if self._indirect is None or self._indirect[0] != indirect_key:
             indirect = self._indirect[1] if self._indirect is not None else None
             if indirect is not None and (indirect.method, indirect.grids) != (s.indirect_method, grids):
@@ -283,7 +313,7 @@ class Pipeline:
                 indirect = None
             if indirect is None:
                 indirect = IndirectGrids(self.glc, s.indirect_method, grids, s.grid_phases)
-            indirect.build(maps, self._mesh[1], scene.bounds(), s, stats)
+            indirect.build(maps, self._mesh[1], scene.bounds(), s, stats, self.vpl_pattern)
             self._indirect = (indirect_key, indirect)
         indirect = self._indirect[1]
         with self.glc.timed(stats, "direct_ms"):
@@ -292,16 +322,16 @@ class Pipeline:
         if s.indirect_method == "vpl_gather":
             with self.glc.timed(stats, "pixel_gather_ms"):
                 bind_gbuffer(targets)
-                indirect.volumes[0].gather(targets, gbuffer_uniforms(scene.camera), scene.camera.position)
+                indirect.volumes[0].gather(targets, gbuffer_uniforms(scene.camera), scene.camera.position,
+                                           s.singularity_bound)
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, scene.camera, indirect, len(levels), s.grid_phases, s.indirect_intensity,
-                           display_into is not None)
-        if any(name in DEBUG_PASS_NAMES for name in passes):
-            with self.glc.timed(stats, "debug_ms"):
-                render_debug_passes(self.glc, targets, scene.camera, maps,
-                                    (display_settings or DisplaySettings()).vpl_point_size)
+                           display_into is not None, sets - 1)
         self._shown_keys = tuple(keys)
         self.last_origin = scene.world_origin
+        if any(name in DEBUG_PASS_NAMES for name in passes):
+            with self.glc.timed(stats, "debug_ms"):
+                self.draw_debug_passes(scene, display_settings)
         with self.glc.timed(stats, "readback_ms"):
             images = {name: targets.read(name) for name in passes}
             display = None if display_into is None else targets.read_display_into(display_into)
@@ -312,7 +342,10 @@ class Pipeline:
         stats.update({
             "method": s.method,
             "light_methods": [m.method for m in maps],
-            "vpl_count": int(sum(m.vpls.count for m in maps)),
+            "vpl_count": vpl_count,
+            "vpl_pattern": self.vpl_pattern,
+            "vpl_sets": sets,
+            "accumulated_vpls": accumulated_vpls,
             "lights": len(scene.lights),
             "triangles": scene.triangle_count,
             "dropped_triangles": dict(scene.dropped),
@@ -329,6 +362,32 @@ class Pipeline:
             "renderer": self.glc.renderer,
         })
         return Frame(images, stats, display)
+
+    def render_converged(self, scene, settings=None, passes=PASS_NAMES, display_settings=None):
+        """A frame whose indirect light averages VPL sets of patterns 0, 1, 2, ...: as many
+        as the settings' `converge_sets`, or while `converge_seconds` last when above zero
+        (the first set is always made). Stats `converge_ms` is the time of them all."""
+        s = settings or self.settings
+        start = time.perf_counter()
+        single = s.converge_seconds == 0 and s.converge_sets == 1
+        frame = self.render(scene, s, passes=passes if single else (), display_settings=display_settings, vpl_set=0)
+        if s.converge_seconds > 0:
+            done = lambda: time.perf_counter() - start >= s.converge_seconds  # noqa: E731
+        else:
+            done = lambda: frame.stats["vpl_sets"] >= s.converge_sets  # noqa: E731
+        while not done():
+            frame = self.render(scene, s, passes=(), vpl_set=frame.stats["vpl_sets"], accumulate=True)
+        if not single:
+            if any(name in DEBUG_PASS_NAMES for name in passes):
+                self.draw_debug_passes(scene, display_settings)
+            frame.passes = {name: self._targets.read(name) for name in passes}
+        frame.stats["converge_ms"] = (time.perf_counter() - start) * 1000.0
+        return frame
+
+    def draw_debug_passes(self, scene, display_settings=None):
+        """Draw the last frame's debug passes (DEBUG_PASS_NAMES) into its images."""
+        render_debug_passes(self.glc, self._targets, scene.camera, self.last_light_maps,
+                            (display_settings or DisplaySettings()).vpl_point_size)
 
     def gpu_bytes(self):
         """GPU memory the pipeline holds now: mesh, light maps, VPLs, LPV, camera images."""

@@ -65,10 +65,11 @@ def cycles_reference_path(scene_path):
     return Path(scene_path).with_suffix(".cycles.npz")
 
 
-def store_cycles_indirect(scene_path, indirect, samples):
-    """Keep a Cycles one-bounce indirect image (top row first) beside an .npz scene file."""
+def store_cycles_indirect(scene_path, indirect, samples, full_gi_indirect):
+    """Keep Cycles' one-bounce and full-GI indirect images (top row first) beside an .npz
+    scene file."""
     np.savez_compressed(cycles_reference_path(scene_path), indirect=np.asarray(indirect, dtype=np.float32),
-                        samples=int(samples))
+                        full_gi_indirect=np.asarray(full_gi_indirect, dtype=np.float32), samples=int(samples))
 
 
 def stored_cycles_indirect(scene_path):

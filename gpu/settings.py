@@ -2,7 +2,8 @@
 
 This is the one source of truth: Blender properties, command-line flags and benchmark
 sweeps are generated from `PARAMETERS` or checked against it; the viewport overlays and
-debug passes, which change what is shown but rerun no stage, from `DISPLAY_PARAMETERS`;
+debug passes, which change what is shown but rerun no stage, and the viewport's convergence,
+from `DISPLAY_PARAMETERS`;
 the comparison with Cycles from `COMPARISON_PARAMETERS`. `ALL_PARAMETERS` is every one
 a Blender property mirrors. `PRESETS` are named sets of pipeline parameters.
 """
@@ -77,6 +78,15 @@ class Settings(Validated):
                                  "depends less on where cell boundaries fall", 1, 2)
     grid_shift: float = _param(0.0, "Shift of the light grid against the scene, in cells along every axis "
                                     "(the picture should not depend on it: for invariance tests)", 0.0, 1.0)
+    bounces: int = _param(1, "Diffuse bounces of the indirect light: 2 adds a second generation of VPLs lit by "
+                             "the first (light grid and VPL gathering)", 1, 2)
+    singularity_bound: float = _param(1.0, "How far a VPL's 1/r² is bounded next to it: r² grows by this times the "
+                                           "area the VPL stands for over pi (1: as a disk of that area lights its "
+                                           "axis; 0: unbounded, exact on average but spiky)", 0.0, 16.0)
+    converge_sets: int = _param(1, "VPL sets a rendered frame averages, each another Poisson pattern over the light "
+                                   "maps: its indirect light converges toward every texel's", 1, 4096)
+    converge_seconds: float = _param(0.0, "Seconds a rendered frame goes on averaging VPL sets; above zero it "
+                                          "replaces converge_sets", 0.0, 3600.0)
     indirect_intensity: float = _param(1.0, "Scale of the indirect light", 0.0, 100.0)
     shadow_bias: float = _param(1.5, "Shadow-map normal offset in texels", 0.0, 16.0)
     width: int = _param(640, "Image width in pixels", 1, 16384)
@@ -85,7 +95,8 @@ class Settings(Validated):
 
 @dataclass(frozen=True)
 class DisplaySettings(Validated):
-    """What the viewport overlays and the debug render passes show."""
+    """What the viewport overlays and the debug render passes show, and how long a still
+    viewport goes on converging."""
 
     show_vpls: bool = _param(False, "Draw every VPL as a point coloured by its flux")
     vpl_point_size: float = _param(4.0, "Size of the VPL points (overlay) and splats (pass) in pixels", 1.0, 32.0)
@@ -96,6 +107,9 @@ class DisplaySettings(Validated):
                                             "(0) to its high side (1)", 0.0, 1.0)
     show_warp_status: bool = _param(False, "Show the warp status map of the first warped light in a corner of "
                                            "the view (green converged, yellow approximate, red failed)")
+    viewport_vpl_sets: int = _param(64, "VPL sets a still viewport averages, one more each redraw, so its "
+                                        "indirect light converges; any change starts again (1: no averaging)",
+                                    1, 4096)
     debug_passes: bool = _param(False, "Write the VPL Splats and Warp Status passes in renders")
 
 

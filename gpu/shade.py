@@ -134,16 +134,17 @@ def seen_points(glc, targets, camera):
     return points[points[:, 3] > 0, :3].astype(np.float64)
 
 
-def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, display=False):
+def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, display=False, accumulated=0):
     """Look the indirect grids (gpu/indirect.py: `levels` nested levels of `phases` grids
     each) up at every pixel and write the indirect and combined images, and with `display`
-    the combined one into the display buffer too."""
+    the combined one into the display buffer too. With `accumulated` > 0 the indirect
+    image holds the mean of that many VPL sets' light, which this set's joins."""
     program = glc.compute("shade_indirect", LEVELS=levels, PHASES=phases,
                           INDIRECT=INDIRECT_METHODS.index(indirect.method))
     bind_gbuffer(targets)
     units = indirect.lookup_uniforms(first_unit=2)
     targets.direct.bind_to_image(0, read=True, write=False)
-    targets.indirect.bind_to_image(1, read=False, write=True)
+    targets.indirect.bind_to_image(1, read=True, write=True)
     targets.combined.bind_to_image(2, read=False, write=True)
     if display:
         targets.display_buffer().bind_to_storage_buffer(0)
@@ -151,5 +152,5 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
     set_uniforms(program, **gbuffer_uniforms(camera), **units, write_display=display,
                  grid_origins=np.array([grid.origin for grid in grids]),
                  cell_sizes=np.array([grid.cell_size for grid in grids]), grid_size=grids[0].size,
-                 intensity=intensity)
+                 intensity=intensity, accumulated=accumulated)
     dispatch(program, *targets.size)

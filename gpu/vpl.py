@@ -3,6 +3,8 @@
 Each face of the atlas gets a Poisson-disk point set; every texel joins its nearest
 point's cell, and the cell's VPL carries the summed flux of all its texels, placed at the
 valid texel nearest the point. The VPLs' fluxes therefore add up to the RSM's flux.
+Pattern k > 0 is the same set moved by a random toroidal shift, so a still image that
+averages the VPL sets of patterns 0, 1, 2, ... converges toward every texel's light.
 """
 import math
 from dataclasses import dataclass
@@ -51,6 +53,49 @@ def poisson_disk_points(count, in_disk=False, candidates=12, seed=20240607):
     return points.astype(np.float32)
 
 
+def concentric_disk(square):
+    """Shirley and Chiu's concentric map of [-1, 1]^2 onto the unit disk: it keeps area
+    shares and bends distances little, so a Poisson set stays one."""
+    a, b = square[:, 0], square[:, 1]
+    first = np.abs(a) > np.abs(b)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        radius = np.where(first, a, b)
+        angle = np.where(first, np.pi / 4 * (b / a), np.pi / 2 - np.pi / 4 * (a / b))
+    angle = np.where(radius == 0.0, 0.0, angle)
+    return np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=1)
+
+
+def concentric_square(disk):
+    """The inverse of `concentric_disk`."""
+    x, y = disk[:, 0], disk[:, 1]
+    radius = np.hypot(x, y)
+    angle = np.arctan2(y, x)
+    angle = np.where(angle < -np.pi / 4, angle + 2 * np.pi, angle)
+    octant = np.clip(np.floor((angle + np.pi / 4) / (np.pi / 2)), 0, 3)
+    sign = np.where(octant < 2, 1.0, -1.0)
+    t = (angle - octant * np.pi / 2) * 4 / np.pi  # in [-1, 1) along the square's side
+    along_x = octant % 2 == 0
+    a = np.where(along_x, sign * radius, -t * sign * radius)
+    b = np.where(along_x, t * sign * radius, sign * radius)
+    return np.stack([a, b], axis=1)
+
+
+def shifted_pattern(points, in_disk, pattern):
+    """Pattern `pattern` of a Poisson set in [0, 1)^2: pattern 0 is the set, another the
+    set moved by a random toroidal shift (Cranley-Patterson rotation), over the square or,
+    for a set in the inscribed disk, over the square the disk maps to concentrically.
+    Every point of a shifted set lies anywhere with equal probability, the set keeps its
+    spacing, and a paraboloid map's set stays in its disk."""
+    if pattern == 0:
+        return points
+    shift = np.random.default_rng(pattern).random(2)
+    if not in_disk:
+        return ((points + shift) % 1.0).astype(np.float32)
+    square = concentric_square(2.0 * points.astype(np.float64) - 1.0)
+    moved = (square + 1.0 + 2.0 * shift) % 2.0 - 1.0
+    return (0.5 + 0.5 * concentric_disk(moved)).astype(np.float32)
+
+
 @dataclass
 class VPLSet:
     """The VPLs of one light in a GPU buffer: per VPL position (w valid), normal (w surfel
@@ -69,9 +114,9 @@ class VPLSet:
 
 
 class PoissonCells:
-    """Which texel belongs to which VPL's cell, for one atlas layout and VPL count."""
+    """Which texel belongs to which VPL's cell, for one atlas layout, VPL count and pattern."""
 
-    def __init__(self, glc, atlas_size, face_origins, resolution, vpl_count, in_disk):
+    def __init__(self, glc, atlas_size, face_origins, resolution, vpl_count, in_disk, pattern=0):
         gl = glc.gl
         faces = len(face_origins)
         per_face = [vpl_count // faces + (f < vpl_count % faces) for f in range(faces)]
@@ -89,7 +134,7 @@ class PoissonCells:
             if n == 0:
                 continue
             grid = max(1, int(math.sqrt(n)))
-            points = poisson_disk_points(n, in_disk)
+            points = shifted_pattern(poisson_disk_points(n, in_disk), in_disk, pattern)
             bucket = np.minimum((points * grid).astype(np.int64), grid - 1)
             order = np.argsort(bucket[:, 1] * grid + bucket[:, 0], kind="stable")
             points = points[order]
@@ -117,26 +162,31 @@ class PoissonCells:
 
 
 class VPLSampler:
-    """Samples VPLs from RSMs, keeping the Poisson cells of each atlas layout."""
+    """Samples VPLs from RSMs, keeping the Poisson cells of each atlas layout for the
+    pattern it was last asked for."""
 
     def __init__(self, glc):
         self.glc = glc
-        self._cells = {}
+        self._cells = {}  # layout -> (pattern, PoissonCells)
 
-    def cells(self, rsm, vpl_count):
+    def cells(self, rsm, vpl_count, pattern=0):
         in_disk = rsm.projection_kind == PROJECTION_PARABOLOID
         key = (rsm.atlas_size, rsm.resolution, rsm.face_count, vpl_count, in_disk)
-        if key not in self._cells:
-            self._cells[key] = PoissonCells(self.glc, rsm.atlas_size, rsm.face_origins, rsm.resolution, vpl_count,
-                                            in_disk)
-        return self._cells[key]
+        held = self._cells.get(key)
+        if held is None or held[0] != pattern:
+            if held is not None:
+                held[1].release()
+            held = self._cells[key] = (pattern, PoissonCells(self.glc, rsm.atlas_size, rsm.face_origins,
+                                                             rsm.resolution, vpl_count, in_disk, pattern))
+        return held[1]
 
     def resources(self):
         """The GPU resources of every cached Poisson cell layout."""
-        return tuple(resource for cells in self._cells.values() for resource in cells.resources())
+        return tuple(resource for _, cells in self._cells.values() for resource in cells.resources())
 
-    def sample(self, rsm, vpl_count):
-        cells = self.cells(rsm, vpl_count)
+    def sample(self, rsm, vpl_count, pattern=0):
+        """The VPLs of `rsm`'s cells in Poisson pattern `pattern`."""
+        cells = self.cells(rsm, vpl_count, pattern)
         program = self.glc.compute("vpl_gather")
         output = self.glc.gl.buffer(reserve=cells.count * 48)
         for unit, texture in enumerate((rsm.position, rsm.normal, rsm.flux, cells.cell_ids)):
@@ -150,6 +200,6 @@ class VPLSampler:
         return VPLSet(output, cells.count)
 
     def release(self):
-        for cells in self._cells.values():
+        for _, cells in self._cells.values():
             cells.release()
         self._cells.clear()

@@ -2,11 +2,10 @@
 mode). Visibility is a march through the scene's occupancy (gpu/occupancy.py) over the
 grid levels, each part of a segment in the finest level that holds it; each pixel of an INTERLEAVE² block takes its own subset of the VPLs
 and a filter that heeds depth and normal puts the block back together."""
-import numpy as np
 
 
 from .context import dispatch, set_uniforms
-from .occupancy import VOXELS_PER_CELL, Occupancy, march_batch
+from .occupancy import Occupancy, march_batch
 
 INTERLEAVE = 4
 """Pixels along each side of an interleaving block: each pixel gathers one VPL in
@@ -26,11 +25,6 @@ class VPLGather:
         self.emitter_sets = []
         self.gathered = self.filtered = None
 
-    def build(self, mesh, emitter_sets):
-        """Voxelise the scene and keep the VPL buffers (buffer, count) to gather from."""
-        self.occupancy.voxelise(mesh)
-        self.emitter_sets = list(emitter_sets)
-
     def _images(self, size):
         if self.gathered is None or self.gathered.size != size:
             for image in (self.gathered, self.filtered):
@@ -39,19 +33,16 @@ class VPLGather:
             self.gathered, self.filtered = (self.glc.gl.texture(size, 4, dtype="f4") for _ in range(2))
         return self.gathered, self.filtered
 
-    def gather(self, targets, uniforms, camera_position):
-        """Gather every pixel's irradiance from the VPLs and filter it into `filtered`.
+    def gather(self, targets, uniforms, camera_position, singularity_bound):
+        """Gather every pixel's irradiance from the VPLs, their 1/r² bounded by
+        `singularity_bound` (shaders/emitter.glsl), and filter it into `filtered`.
         `uniforms` are the G-buffer's (gpu/shade.py gbuffer_uniforms), its textures bound."""
         gathered, filtered = self._images(targets.size)
         program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE, LEVELS=len(self.levels))
         gathered.bind_to_image(0, read=True, write=True)
-        self.occupancy.occupancy.use(location=2)
-        self.occupancy.coarse.use(location=3)
         batch = march_batch(self.occupancy.voxels, len(self.levels), INTERLEAVE ** 2)
-        set_uniforms(program, **uniforms, occupancy=2, coarse=3,
-                     level_origins=np.array([level.origin for level in self.levels]),
-                     level_voxels=np.array([level.cell_size / VOXELS_PER_CELL for level in self.levels]),
-                     voxels=self.occupancy.voxels, voxels_per_cell=VOXELS_PER_CELL, batch=batch)
+        set_uniforms(program, **uniforms, **self.occupancy.march_uniforms(range(len(self.levels)), first_unit=2),
+                     batch=batch, singularity_bound=singularity_bound)
         accumulate = False
         for buffer, count in self.emitter_sets:
             buffer.bind_to_storage_buffer(0)

@@ -110,6 +110,7 @@ def test_the_first_frame_reads_everything_and_an_idle_redraw_nothing(cornell_sce
 
 
 def test_a_redraw_with_nothing_changed_shows_the_last_frame_again(cornell_scene):
+    cornell_scene.lpv_preview.viewport_vpl_sets = 1
     session = ViewportSession()
     try:
         depsgraph = bpy.context.evaluated_depsgraph_get()
@@ -123,7 +124,34 @@ def test_a_redraw_with_nothing_changed_shows_the_last_frame_again(cornell_scene)
         moved = session.frame_to_draw(depsgraph, extract_camera(depsgraph, (48, 48)), (48, 48))
         assert moved is not first and all(stage in moved.stats for stage in CAMERA_STAGES)
     finally:
+        cornell_scene.lpv_preview.property_unset("viewport_vpl_sets")
         session.release()
+
+
+def test_a_still_view_converges_set_by_set_and_a_move_starts_again(cornell_scene):
+    cornell_scene.lpv_preview.viewport_vpl_sets = 3
+    session = ViewportSession()
+    try:
+        def draw():
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+            return session.frame_to_draw(depsgraph, extract_camera(depsgraph, (48, 48)), (48, 48))
+
+        sets = [draw().stats["vpl_sets"] for _ in range(3)]
+        assert sets == [1, 2, 3] and not session.converging(session_display(cornell_scene))
+        last = draw()
+        assert draw() is last and last.stats["accumulated_vpls"] == 3 * last.stats["vpl_count"]
+        session.note_updates(recorded_updates(move_camera))
+        moved = draw()
+        assert moved.stats["vpl_sets"] == 1 and session.converging(session_display(cornell_scene))
+        assert not any(stage in moved.stats for stage in ("rsm_ms", "vpl_ms"))  # the pattern it had stays
+    finally:
+        cornell_scene.lpv_preview.property_unset("viewport_vpl_sets")
+        session.release()
+
+
+def session_display(scene):
+    from lpv_preview.addon.properties import display_settings_from_properties
+    return display_settings_from_properties(scene.lpv_preview)
 
 
 def test_the_viewport_reads_the_combined_image_bottom_row_first_into_its_own_buffer(session):
@@ -140,6 +168,7 @@ def test_the_viewport_reads_the_combined_image_bottom_row_first_into_its_own_buf
 
 def test_overlay_data_follows_the_light_side_and_the_overlay_settings(cornell_scene):
     properties = cornell_scene.lpv_preview
+    properties.viewport_vpl_sets = 1  # a still view's new VPL sets would change the VPLs shown
     session = ViewportSession()
     try:
         def draw():
@@ -173,6 +202,7 @@ def test_overlay_data_follows_the_light_side_and_the_overlay_settings(cornell_sc
     finally:
         properties.method, properties.lpv_slice_axis = "cm", "z"
         properties.show_vpls = properties.show_lpv_slice = properties.show_warp_status = False
+        properties.property_unset("viewport_vpl_sets")
         session.release()
 
 

@@ -5,10 +5,6 @@
 #include "segment.glsl"
 const float MARCH_STEP = 0.7;  // voxels between samples: a surface one voxel thick is not stepped over
 
-// Whether the segment a -> b crosses a surface, not counting samples within `radius` of
-// `surface` (the surface the segment leaves, and where it bends away from it at an edge),
-// anything outside the grid, and with `skip_end` the voxel b lies in (a cell centre on a
-// surface still gathers light; a lookup does not use it). Empty cells are crossed in one step.
 // Whether the part [t_from, t_to] of the segment a -> b (in `layer`'s voxel units) crosses a
 // surface, with segment_blocked's exceptions. Empty cells are crossed in one step.
 bool part_blocked(usampler3D occupancy, usampler3D coarse, int per_cell, int layer, vec3 a, vec3 b, float t_from,

@@ -5,7 +5,8 @@
 // offset by a fraction of a cell whose answers are averaged; a pixel takes the finest
 // level that holds it, blended into the next over the last cells of its box. The grids
 // hold an LPV (INDIRECT 0) or a light grid (INDIRECT 1); with VPL gathering (INDIRECT 2)
-// the irradiance is the pixel's own, gathered before.
+// the irradiance is the pixel's own, gathered before. A still image averages VPL sets: the
+// indirect image holds the mean of the `accumulated` sets before this one.
 #include "common.glsl"
 #include "gbuffer.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -21,11 +22,12 @@ uniform int grid_size;
 #include "vpl_gather_lookup.glsl"
 #endif
 layout(rgba32f, binding = 0) uniform readonly image2D direct;
-layout(rgba32f, binding = 1) uniform writeonly image2D indirect;
+layout(rgba32f, binding = 1) uniform image2D indirect;
 layout(rgba32f, binding = 2) uniform writeonly image2D combined;
 layout(std430, binding = 0) writeonly buffer Display { vec4 display_rows[]; };
 uniform bool write_display;
 uniform float intensity;
+uniform int accumulated;
 
 // How much a level answers at q: all of it from two cells inside its box, none within one.
 float level_share(int grid, vec3 q) {
@@ -57,6 +59,7 @@ void main() {
 #endif
         light = albedo / PI * irradiance * intensity;
     }
+    if (accumulated > 0) light = mix(imageLoad(indirect, pixel).rgb, light, 1.0 / float(accumulated + 1));
     imageStore(indirect, pixel, vec4(light, 1.0));
     vec4 composite = vec4(direct_light.rgb + light, 1.0);
     imageStore(combined, pixel, composite);

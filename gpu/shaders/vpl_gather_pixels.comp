@@ -8,48 +8,15 @@
 #include "common.glsl"
 #include "gbuffer.glsl"
 #include "emitter.glsl"
-#include "occupancy.glsl"
+#include "levels_march.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
 layout(rgba32f, binding = 0) uniform image2D gathered;
-uniform usampler3D occupancy;
-uniform usampler3D coarse;
-uniform vec3 level_origins[LEVELS];
-uniform float level_voxels[LEVELS];  // a voxel's side in each level
-uniform int voxels;                  // a level's voxels along each side
-uniform int voxels_per_cell;
 uniform int emitter_count;
 uniform int first_emitter;
 uniform int batch;
 uniform bool accumulate;
 const float OFF_SURFACE = 1.5;     // finest voxels off the pixel's surface where its marches end
-const float EMITTER_RADIUS = 0.5;  // finest voxels around a VPL where the march sees no occluder (its own surface)
-const float EMITTER_OFFSET = 1.0;  // finest voxels off a VPL's surface where its marches start: out of its own voxel
-
-// Whether the segment a -> b (world units) crosses a surface: each part of it in the finest
-// level that holds that part, marched in that level's voxels.
-bool levels_blocked(vec3 a, vec3 b, vec3 emitter) {
-    vec2 finer = vec2(1.0, 0.0);  // the part inside the finer levels, empty before the finest
-    for (int level = 0; level < LEVELS; ++level) {
-        vec3 origin = level_origins[level];
-        float size = level_voxels[level];
-        vec3 la = (a - origin) / size, lb = (b - origin) / size, le = (emitter - origin) / size;
-        float radius = EMITTER_RADIUS * level_voxels[0] / size;
-        vec2 inside = part_inside(la, lb, float(voxels));
-        if (inside.x >= inside.y) continue;
-        if (finer.x >= finer.y) {
-            if (part_blocked(occupancy, coarse, voxels_per_cell, level, la, lb, inside.x, inside.y, le, radius, true))
-                return true;
-        } else {
-            if (inside.x < finer.x && part_blocked(occupancy, coarse, voxels_per_cell, level, la, lb, inside.x, finer.x,
-                                                   le, radius, true)) return true;
-            if (finer.y < inside.y && part_blocked(occupancy, coarse, voxels_per_cell, level, la, lb, finer.y, inside.y,
-                                                   le, radius, true)) return true;
-        }
-        finer = inside;
-    }
-    return false;
-}
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

@@ -8,8 +8,8 @@ import numpy as np
 
 from .grids import fit_grid
 from .light_grid import CLUSTER_CELLS, LightGrid
+from .bounces import Bounces
 from .lpv import LightPropagationVolume
-from .second_bounce import SecondBounce
 from .vpl_gather import VPLGather
 
 INDIRECT_STAGES = {"lpv": ("inject_ms", "propagate_ms"), "light_grid": ("inject_ms", "gather_ms"),
@@ -17,7 +17,7 @@ INDIRECT_STAGES = {"lpv": ("inject_ms", "propagate_ms"), "light_grid": ("inject_
 """The timed stages of each method (stats keys) redone when the lights or the grids
 change: for the light grid, voxelising the scene and clustering the emitters, then the
 gather; for VPL gathering, voxelising (its gather follows the camera: pixel_gather_ms).
-With two bounces, both add the second bounce (bounce_ms) between them."""
+With more than one bounce, both light the VPLs by one another between them (bounce_ms)."""
 
 
 class IndirectGrids:
@@ -29,7 +29,7 @@ class IndirectGrids:
         self.method = method
         self.grids = tuple(grids)
         self.levels = self.grids[::phases]
-        self.second_bounce = SecondBounce(glc)
+        self.bounces = Bounces(glc)
         if method == "lpv":
             self.volumes = [LightPropagationVolume(glc, grid) for grid in self.grids]
         elif method == "light_grid":
@@ -37,11 +37,13 @@ class IndirectGrids:
         else:
             self.volumes = [VPLGather(glc, self.levels)]
 
-    def build(self, maps, mesh, scene_bounds, settings, stats, pattern=0):
+    def build(self, maps, mesh, scene_bounds, settings, stats, pattern=0, bound=None):
         """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage;
-        with `settings.bounces` 2 (light grid and VPL gathering) from a second generation
-        of VPLs too, whose senders' subsets follow the VPL `pattern`."""
+        with `settings.bounces` above 1 (light grid and VPL gathering) from the VPLs lit by
+        one another too (gpu/bounces.py), their senders' subsets following the VPL
+        `pattern`; `bound` is the singularity bound of this VPL set."""
         timed = self.glc.timed
+        bound = settings.singularity_bound if bound is None else bound
         flux_bound = sum(m.vpl_map.flux_bound for m in maps)
         first, second = INDIRECT_STAGES[self.method][0], INDIRECT_STAGES[self.method][-1]
         if self.method == "lpv":
@@ -58,13 +60,12 @@ class IndirectGrids:
         with timed(stats, first):
             volume.occupancy.voxelise(mesh)
         emitters = [(m.vpls.buffer, m.vpls.count) for m in maps]
-        if settings.bounces == 2 and maps:
+        if settings.bounces > 1 and maps:
             layers = range(0, len(self.grids), len(self.grids) // len(self.levels)) if self.method == "light_grid" \
                 else range(len(self.levels))
             with timed(stats, "bounce_ms"):
-                emitters += self.second_bounce.build(maps, volume.occupancy, layers, settings.singularity_bound,
-                                                     pattern)
-            flux_bound *= 2  # the second generation carries less than the first
+                emitters = self.bounces.build(maps, settings.bounces, volume.occupancy, layers, bound, pattern)
+            flux_bound *= settings.bounces  # each generation carries less than the one before
         if self.method == "vpl_gather":
             volume.emitter_sets = emitters
             return
@@ -73,7 +74,7 @@ class IndirectGrids:
             cluster_grids.append(fit_grid(scene_bounds, cluster_grids[0].size))
             volume.cluster(emitters, flux_bound, cluster_grids)
         with timed(stats, second):
-            volume.gather(settings.singularity_bound)
+            volume.gather(bound)
 
     def lookup_uniforms(self, first_unit):
         """Bind the volumes for the lookup from texture unit `first_unit` on; the uniforms
@@ -101,9 +102,9 @@ class IndirectGrids:
 
     def resources(self):
         return (*(resource for volume in self.volumes for resource in volume.resources()),
-                *self.second_bounce.resources())
+                *self.bounces.resources())
 
     def release(self):
         for volume in self.volumes:
             volume.release()
-        self.second_bounce.release()
+        self.bounces.release()

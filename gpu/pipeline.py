@@ -36,7 +36,7 @@ AUTO_TESSELLATION_SHARE = 0.10
 AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
-          "inject_ms": "inject", "bounce_ms": "second bounce", "propagate_ms": "propagate", "gather_ms": "gather",
+          "inject_ms": "inject", "bounce_ms": "bounces", "propagate_ms": "propagate", "gather_ms": "gather",
           "direct_ms": "direct",
           "pixel_gather_ms": "pixel gather", "indirect_ms": "indirect"}
 """A frame's timed stages (its stats keys) in the order they run, with their names: the
@@ -304,8 +304,9 @@ class Pipeline:
         else:
             sets, accumulated_vpls = 1, vpl_count
         self._accumulated = (still, sets, accumulated_vpls)
+        bound = s.singularity_bound / sets  # the average of the sets' biases tends to zero as they add up
         indirect_key = (s.indirect_method, tuple(keys), self.vpl_pattern, grids, s.propagation_iterations,
-                        s.occlusion, s.singularity_bound, s.bounces)
+                        s.occlusion, bound, s.bounces)
         if self._indirect is None or self._indirect[0] != indirect_key:
             indirect = self._indirect[1] if self._indirect is not None else None
             if indirect is not None and (indirect.method, indirect.grids) != (s.indirect_method, grids):
@@ -313,7 +314,7 @@ class Pipeline:
                 indirect = None
             if indirect is None:
                 indirect = IndirectGrids(self.glc, s.indirect_method, grids, s.grid_phases)
-            indirect.build(maps, self._mesh[1], scene.bounds(), s, stats, self.vpl_pattern)
+            indirect.build(maps, self._mesh[1], scene.bounds(), s, stats, self.vpl_pattern, bound)
             self._indirect = (indirect_key, indirect)
         indirect = self._indirect[1]
         with self.glc.timed(stats, "direct_ms"):
@@ -322,8 +323,7 @@ class Pipeline:
         if s.indirect_method == "vpl_gather":
             with self.glc.timed(stats, "pixel_gather_ms"):
                 bind_gbuffer(targets)
-                indirect.volumes[0].gather(targets, gbuffer_uniforms(scene.camera), scene.camera.position,
-                                           s.singularity_bound)
+                indirect.volumes[0].gather(targets, gbuffer_uniforms(scene.camera), scene.camera.position, bound)
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, scene.camera, indirect, len(levels), s.grid_phases, s.indirect_intensity,
                            display_into is not None, sets - 1)

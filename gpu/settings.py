@@ -78,11 +78,13 @@ class Settings(Validated):
                                  "depends less on where cell boundaries fall", 1, 2)
     grid_shift: float = _param(0.0, "Shift of the light grid against the scene, in cells along every axis "
                                     "(the picture should not depend on it: for invariance tests)", 0.0, 1.0)
-    bounces: int = _param(1, "Diffuse bounces of the indirect light: 2 adds a second generation of VPLs lit by "
-                             "the first (light grid and VPL gathering)", 1, 2)
+    bounces: int = _param(1, "Diffuse bounces of the indirect light: above 1 the VPLs are lit by one another "
+                             "that many times less one, as Cycles' full global illumination (light grid and VPL "
+                             "gathering)", 1, 8)
     singularity_bound: float = _param(1.0, "How far a VPL's 1/r² is bounded next to it: r² grows by this times the "
                                            "area the VPL stands for over pi (1: as a disk of that area lights its "
-                                           "axis; 0: unbounded, exact on average but spiky)", 0.0, 16.0)
+                                           "axis; 0: unbounded, exact on average but spiky); the n-th VPL set of a "
+                                           "converging frame takes 1/n of it", 0.0, 16.0)
     converge_sets: int = _param(1, "VPL sets a rendered frame averages, each another Poisson pattern over the light "
                                    "maps: its indirect light converges toward every texel's", 1, 4096)
     converge_seconds: float = _param(0.0, "Seconds a rendered frame goes on averaging VPL sets; above zero it "

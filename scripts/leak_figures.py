@@ -1,7 +1,7 @@
 """The leak scenes of tests/leak_scenes.py against Cycles' one bounce, with either indirect
 method, as a Markdown table on stdout and PNGs in OUT_DIR:
 
-    .venv/bin/python scripts/leak_figures.py OUT_DIR [--width 160 --height 120 --samples 256]
+    .venv/bin/python scripts/leak_figures.py OUT_DIR [--width 160 --height 120 --samples 256] [--export]
 
 Each PNG shows ours (left) beside Cycles (right), the indirect light above and diffuse
 direct plus indirect below, tone-mapped alike with the exposure of Cycles' picture (or,
@@ -12,6 +12,10 @@ holds it in: closed_box). Our settings are the defaults but for the image size.
 undefined, as PSNR is, and "ours indirect / direct" is the leak's size: our indirect
 mean over the mean direct light of the view (or, marked *, of the view without the box:
 the light the box keeps from it).
+
+With --export it writes instead each scene as OUT_DIR/NAME.npz with its Cycles one-bounce
+and full-GI indirect images beside it, for scripts/convergence.py on a machine without
+Blender.
 """
 import argparse
 import os
@@ -23,6 +27,7 @@ from lpv_preview.addon.render_scene import scene_to_render
 from lpv_preview.gpu.image_io import write_png
 from lpv_preview.gpu.metrics import figure_text, image_errors
 from lpv_preview.gpu.pipeline import render_once
+from lpv_preview.gpu.scene_file import save_scene, store_cycles_indirect
 from lpv_preview.gpu.settings import INDIRECT_METHODS, Settings
 from lpv_preview.tests.leak_scenes import BUILDERS, unblocked_scene
 
@@ -42,8 +47,18 @@ def main():
     parser.add_argument("--width", type=int, default=160)
     parser.add_argument("--height", type=int, default=120)
     parser.add_argument("--samples", type=int, default=256)
+    parser.add_argument("--export", action="store_true")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
+    if args.export:
+        for name, build in BUILDERS.items():
+            built = build((args.width, args.height))
+            path = os.path.join(args.out, f"{name}.npz")
+            save_scene(scene_to_render(built.scene), path)
+            store_cycles_indirect(path, cycles_reference(built.scene, "one_bounce", args.samples).indirect,
+                                  args.samples, cycles_reference(built.scene, "full_gi", args.samples).indirect)
+            print(path, flush=True)
+        return
     print(f"Cycles one bounce, {args.samples} samples; ours with the default settings; {args.width}x{args.height}\n")
     print("| scene | indirect method | indirect PSNR dB | ours/Cycles indirect mean | ours indirect / direct "
           "| mean direct | lpv_cell_size | grid_levels |")

@@ -1,13 +1,14 @@
 #version 450 core
-// A second generation of VPLs (gpu/second_bounce.py): each first-generation VPL of one
-// light (a receiver, one workgroup) sums the irradiance the VPLs of every light give it,
+// One more bounce of the VPLs' light (gpu/bounces.py): each VPL of one light (a receiver,
+// one workgroup) sums the irradiance the last generation of every light's VPLs gives it,
 // through a march over the grid levels' occupancy; its lanes share the senders. A receiver
 // takes every `stride`-th sender from its own offset, the sum scaled by `stride`, so the
-// cost stays RECEIVER_SENDERS marches a receiver and the subsets change with the receiver
+// cost stays a few hundred marches a receiver and the subsets change with the receiver
 // (and the VPL pattern, when frames converge). One dispatch adds the senders [first,
-// first + batch) of one set into `irradiance`; with `finish`, the receiver's second-bounce
-// VPL is written: its flux is its first flux times indirect over direct irradiance, the
-// albedo and area the first flux holds (flux = albedo x direct irradiance x area).
+// first + batch) of one set into `irradiance`; with `finish`, the receiver's next
+// generation is written, its flux the first generation's times indirect over direct
+// irradiance (flux = albedo x direct irradiance x area, the cell's sums), and added to
+// the total that the indirect stage gathers.
 #include "common.glsl"
 #include "emitter.glsl"
 #include "light.glsl"
@@ -15,9 +16,10 @@
 #define LANES 64
 layout(local_size_x = LANES) in;
 layout(std430, binding = 0) readonly buffer Senders { Emitter senders[]; };
-layout(std430, binding = 1) readonly buffer Receivers { Emitter receivers[]; };
+layout(std430, binding = 1) readonly buffer Receivers { Emitter receivers[]; };  // the first generation
 layout(std430, binding = 2) buffer Irradiance { vec4 irradiance[]; };
-layout(std430, binding = 3) writeonly buffer Second { Emitter second[]; };
+layout(std430, binding = 3) writeonly buffer Next { Emitter next[]; };
+layout(std430, binding = 4) buffer Total { Emitter total[]; };
 uniform int receiver_count;
 uniform int sender_count;
 uniform int first_sender;
@@ -68,13 +70,14 @@ void main() {
         barrier();
     }
     if (lane != 0) return;
-    vec3 total = sums[0] + (accumulate ? irradiance[index].rgb : vec3(0.0));
-    irradiance[index] = vec4(total, 0.0);
+    vec3 received = sums[0] + (accumulate ? irradiance[index].rgb : vec3(0.0));
+    irradiance[index] = vec4(received, 0.0);
     if (!finish) return;
-    Emitter out_vpl = r;
+    Emitter generation = r;
     vec3 direct = r.position.w > 0.0 ? direct_irradiance(r.position.xyz, r.normal.xyz) : vec3(0.0);
-    out_vpl.flux = vec4(0.0);
+    generation.flux = vec4(0.0);
     for (int c = 0; c < 3; ++c)
-        if (direct[c] > 0.0) out_vpl.flux[c] = r.flux[c] * total[c] / direct[c];
-    second[index] = out_vpl;
+        if (direct[c] > 0.0) generation.flux[c] = r.flux[c] * received[c] / direct[c];
+    next[index] = generation;
+    total[index].flux += generation.flux;
 }

@@ -168,7 +168,7 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
             if error_settings != settings:
                 pipeline.release()
                 pipeline = Pipeline(error_settings, glc)
-            indirect = pipeline.render(scene, passes=("indirect",)).passes["indirect"]
+            indirect = pipeline.render_converged(scene, passes=("indirect",)).passes["indirect"]
         finally:
             pipeline.release()
         result = {**point, "settings": {key: getattr(settings, key) for key in PARAMETERS},

@@ -18,7 +18,7 @@ ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
 ERROR_SOURCES = {"errors_vs_cycles": "Cycles one bounce", "errors_vs_cm": "CM-LPV"}
 
 
-REFERENCE_CHANGES = {"method": "cm", "rsm_resolution": 2048, "vpls_per_light": 65536}
+REFERENCE_CHANGES = {"method": "cm", "rsm_resolution": 2048, "vpls_per_light": 65536, "converge_sets": 1}
 """The CM-LPV reference's settings over a point's (a sweep's `reference` may change them)."""
 
 SCALING_AXES = {"triangles": lambda point: point["triangles"], "lights": lambda point: point.get("lights", 1)}
@@ -132,13 +132,13 @@ def choose_presets(report):
 
 def presets_table(chosen):
     """Markdown rows of choose_presets' result."""
-    lines = ["| preset | method | RSM | VPLs | indirect | grid | steps | mean frame ms | relMSE vs CM-LPV | "
-             "relMSE vs Cycles |", "|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| preset | method | RSM | VPLs | indirect | grid | steps | VPL sets | mean frame ms | relMSE vs CM-LPV | "
+             "relMSE vs Cycles |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, c in chosen.items():
         s = c["settings"]
         lines.append(f"| {name} | {s['method'].upper()} | {s['rsm_resolution']}² | {s['vpls_per_light']} | "
                      f"{s['indirect_method']} | {s['lpv_resolution']}³ | {s.get('propagation_iterations', '—')} | "
-                     f"{c['frame_ms']:.2f} | "
+                     f"{s.get('converge_sets', 1)} | {c['frame_ms']:.2f} | "
                      f"{c['relative_mse_vs_cm']:.3g} | {c['relative_mse_vs_cycles']:.3g} |")
     return lines
 

@@ -155,7 +155,7 @@ settings keep their values."""
 INDIRECT_METHOD_ONLY = {"propagation_iterations": "lpv", "occlusion": "lpv"}
 """Parameters only one indirect method reads, and that method."""
 PRESET_PARAMETERS = ("method", "rsm_resolution", "vpls_per_light", "indirect_method", "lpv_resolution",
-                     "propagation_iterations")
+                     "propagation_iterations", "converge_sets")
 
 
 def preset_settings(name, **changes):
@@ -169,13 +169,15 @@ def preset_settings(name, **changes):
 
 
 def describe_preset(name):
-    """A preset's values in a few words, like 'WDPM, RSM 512², 2048 VPLs, LPV 16³, 8 steps' or
-    'WDPM, RSM 256², 2048 VPLs, light grid 32³'."""
+    """A preset's values in a few words, like 'WDPM, RSM 512², 2048 VPLs, LPV 16³, 8 steps',
+    'WDPM, RSM 256², 2048 VPLs, light grid 32³' or 'WDPM, RSM 256², 2048 VPLs, VPL gather
+    (grids 32³), 8 VPL sets'."""
     s = preset_settings(name)
     words = f"{s.method.upper()}, RSM {s.rsm_resolution}², {s.vpls_per_light} VPLs, "
-    if s.indirect_method == "lpv":
-        return words + f"LPV {s.lpv_resolution}³, {s.propagation_iterations} steps"
-    return words + f"light grid {s.lpv_resolution}³"
+    words += {"lpv": f"LPV {s.lpv_resolution}³, {s.propagation_iterations} steps",
+              "light_grid": f"light grid {s.lpv_resolution}³",
+              "vpl_gather": f"VPL gather (grids {s.lpv_resolution}³)"}[s.indirect_method]
+    return words + (f", {s.converge_sets} VPL sets" if s.converge_sets > 1 else "")
 
 
 def matching_preset(settings):

@@ -68,7 +68,7 @@ def main():
             scene = load_scene(os.path.join(args.folder, f"{name}.npz"))
             with np.load(cycles_reference_path(os.path.join(args.folder, f"{name}.npz"))) as stored:
                 references = {1: stored["indirect"]}
-                if "full_gi_indirect" in stored:
+                if "full_gi_indirect" in stored and args.bounces > 1:
                     references[args.bounces] = stored["full_gi_indirect"]
             if references[1].mean() < BLACK:
                 continue  # no indirect light to converge to (scripts/leak_figures.py measures the leak)

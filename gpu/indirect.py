@@ -76,6 +76,11 @@ class IndirectGrids:
         with timed(stats, second):
             volume.gather(bound)
 
+    def forget(self):
+        """Build everything again next time, the occupancy too."""
+        if self.method != "lpv":
+            self.volumes[0].occupancy.forget()
+
     def lookup_uniforms(self, first_unit):
         """Bind the volumes for the lookup from texture unit `first_unit` on; the uniforms
         that name them."""

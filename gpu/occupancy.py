@@ -59,10 +59,16 @@ class Occupancy:
         self._framebuffer = gl.framebuffer(color_attachments=[self._canvas])
         self.large = gl.buffer(reserve=3 * 4)  # the large triangles' vertex indices, grown as needed
         self.command = gl.buffer(reserve=5 * 4)
+        self.voxelised = None  # the mesh the volumes hold
 
     def voxelise(self, mesh):
         """Mark the voxels the lights' triangles pass through, in every grid: the small
-        triangles sampled in a compute pass, the large ones it lists rasterised."""
+        triangles sampled in a compute pass, the large ones it lists rasterised. The mesh
+        the volumes already hold is not voxelised again (a new VPL set needs no new
+        occupancy) until `forget`."""
+        if self.voxelised is mesh:
+            return
+        self.voxelised = mesh
         gl = self.glc.gl
         first, count = mesh.light_triangles
         if self.large.size < 3 * 4 * max(count, 1):
@@ -94,6 +100,10 @@ class Occupancy:
             mesh.vertex_array(program, self.large).render_indirect(self.command, moderngl.TRIANGLES, count=1)
         gl.memory_barrier()
 
+
+    def forget(self):
+        """Voxelise the next mesh asked for, whichever it is."""
+        self.voxelised = None
 
     def march_uniforms(self, layers, first_unit):
         """Bind the volumes from texture unit `first_unit` on; the uniforms of

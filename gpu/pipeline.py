@@ -406,6 +406,7 @@ class Pipeline:
         self._lights.clear()
         self._placement = None
         if self._indirect is not None:
+            self._indirect[1].forget()
             self._indirect = (None, self._indirect[1])  # keep the volumes' memory, forget their content
 
     def _upload(self, scene, stats):

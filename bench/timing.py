@@ -8,7 +8,7 @@ import time
 
 from ..gpu.pipeline import STAGES
 
-WARM_UP_FRAMES = 5
+WARM_UP_FRAMES = 2
 THROUGHPUT_WARM_UP_SECONDS = 0.5  # of work before timing: brings the GPU's clocks up
 
 

@@ -78,7 +78,7 @@ def main():
                     for bound in (float(b) for b in args.bounds.split(",")):
                         if bound != 1.0 and bounces > 1:
                             continue
-                        settings = Settings(width=width * args.scale, height=height * args.scale, method="wdpm",
+                        settings = Settings(width=width * args.scale, height=height * args.scale, method="auto",
                                             rsm_resolution=256, vpls_per_light=args.vpls, indirect_method=method,
                                             bounces=bounces, singularity_bound=bound)
                         pipeline.render(scene, settings, passes=())  # shaders compiled, Poisson sets made

@@ -157,7 +157,7 @@ class Pipeline:
         self._placement = None     # (what it depends on, the grids placed around the view)
         self.last_origin = np.zeros(3)  # the world point the last frame's positions are relative to
         self.vpl_pattern = 0       # the Poisson pattern of the VPLs (gpu/vpl.py)
-        self._accumulated = None   # (what the last frame's image depends on, VPL sets in it, VPLs in it)
+        self._accumulated = None   # (the last frame's view, scene and settings, VPL sets in it, VPLs in it)
 
     @property
     def last_light_maps(self):
@@ -271,6 +271,8 @@ class Pipeline:
         if fits != self._fits:  # a viewport redraw of the same frame size and scene asks nothing again
             check_frame_fits(self.glc, s, scene, passes, display_into is not None, held_bytes=self.gpu_bytes())
             self._fits = fits
+        view = (scene.camera.key(), *fits[:3])
+        adding = accumulate and self._accumulated is not None and self._accumulated[0] == view
         start = time.perf_counter()
         stats = {}
         self._upload(scene, stats)
@@ -280,8 +282,9 @@ class Pipeline:
                 self._targets = None  # until the new ones are made, which a driver may refuse
             self._targets = FrameTargets(self.glc.gl, s.width, s.height)
         targets = self._targets
-        with self.glc.timed(stats, "gbuffer_ms"):
-            render_gbuffer(self.glc, self._mesh[1], scene.camera, targets)
+        if not adding:  # another VPL set of the same view finds its G-buffer and direct light made
+            with self.glc.timed(stats, "gbuffer_ms"):
+                render_gbuffer(self.glc, self._mesh[1], scene.camera, targets)
         placement_key = (scene.camera.key(), self._mesh[0], s.lpv_resolution, s.grid_levels, s.grid_phases,
                          s.grid_shift, s.width, s.height)
         if self._placement is None or self._placement[0] != placement_key:
@@ -297,13 +300,12 @@ class Pipeline:
         if vpl_set is not None:
             self.vpl_pattern = vpl_set
         maps, keys = self.light_maps(scene, stats, levels)
-        still = (scene.camera.key(), tuple(keys), s)
         vpl_count = int(sum(m.vpls.count for m in maps))
-        if accumulate and self._accumulated is not None and self._accumulated[0] == still:
+        if adding:
             sets, accumulated_vpls = self._accumulated[1] + 1, self._accumulated[2] + vpl_count
         else:
             sets, accumulated_vpls = 1, vpl_count
-        self._accumulated = (still, sets, accumulated_vpls)
+        self._accumulated = (view, sets, accumulated_vpls)
         bound = s.singularity_bound / sets  # the average of the sets' biases tends to zero as they add up
         indirect_key = (s.indirect_method, tuple(keys), self.vpl_pattern, grids, s.propagation_iterations,
                         s.occlusion, bound, s.bounces)
@@ -317,9 +319,10 @@ class Pipeline:
             indirect.build(maps, self._mesh[1], scene.bounds(), s, stats, self.vpl_pattern, bound)
             self._indirect = (indirect_key, indirect)
         indirect = self._indirect[1]
-        with self.glc.timed(stats, "direct_ms"):
-            for m in maps:
-                shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
+        if not adding:
+            with self.glc.timed(stats, "direct_ms"):
+                for m in maps:
+                    shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
         if s.indirect_method == "vpl_gather":
             with self.glc.timed(stats, "pixel_gather_ms"):
                 bind_gbuffer(targets)
@@ -405,6 +408,7 @@ class Pipeline:
             maps.release()
         self._lights.clear()
         self._placement = None
+        self._accumulated = None
         if self._indirect is not None:
             self._indirect[1].forget()
             self._indirect = (None, self._indirect[1])  # keep the volumes' memory, forget their content

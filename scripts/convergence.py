@@ -1,7 +1,8 @@
 """How the indirect light converges toward Cycles as a still frame averages VPL sets, as
 JSON lines on stdout: per scene, method, bounces and singularity bound, the PSNR, relative
 MSE and mean ratio of our indirect image against Cycles' after 1, 2, 4, ... sets, with the
-time all the sets took (wall clock, GPU work finished).
+time all the sets took from a frame with every stage redone (wall clock, GPU work
+finished) and the last set's frame time (a still view's: VPLs, indirect stage, gather).
 
     python scripts/convergence.py DIR [--sets 64] [--scale 1] [--methods vpl_gather,light_grid]
         [--scenes cornell,...] [--vpls 2048] [--bounds 1,0] [--bounces 4]
@@ -9,7 +10,8 @@ time all the sets took (wall clock, GPU work finished).
 DIR holds NAME.npz scenes with NAME.cycles.npz references (`python -m lpv_preview export
 ... --cycles-samples N`, scripts/leak_figures.py --export): one bounce against `indirect`,
 --bounces bounces against `full_gi_indirect`. With --scale K our image is K times the
-reference's size and averaged down to it (the Cornell box at 1024² against 256²). With
+reference's size, compared at the reference's pixel centres (the Cornell box at 1024²
+against 256²). With
 bounds 0 and 1 (the default) the difference of their converged means is the bias of
 bounding the VPLs' 1/r² (settings.py singularity_bound).
 """
@@ -29,9 +31,14 @@ from lpv_preview.gpu.settings import Settings
 BLACK = 1e-6  # a reference mean below this is Cycles' zero
 
 
-def averaged_down(image, factor):
+def at_reference_pixels(image, factor):
+    """Our image, `factor` times the reference's size, at the reference's pixel centres
+    (the reference is sampled there: a 0.01 px filter): the middle pixel of each block,
+    or the mean of the middle four for an even factor."""
     height, width = image.shape[0] // factor, image.shape[1] // factor
-    return image.reshape(height, factor, width, factor, 3).mean(axis=(1, 3))
+    blocks = image.reshape(height, factor, width, factor, 3)
+    middle = slice(factor // 2 - 1, factor // 2 + 1) if factor % 2 == 0 else slice(factor // 2, factor // 2 + 1)
+    return blocks[:, middle, :, middle].mean(axis=(1, 3))
 
 
 def converge(pipeline, scene, settings, sets, target, factor):
@@ -42,7 +49,7 @@ def converge(pipeline, scene, settings, sets, target, factor):
         frame = pipeline.render(scene, settings, vpl_set=k, accumulate=k > 0, passes=())
         spent += time.perf_counter() - start
         if k & (k + 1) == 0 or k == sets - 1:
-            image = averaged_down(pipeline.targets.read("indirect"), factor)
+            image = at_reference_pixels(pipeline.targets.read("indirect"), factor)
             rows.append({"sets": k + 1, "seconds": round(spent, 4), "frame_ms": round(frame.stats["total_ms"], 2),
                          "psnr": round(psnr(image, target), 2), "relative_mse": round(relative_mse(image, target), 4),
                          "mean_ratio": round(float(image.mean() / target.mean()), 4)})

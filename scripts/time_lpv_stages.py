@@ -7,7 +7,8 @@ reads DIR/cornell.npz (1024²), DIR/city130k_point.npz and, where it is there,
 DIR/city1200k_point.npz (1920×1080), made with `python -m lpv_preview export` (the
 last: `export city --triangles 1200000 --lights 1`), and times every stage redone
 (warm-up excluded, no image read back) at each preset, one VPL set a frame, with each
-indirect method, VPL count and number of bounces asked for in place of the preset's.
+indirect method, VPL count and number of bounces asked for in place of the preset's;
+`set_ms` is the median frame of a still view adding another VPL set.
 It runs on the package it is given as well as on this one's first version (295b65b,
 before bench/ existed), so a before/after comparison uses one driver
 (docs/numerical_stability.md).
@@ -30,7 +31,8 @@ except ImportError:  # the version before bench/ and gpu/scene_file.py
 CASES = tuple(PRESETS.items())
 SCENES = (("cornell", (1024, 1024)), ("city130k_point", (1920, 1080)), ("city1200k_point", (1920, 1080)))
 KEYS = ("gpu_rsm_ms", "gpu_warp_ms", "gpu_vpl_ms", "gpu_place_ms", "gpu_inject_ms", "gpu_bounce_ms", "gpu_propagate_ms",
-        "gpu_gather_ms", "gpu_gbuffer_ms", "gpu_direct_ms", "gpu_pixel_gather_ms", "gpu_indirect_ms", "total_ms")
+        "gpu_gather_ms", "gpu_gbuffer_ms", "gpu_direct_ms", "gpu_pixel_gather_ms", "gpu_indirect_ms", "total_ms",
+        "set_ms")
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("folder")
@@ -58,6 +60,10 @@ for scene_name, (width, height) in SCENES:
             try:
                 timings, _ = timed_frames(pipeline, scene, 7, passes=())
                 held = pipeline.gpu_bytes()
+                if hasattr(pipeline, "render_converged"):
+                    added = [pipeline.render(scene, passes=(), vpl_set=k, accumulate=True).stats["total_ms"]
+                             for k in range(1, 8)]
+                    timings["set_ms"] = sorted(added)[len(added) // 2]
             finally:
                 pipeline.release()
             print(json.dumps({"scene": scene_name, "triangles": scene.triangle_count, "case": case, **more,

@@ -401,7 +401,12 @@ class ReferenceCache:
         return f"{count} Cycles reference{'' if count == 1 else 's'}, {size_text(size)}"
 
     def holds(self, key):
-        return os.path.isfile(self.path(key))
+        """Whether a reference of this version (with its Combined pass) is stored under `key`."""
+        try:
+            with np.load(self.path(key)) as data:
+                return "combined_pass" in data.files
+        except (OSError, ValueError):
+            return False
 
     def load(self, key):
         """The CyclesReference stored under `key`, or None (none, or of an older format)."""

@@ -3,8 +3,7 @@
 `demo` builds a built-in scene with bpy and renders it; `render` renders a user's .blend
 from its active camera (`--frames 1-24`: an animation, one EXR a frame, resumable);
 `compare` measures the methods and their peers (EEVEE, denoised Cycles) against Cycles
-references; `export` saves a demo scene as
-.npz for machines without Blender; `bench` measures every RSM method against CM (the
+references; `export` saves a demo scene as .npz for machines without Blender; `bench` measures every RSM method against CM (the
 thesis's Table 1), runs declared sweeps and writes the benchmarks page.
 Each render writes a multi-layer EXR (combined, direct, indirect), tone-mapped PNGs of
 combined and indirect, and stats.json. Errors a user can fix print one line, no traceback,
@@ -330,7 +329,8 @@ def build_parser():
     add_debug_passes_flag(command)
     command.set_defaults(run=command_render)
 
-    command = commands.add_parser("compare", help="measure the methods and their peers (EEVEE, denoised Cycles) against Cycles references")
+    command = commands.add_parser("compare", help="measure the methods and their peers (EEVEE, denoised Cycles) "
+                                                  "against Cycles references")
     command.add_argument("file", help=f"a .blend file, or a demo scene name ({scene_list})")
     command.add_argument("--methods", type=method_list, default=comparison.methods,
                          help=f"comma-separated methods (default: {','.join(comparison.methods)})")

@@ -3,8 +3,9 @@
 `demo` builds a built-in scene with bpy and renders it; `render` renders a user's .blend
 from its active camera (`--frames 1-24`: an animation, one EXR a frame, resumable);
 `compare` measures the methods and their peers (EEVEE, denoised Cycles) against Cycles
-references; `export` saves a demo scene as .npz for machines without Blender; `bench` measures every RSM method against CM (the
-thesis's Table 1), runs declared sweeps and writes the benchmarks page.
+references; `export` saves a demo scene as .npz for machines without Blender; `bench`
+measures every RSM method against CM (the thesis's Table 1), runs declared sweeps and
+writes the benchmarks page.
 Each render writes a multi-layer EXR (combined, direct, indirect), tone-mapped PNGs of
 combined and indirect, and stats.json. Errors a user can fix print one line, no traceback,
 and exit with status 2; Ctrl-C stops a command with one line and status 130.
@@ -346,7 +347,7 @@ def build_parser():
                          help=f"comma-separated indirect methods, a row each per method (default: "
                               f"{','.join(comparison.indirect_methods)}; only --indirect-method's when that is given)")
     command.add_argument("--no-peers", action="store_true",
-                         help=f"do not {COMPARISON_PARAMETERS['compare_peers'].metadata['description'].lower()}")
+                         help="do not a" + COMPARISON_PARAMETERS["compare_peers"].metadata["description"][1:])
     add_setting_flags(command)
     command.set_defaults(run=command_compare)
 

@@ -52,6 +52,11 @@ def method_list(text, known=METHODS):
     return methods
 
 
+def lower_first(text):
+    """A sentence's first letter in lower case, its names (EEVEE) kept, to follow 'do not'."""
+    return text[:1].lower() + text[1:]
+
+
 def indirect_method_list(text):
     """An argparse type: comma-separated indirect methods of gpu/settings.py, at least one."""
     return method_list(text, INDIRECT_METHODS)
@@ -347,7 +352,7 @@ def build_parser():
                          help=f"comma-separated indirect methods, a row each per method (default: "
                               f"{','.join(comparison.indirect_methods)}; only --indirect-method's when that is given)")
     command.add_argument("--no-peers", action="store_true",
-                         help="do not a" + COMPARISON_PARAMETERS["compare_peers"].metadata["description"][1:])
+                         help="do not " + lower_first(COMPARISON_PARAMETERS["compare_peers"].metadata["description"]))
     add_setting_flags(command)
     command.set_defaults(run=command_compare)
 

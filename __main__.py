@@ -2,9 +2,10 @@
 
 `demo` builds a built-in scene with bpy and renders it; `render` renders a user's .blend
 from its active camera (`--frames 1-24`: an animation, one EXR a frame, resumable);
-`compare` measures the methods against Cycles references; `export` saves a demo scene as
-.npz for machines without Blender; `bench` measures every RSM method against CM (the
-thesis's Table 1), runs declared sweeps and writes the benchmarks page.
+`compare` measures the methods and their peers (EEVEE, denoised Cycles) against Cycles
+references; `export` saves a demo scene as .npz for machines without Blender; `bench`
+measures every RSM method against CM (the thesis's Table 1), runs declared sweeps and
+writes the benchmarks page.
 Each render writes a multi-layer EXR (combined, direct, indirect), tone-mapped PNGs of
 combined and indirect, and stats.json. Errors a user can fix print one line, no traceback,
 and exit with status 2; Ctrl-C stops a command with one line and status 130.
@@ -24,8 +25,8 @@ from . import demo
 from .gpu.errors import LPVError
 from .gpu.passes import render_passes
 from .gpu.scene_edits import LIGHT_KIND_NAMES
-from .gpu.settings import (COMPARISON_PARAMETERS, DISPLAY_PARAMETERS, METHODS, PARAMETERS, PRESETS,
-                           ComparisonSettings, describe_preset, preset_settings)
+from .gpu.settings import (COMPARISON_PARAMETERS, DISPLAY_PARAMETERS, INDIRECT_METHODS, METHODS, PARAMETERS,
+                           PRESETS, ComparisonSettings, describe_preset, preset_settings)
 
 # ---- flags shared by the commands ----
 
@@ -41,14 +42,24 @@ def positive_int(text):
     return value
 
 
-def method_list(text):
+def method_list(text, known=METHODS):
     """An argparse type: comma-separated methods of gpu/settings.py, at least one."""
     methods = [method.strip() for method in text.split(",") if method.strip()]
-    unknown = [method for method in methods if method not in METHODS]
+    unknown = [method for method in methods if method not in known]
     if unknown or not methods:
         raise argparse.ArgumentTypeError(f"unknown or no method '{','.join(unknown)}'; choose from "
-                                         f"{', '.join(METHODS)}")
+                                         f"{', '.join(known)}")
     return methods
+
+
+def lower_first(text):
+    """A sentence's first letter in lower case, its names (EEVEE) kept, to follow 'do not'."""
+    return text[:1].lower() + text[1:]
+
+
+def indirect_method_list(text):
+    """An argparse type: comma-separated indirect methods of gpu/settings.py, at least one."""
+    return method_list(text, INDIRECT_METHODS)
 
 
 def add_setting_flags(parser):
@@ -170,7 +181,7 @@ def command_render(args):
     return stats
 
 
-def check_methods_fit(bpy_scene, settings, methods):
+def check_methods_fit(bpy_scene, settings, methods, indirect_methods):
     """Refuse, before any Cycles reference is rendered, a comparison whose frames our
     renderer cannot make here (no OpenGL 4.5, too large for the driver or the memory)."""
     from .addon.render_scene import scene_to_render
@@ -179,7 +190,8 @@ def check_methods_fit(bpy_scene, settings, methods):
     glc = GLContext.shared()
     scene = scene_to_render(bpy_scene, (settings.width, settings.height))
     for method in methods:
-        check_frame_fits(glc, settings.with_changes(method=method), scene)
+        for indirect in indirect_methods:
+            check_frame_fits(glc, settings.with_changes(method=method, indirect_method=indirect), scene)
 
 
 def command_compare(args):
@@ -200,10 +212,14 @@ def command_compare(args):
     else:
         bpy_scene = open_blend(args.file)
     settings = settings_for_blend(bpy_scene, args)
-    check_methods_fit(bpy_scene, settings, args.methods)
+    # --indirect-method alone compares that one; else the list (default every one).
+    indirect_methods = args.indirect_methods or ([args.indirect_method] if args.indirect_method
+                                                 else ComparisonSettings().indirect_methods)
+    check_methods_fit(bpy_scene, settings, args.methods, indirect_methods)
     cache = None if args.no_cache else ReferenceCache(args.cache)
     steps = comparison_steps(bpy_scene, args.methods, args.samples, settings, cache,
-                             noise_floor=not args.no_noise_floor)
+                             noise_floor=not args.no_noise_floor, indirect_methods=indirect_methods,
+                             peers=not args.no_peers)
     progress = lambda step: print(f"[{time.perf_counter() - start:5.0f} s {step[0]:4.0%}] {step[1]}", file=sys.stderr,
                                   flush=True)
     rows = write_report(run_to_end(steps, progress), args.out)
@@ -319,7 +335,8 @@ def build_parser():
     add_debug_passes_flag(command)
     command.set_defaults(run=command_render)
 
-    command = commands.add_parser("compare", help="measure the methods against Cycles references")
+    command = commands.add_parser("compare", help="measure the methods and their peers (EEVEE, denoised Cycles) "
+                                                  "against Cycles references")
     command.add_argument("file", help=f"a .blend file, or a demo scene name ({scene_list})")
     command.add_argument("--methods", type=method_list, default=comparison.methods,
                          help=f"comma-separated methods (default: {','.join(comparison.methods)})")
@@ -331,6 +348,11 @@ def build_parser():
     command.add_argument("--no-cache", action="store_true", help="render the references even when cached")
     command.add_argument("--no-noise-floor", action="store_true",
                          help=f"do not {COMPARISON_PARAMETERS['compare_noise_floor'].metadata['description'].lower()}")
+    command.add_argument("--indirect-methods", type=indirect_method_list,
+                         help=f"comma-separated indirect methods, a row each per method (default: "
+                              f"{','.join(comparison.indirect_methods)}; only --indirect-method's when that is given)")
+    command.add_argument("--no-peers", action="store_true",
+                         help="do not " + lower_first(COMPARISON_PARAMETERS["compare_peers"].metadata["description"]))
     add_setting_flags(command)
     command.set_defaults(run=command_compare)
 

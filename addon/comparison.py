@@ -1,11 +1,13 @@
-"""LPV Preview against Cycles: the references, our pipeline per method, the error figures.
+"""LPV Preview against Cycles: the references, our pipeline per method, its peers, the errors.
 
 `comparison_steps` does the work one step at a time (each part of a Cycles render, each
-method), so the comparison operator can show progress and stop between steps when the
-user presses Esc; the command line runs the same steps to the end and prints each one.
-Errors are `gpu.metrics.image_errors`
-of our indirect and combined images against each reference's, and the reference's own
-noise floor is the same figures between two Cycles renders that differ only in the seed.
+method, each peer), so the comparison operator can show progress and stop between steps
+when the user presses Esc; the command line runs the same steps to the end and prints each
+one. Errors are `gpu.metrics.image_errors` of our indirect and combined images against each
+reference's, per RSM method and indirect method; the peers a user would pick instead
+(addon/peers.py: EEVEE with ray tracing, Cycles at 1 and 4 samples with OpenImageDenoise)
+get the same figures, denoised Cycles on Combined only; and the reference's own noise
+floor is the same figures between two Cycles renders that differ only in the seed.
 """
 import math
 from dataclasses import dataclass, field
@@ -13,8 +15,9 @@ from dataclasses import dataclass, field
 from ..gpu.errors import LPVError
 from ..gpu.metrics import error_map, figure_text, heat_map, image_errors
 from ..gpu.passes import COMPARED_PASS_NAMES as IMAGES
-from ..gpu.settings import METHODS
+from ..gpu.settings import INDIRECT_METHODS, METHODS
 from .cycles_reference import REFERENCE_BOUNCES, cycles_reference_in_parts, reference_key
+from .peers import peer_renders
 from .render_scene import scene_to_render
 
 _last = []  # the last comparison the operator finished, for the panel
@@ -38,9 +41,15 @@ class MethodResult:
     shaders warm) and errors: reference kind -> image -> metric -> value."""
 
     method: str
+    indirect_method: str
     milliseconds: float
     images: dict
     errors: dict = field(default_factory=dict)
+
+    @property
+    def label(self):
+        """Like 'WDPM light grid'."""
+        return f"{self.method.upper()} {self.indirect_method.replace('_', ' ')}"
 
 
 @dataclass
@@ -48,6 +57,8 @@ class Comparison:
     references: dict = field(default_factory=dict)   # kind -> CyclesReference (seed 0)
     noise_floor: dict = field(default_factory=dict)  # kind -> image -> metric -> value (seed 1 against seed 0)
     methods: list = field(default_factory=list)      # MethodResult
+    peers: list = field(default_factory=list)        # addon/peers.py PeerRender
+    peer_errors: list = field(default_factory=list)  # per peer: kind -> image -> metric -> value
     samples: int = 0
     resolution: tuple = ()
 
@@ -56,24 +67,38 @@ class Comparison:
         return heat_map(error_map(method_result.images[image], getattr(self.references[kind], image)))
 
     def table(self):
-        """The rows of the comparison table: one per method and reference, then the noise floor."""
+        """The rows of the comparison table per reference: our methods, the peers rendered
+        for it (a peer's missing image, like denoised Cycles' indirect, has None figures),
+        then the noise floor. "ms" is the row's own render time, "cycles_s" the reference's."""
         rows = []
         for kind, reference in self.references.items():
+            common = {"reference": kind, "cycles_s": reference.settings["render_seconds"]}
             for result in self.methods:
-                rows.append({"method": result.method, "reference": kind, "our_ms": result.milliseconds,
-                             "cycles_s": reference.settings["render_seconds"], **_flat(result.errors[kind])})
+                rows.append({"method": result.method, "indirect_method": result.indirect_method, **common,
+                             "ms": result.milliseconds, **_flat(result.errors[kind])})
+            for peer, errors in zip(self.peers, self.peer_errors):
+                if peer.kind in (None, kind):
+                    rows.append({"method": peer.name, "indirect_method": None, **common,
+                                 "ms": None if peer.seconds is None else peer.seconds * 1000,
+                                 **_flat(errors.get(kind, {})), **({"missing": peer.missing} if peer.missing else {})})
             if kind in self.noise_floor:
-                rows.append({"method": "Cycles seed 1", "reference": kind, "our_ms": None,
-                             "cycles_s": reference.settings["render_seconds"], **_flat(self.noise_floor[kind])})
+                rows.append({"method": "Cycles seed 1", "indirect_method": None, **common, "ms": None,
+                             **_flat(self.noise_floor[kind])})
         return rows
 
 
 def _flat(errors):
-    return {f"{image}_{metric}": value for image, metrics in errors.items() for metric, value in metrics.items()}
+    """Every image's figures as columns; an image without figures has None in each."""
+    return {f"{image}_{metric}": errors.get(image, {}).get(metric) for image in IMAGES
+            for metric, _, _ in METRIC_COLUMNS}
 
 
-def _errors(test, reference):
-    return {image: image_errors(test[image], getattr(reference, image)) for image in IMAGES}
+def _errors(test, reference, against=None):
+    """Figures of each compared image `test` has against `reference`'s image of the same
+    name, or of the name `against` gives."""
+    against = against or {}
+    return {image: image_errors(test[image], getattr(reference, against.get(image, image)))
+            for image in IMAGES if image in test}
 
 
 def full_frame(settings, lpv_scene):
@@ -90,9 +115,10 @@ def full_frame(settings, lpv_scene):
 
 
 def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(REFERENCE_BOUNCES),
-                     noise_floor=True):
+                     noise_floor=True, indirect_methods=None, peers=False):
     """Compare `scene` (its camera, frame and `settings`' image size) rendered by each of
-    `methods` with the `kinds` of Cycles reference at `samples`.
+    `methods` with each of `indirect_methods` (None: the settings' own), and with `peers`
+    its peers (addon/peers.py), with the `kinds` of Cycles reference at `samples`.
 
     A generator: it yields (fraction done, what it does) before each step, after each
     part of a Cycles render (its samples, seconds and the time left) and, once the first
@@ -103,13 +129,19 @@ def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(
     unknown = [m for m in methods if m not in METHODS]
     if unknown or not methods:
         raise LPVError(f"Unknown or no method '{','.join(unknown)}'; choose from {', '.join(METHODS)}.")
+    indirect_methods = indirect_methods or [settings.indirect_method]
+    unknown = [m for m in indirect_methods if m not in INDIRECT_METHODS]
+    if unknown:
+        raise LPVError(f"Unknown indirect method '{','.join(unknown)}'; choose from {', '.join(INDIRECT_METHODS)}.")
     resolution = (settings.width, settings.height)
     comparison = Comparison(samples=samples, resolution=resolution)
     lpv_scene = scene_to_render(scene, resolution)
     renders = [(kind, seed) for kind in kinds for seed in ((0, 1) if noise_floor else (0,))]
     to_render = [(kind, seed) for kind, seed in renders if cache is None
                  or not cache.holds(reference_key(lpv_scene, scene.world, kind, samples, seed, resolution))]
-    steps = len(renders) + len(methods)
+    peer_steps = peer_renders(scene, kinds, resolution, lpv_scene, cache) if peers else []
+    ours = [(method, indirect) for method in methods for indirect in indirect_methods]
+    steps = len(renders) + len(peer_steps) + len(ours)
     for step, (kind, seed) in enumerate(renders):
         label = f"Cycles {kind.replace('_', ' ')} {'reference' if seed == 0 else 'noise floor (a second seed)'}"
         rendered = (kind, seed) in to_render
@@ -123,10 +155,18 @@ def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(
         else:
             comparison.noise_floor[kind] = _errors({image: getattr(reference, image) for image in IMAGES},
                                                    comparison.references[kind])
-    for index, method in enumerate(methods):
-        yield (len(renders) + index) / steps, f"LPV Preview {method.upper()}"
-        frame = full_frame(settings.with_changes(method=method), lpv_scene)
-        result = MethodResult(method, frame.stats["total_ms"], {image: frame.passes[image] for image in IMAGES})
+    for index, (label, render) in enumerate(peer_steps):
+        yield (len(renders) + index) / steps, label
+        peer = render()
+        comparison.peers.append(peer)
+        comparison.peer_errors.append({kind: _errors(peer.images, reference, peer.against)
+                                       for kind, reference in comparison.references.items()
+                                       if peer.kind in (None, kind)})
+    for index, (method, indirect) in enumerate(ours):
+        result = MethodResult(method, indirect, 0.0, {})
+        yield (len(renders) + len(peer_steps) + index) / steps, f"LPV Preview {result.label}"
+        frame = full_frame(settings.with_changes(method=method, indirect_method=indirect), lpv_scene)
+        result.milliseconds, result.images = frame.stats["total_ms"], {image: frame.passes[image] for image in IMAGES}
         for kind, reference in comparison.references.items():
             result.errors[kind] = _errors(result.images, reference)
         comparison.methods.append(result)
@@ -176,17 +216,25 @@ METRIC_COLUMNS = (("psnr", "PSNR dB", ".2f"), ("relative_mse", "relMSE", ".4f"),
                   ("reference_mean", "Cycles mean", ".3g"))
 
 
+def row_label(row):
+    """A table row's first cell: 'WDPM light grid', a peer's name (with why it is missing),
+    'Cycles seed 1'."""
+    if row["indirect_method"] is not None:
+        return f"{row['method'].upper()} {row['indirect_method'].replace('_', ' ')}"
+    return row["method"] + (f" (missing: {row['missing']})" if "missing" in row else "")
+
+
 def markdown_table(comparison):
-    """The comparison table in Markdown: per method and reference, our and Cycles' time,
-    the indirect and combined errors and means; the noise floor rows are Cycles against
-    itself. An undefined figure is a dash."""
-    head = ["method", "reference", "ours ms", "Cycles s"] + [f"{image} {label}" for image in IMAGES
-                                                              for _, label, _ in METRIC_COLUMNS]
+    """The comparison table in Markdown: per method, peer and reference, the row's and
+    Cycles' time, the indirect and combined errors and means; denoised Cycles' combined
+    figures are of Cycles' Combined pass against the reference's; the noise floor rows are
+    Cycles against itself. An undefined figure is a dash."""
+    head = ["method", "reference", "ms", "Cycles s"] + [f"{image} {label}" for image in IMAGES
+                                                         for _, label, _ in METRIC_COLUMNS]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for row in comparison.table():
-        cells = [row["method"].upper() if row["our_ms"] is not None else row["method"],
-                 row["reference"].replace("_", " "),
-                 "" if row["our_ms"] is None else f"{row['our_ms']:.1f}", f"{row['cycles_s']:.1f}"]
+        cells = [row_label(row), row["reference"].replace("_", " "),
+                 "" if row["ms"] is None else f"{row['ms']:.1f}", f"{row['cycles_s']:.1f}"]
         cells += [figure_text(row[f"{image}_{metric}"], fmt) for image in IMAGES for metric, _, fmt in METRIC_COLUMNS]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
@@ -202,6 +250,7 @@ def write_report(comparison, folder):
     heat maps of each method's indirect error against each reference; returns the rows."""
     import json
     import os
+    import re
 
     from ..gpu.image_io import write_png
     try:
@@ -215,15 +264,21 @@ def write_report(comparison, folder):
             write_png(os.path.join(folder, f"cycles_{kind}_{image}.png"), getattr(reference, image),
                       exposure_of=exposure[image])
     for result in comparison.methods:
+        name = f"{result.method}_{result.indirect_method}"
         for image in IMAGES:
-            write_png(os.path.join(folder, f"ours_{result.method}_{image}.png"), result.images[image],
+            write_png(os.path.join(folder, f"ours_{name}_{image}.png"), result.images[image],
                       exposure_of=exposure[image])
         for kind in comparison.references:
-            write_png(os.path.join(folder, f"error_{result.method}_{kind}_indirect.png"),
+            write_png(os.path.join(folder, f"error_{name}_{kind}_indirect.png"),
                       comparison.heat_map(result, kind), tone_mapped=False)
+    for peer in comparison.peers:
+        name = re.sub(r"[^a-z0-9]+", "_", peer.name.lower()).strip("_") + (f"_{peer.kind}" if peer.kind else "")
+        for image, pixels in peer.images.items():
+            write_png(os.path.join(folder, f"peer_{name}_{image}.png"), pixels, exposure_of=exposure[image])
     rows = comparison.table()
     report = {"samples": comparison.samples, "resolution": list(comparison.resolution),
               "references": {kind: reference.settings for kind, reference in comparison.references.items()},
+              "peers": [{"name": peer.name, "kind": peer.kind, **peer.settings} for peer in comparison.peers],
               "rows": [{key: _json_number(value) for key, value in row.items()} for row in rows]}
     with open(os.path.join(folder, "comparison.json"), "w") as handle:
         json.dump(report, handle, indent=2, default=float, allow_nan=False)

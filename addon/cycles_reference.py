@@ -11,7 +11,8 @@ parts of its samples (`cycles_passes_in_parts`) so that it can be stopped.
 `cycles_reference` makes the two references the preview is judged by: one diffuse bounce
 (the light transport an LPV approximates) and full global illumination, each split into
 diffuse direct and diffuse indirect light (Cycles' light passes times its colour pass),
-cached by scene content and settings in a `ReferenceCache`.
+with Cycles' Combined pass beside them, cached by scene content and settings in a
+`ReferenceCache` (which holds the peers' renders too, addon/peers.py).
 """
 import hashlib
 import json
@@ -59,7 +60,7 @@ _BOUNCE_ATTRIBUTES = (
 
 
 @contextmanager
-def _reference_scene(scene):
+def temporary_copy(scene):
     """A linked copy of `scene` (the same objects, world, camera, frame and view layers)
     that a reference may set up freely, removed afterwards, also when the render fails:
     the user's scene is never changed. (Changing its settings and setting them back is
@@ -146,21 +147,33 @@ def run_to_end(steps, log=None):
             log(step)
 
 
+def render_cycles_denoised(scene, samples, resolution, seed, max_bounces, pixel_filter_width):
+    """Cycles' Combined pass at `samples`, denoised by OpenImageDenoise with the scene's
+    viewport denoising settings (input passes, prefilter, quality), as its viewport shows
+    that many samples; in one part, since the denoiser must see the whole render. Otherwise
+    as `render_cycles_passes`; returns {"Combined": array, "settings": dict}."""
+    _enable_cycles()
+    import _cycles  # on the path once Cycles is enabled
+    if not _cycles.with_openimagedenoise:
+        raise LPVError("This Blender's Cycles was built without OpenImageDenoise, so it has no denoised render to "
+                       "compare; use an official Blender build.")
+    return _render_part(scene, ("Combined",), samples, (0, samples), resolution, seed, max_bounces, 0.0,
+                        pixel_filter_width, denoise=True)
+
+
 def _render_part(scene, passes, samples, sample_range, resolution, seed, max_bounces, light_threshold,
-                 pixel_filter_width):
+                 pixel_filter_width, denoise=False):
     """The passes of the `sample_range` (first sample, count) of a render of `samples`."""
     view_layer_name = view_layer_to_render(scene).name
     wanted_layers = {name: _PASS_BY_NAME[name].exr_layer if name in _PASS_BY_NAME else name for name in passes}
-    with _temporary_folder() as folder, _reference_scene(scene) as copy:
+    with temporary_folder() as folder, temporary_copy(scene) as copy:
         view_layer = copy.view_layers[view_layer_name]
         exr_path = os.path.join(folder, "cycles_reference.exr")
         _apply_reference_settings(copy, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
-                                  max_bounces, light_threshold, pixel_filter_width)
+                                  max_bounces, light_threshold, pixel_filter_width, denoise)
         settings = _settings_in_use(copy, view_layer)
-        started = time.perf_counter()
-        _render_to_file(copy, exr_path)
-        settings["render_seconds"] = time.perf_counter() - started
-        images = _read_exr_passes(exr_path, view_layer_name, wanted_layers)
+        settings["render_seconds"] = render_to_file(copy, exr_path)
+        images = read_exr_passes(exr_path, view_layer_name, wanted_layers)
     return {**images, "settings": settings}
 
 
@@ -170,7 +183,7 @@ def describe_reference_settings(settings):
     return (f"Cycles {settings['device']}, {settings['samples']} samples, seed {settings['seed']}, "
             f"{width}x{height}, max bounces {settings['max_bounces']} (diffuse {settings['diffuse_bounces']}), "
             f"light threshold {settings['light_threshold']:g}, {settings['pixel_filter']} filter "
-            f"{settings['pixel_filter_width']:g} px, no denoising, "
+            f"{settings['pixel_filter_width']:g} px, {settings['denoiser'] or 'no denoising'}, "
             f"rendered in {settings['render_seconds']:.2f} s")
 
 
@@ -180,7 +193,7 @@ def _enable_cycles():
 
 
 @contextmanager
-def _temporary_folder():
+def temporary_folder():
     try:
         folder = tempfile.mkdtemp(prefix="lpv_cycles_reference_")
     except OSError as error:
@@ -192,10 +205,10 @@ def _temporary_folder():
         shutil.rmtree(folder, ignore_errors=True)
 
 
-def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
-                              max_bounces, light_threshold, pixel_filter_width):
-    render, cycles = scene.render, scene.cycles
-    render.engine = "CYCLES"
+def apply_output_settings(scene, view_layer, exr_path, resolution):
+    """Render `view_layer` alone at `resolution` (None: the scene's) into a float multilayer
+    EXR at `exr_path`, with no compositor, sequencer, Freestyle or border."""
+    render = scene.render
     if resolution is not None:
         render.resolution_x, render.resolution_y = resolution
         render.resolution_percentage = 100
@@ -214,7 +227,15 @@ def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, samp
     image.exr_codec = "ZIP"
     image.use_exr_interleave = False
     image.color_management = "FOLLOW_SCENE"
+    for layer in scene.view_layers:
+        layer.use = layer == view_layer
 
+
+def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
+                              max_bounces, light_threshold, pixel_filter_width, denoise):
+    cycles = scene.cycles
+    scene.render.engine = "CYCLES"
+    apply_output_settings(scene, view_layer, exr_path, resolution)
     cycles.device = "CPU"
     cycles.samples = samples
     cycles.use_adaptive_sampling = False
@@ -224,7 +245,13 @@ def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, samp
     cycles.sample_offset, cycles.sample_subset_length = sample_range
     cycles.seed = seed
     cycles.use_animated_seed = False
-    cycles.use_denoising = False
+    cycles.use_denoising = denoise
+    if denoise:
+        cycles.denoiser = "OPENIMAGEDENOISE"
+        cycles.denoising_use_gpu = False
+        cycles.denoising_input_passes = cycles.preview_denoising_input_passes
+        cycles.denoising_prefilter = cycles.preview_denoising_prefilter
+        cycles.denoising_quality = cycles.preview_denoising_quality
     cycles.light_sampling_threshold = light_threshold
     cycles.sample_clamp_direct = 0.0
     cycles.sample_clamp_indirect = 0.0
@@ -234,8 +261,6 @@ def _apply_reference_settings(scene, view_layer, exr_path, passes, samples, samp
         for name in _BOUNCE_ATTRIBUTES:
             setattr(cycles, name, max_bounces)
 
-    for layer in scene.view_layers:
-        layer.use = layer == view_layer
     for name in passes:
         if name in _PASS_BY_NAME:
             setattr(view_layer, _PASS_BY_NAME[name].view_layer_flag, True)
@@ -251,21 +276,26 @@ def _settings_in_use(scene, view_layer):
         "light_threshold": cycles.light_sampling_threshold, "pixel_filter": cycles.pixel_filter_type,
         "pixel_filter_width": cycles.filter_width, "frame": scene.frame_current,
         "view_layer": view_layer.name,
+        "denoiser": (f"OpenImageDenoise ({cycles.denoising_input_passes}, {cycles.denoising_prefilter} prefilter, "
+                     f"{cycles.denoising_quality} quality)" if cycles.use_denoising else None),
     }
 
 
-def _render_to_file(scene, exr_path):
+def render_to_file(scene, exr_path, engine="Cycles"):
+    """Render `scene` (set up by `apply_output_settings`) into `exr_path`; its wall seconds."""
+    started = time.perf_counter()
     try:
         with interrupt_after_render():
             bpy.ops.render.render(write_still=True, scene=scene.name)
     except RuntimeError as error:
         reason = str(error).splitlines()[0].removeprefix("Error: ").rstrip(".")
-        raise LPVError(f"Cycles could not render or save the reference image: {reason}.") from error
+        raise LPVError(f"{engine} could not render or save its image: {reason}.") from error
     if not os.path.isfile(exr_path):
-        raise LPVError(f"Cycles rendered the reference but wrote no image to '{exr_path}'.")
+        raise LPVError(f"{engine} rendered but wrote no image to '{exr_path}'.")
+    return time.perf_counter() - started
 
 
-def _read_exr_passes(exr_path, view_layer_name, wanted_layers):
+def read_exr_passes(exr_path, view_layer_name, wanted_layers):
     """{pass name: (H, W, 3) float32} from the multilayer EXR, top row first."""
     channels = read_exr_channels(exr_path)
     prefix = f"{view_layer_name}."
@@ -285,7 +315,7 @@ def _read_exr_passes(exr_path, view_layer_name, wanted_layers):
 REFERENCE_BOUNCES = {"one_bounce": 1, "full_gi": 12}
 """The references: Cycles' bounce limit (every bounce type) for each."""
 
-REFERENCE_PASSES = ("DiffDir", "DiffInd", "DiffCol")
+REFERENCE_PASSES = ("DiffDir", "DiffInd", "DiffCol", "Combined")
 REFERENCE_FILTER_WIDTH = 0.01
 """Pixel filter width of the references: our images are sampled at pixel centres, so the
 reference is too (Cycles' default 1.5 px Blackman-Harris would blur it against ours)."""
@@ -293,12 +323,14 @@ reference is too (Cycles' default 1.5 px Blackman-Harris would blur it against o
 
 @dataclass
 class CyclesReference:
-    """A Cycles reference: diffuse direct and indirect light, (H, W, 3) linear float32 top
-    row first, and how it was rendered (`render_cycles_passes`' settings)."""
+    """A Cycles reference: diffuse direct and indirect light and Cycles' own Combined pass
+    (what denoised Cycles is compared with: its denoiser works on Combined), (H, W, 3)
+    linear float32 top row first, and how it was rendered (`render_cycles_passes`' settings)."""
 
     kind: str
     direct: np.ndarray
     indirect: np.ndarray
+    combined_pass: np.ndarray
     settings: dict
 
     @property
@@ -369,24 +401,41 @@ class ReferenceCache:
         return f"{count} Cycles reference{'' if count == 1 else 's'}, {size_text(size)}"
 
     def holds(self, key):
-        return os.path.isfile(self.path(key))
-
-    def load(self, key):
+        """Whether a reference of this version (with its Combined pass) is stored under `key`."""
         try:
             with np.load(self.path(key)) as data:
-                return CyclesReference(str(data["kind"]), data["direct"], data["indirect"],
-                                       json.loads(str(data["settings"])))
-        except (OSError, KeyError, ValueError):
+                return "combined_pass" in data.files
+        except (OSError, ValueError):
+            return False
+
+    def load(self, key):
+        """The CyclesReference stored under `key`, or None (none, or of an older format)."""
+        data = self.load_arrays(key)
+        try:
+            return None if data is None else CyclesReference(
+                str(data["kind"]), data["direct"], data["indirect"], data["combined_pass"], data["settings"])
+        except KeyError:
             return None
 
     def store(self, key, reference):
-        """Write the reference under a temporary name, renamed when complete (removed when
-        interrupted); a cache that cannot be written only costs a render later."""
+        self.store_arrays(key, {"kind": reference.kind, "direct": reference.direct, "indirect": reference.indirect,
+                                "combined_pass": reference.combined_pass}, reference.settings)
+
+    def load_arrays(self, key):
+        """{name: array, "settings": dict} stored under `key`, or None."""
+        try:
+            with np.load(self.path(key)) as data:
+                return {**{name: data[name] for name in data.files}, "settings": json.loads(str(data["settings"]))}
+        except (OSError, KeyError, ValueError):
+            return None
+
+    def store_arrays(self, key, arrays, settings):
+        """Write `arrays` and `settings` (JSON) under a temporary name, renamed when complete
+        (removed when interrupted); a cache that cannot be written only costs a render later."""
         partial = self.path(key) + ".partial.npz"
         try:
             os.makedirs(self.folder, exist_ok=True)
-            np.savez_compressed(partial, kind=reference.kind, direct=reference.direct, indirect=reference.indirect,
-                                settings=json.dumps(reference.settings))
+            np.savez_compressed(partial, settings=json.dumps(settings), **arrays)
             os.replace(partial, self.path(key))
         except OSError:
             pass
@@ -438,14 +487,18 @@ def _plain(value):
 
 
 def reference_key(content, world, kind, samples, seed, resolution):
-    """A content key of what a reference shows: the extracted geometry, lights and camera
-    (`content`, our Scene), every material's nodes, the `world`'s, and the Cycles settings
-    and Blender version."""
+    """The cache key of a reference: `content_key` with its Cycles settings."""
+    return content_key(content, world, kind, REFERENCE_BOUNCES[kind], samples, seed, tuple(resolution),
+                       REFERENCE_FILTER_WIDTH)
+
+
+def content_key(content, world, *settings):
+    """A content key of what a render shows: the extracted geometry, lights and camera
+    (`content`, our Scene), every material's nodes, the `world`'s, the render's `settings`
+    and the Blender version."""
     parts = [content.geometry_key(), [light.key() for light in content.lights], content.camera.key(),
              sorted((m.name, repr(material_signature(m))) for m in bpy.data.materials if m.users),
-             repr(material_signature(world)) if world is not None else None,
-             kind, REFERENCE_BOUNCES[kind], samples, seed, tuple(resolution), REFERENCE_FILTER_WIDTH,
-             bpy.app.version_string]
+             repr(material_signature(world)) if world is not None else None, *settings, bpy.app.version_string]
     return hashlib.sha1(repr(parts).encode()).hexdigest()[:20]
 
 
@@ -475,7 +528,7 @@ def cycles_reference_in_parts(scene, kind, samples, seed=0, resolution=None, cac
     images = yield from cycles_passes_in_parts(scene, REFERENCE_PASSES, samples, resolution, seed,
                                                REFERENCE_BOUNCES[kind], pixel_filter_width=REFERENCE_FILTER_WIDTH)
     colour = images["DiffCol"]
-    reference = CyclesReference(kind, images["DiffDir"] * colour, images["DiffInd"] * colour,
+    reference = CyclesReference(kind, images["DiffDir"] * colour, images["DiffInd"] * colour, images["Combined"],
                                 {**images["settings"], "cached": False, "key": key})
     if cache is not None:
         cache.store(key, reference)

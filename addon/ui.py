@@ -6,7 +6,7 @@ import bpy
 from ..gpu.settings import ALL_PARAMETERS, PRESETS, matching_preset
 from ..gpu.metrics import figure_text
 from ..gpu.pipeline import STAGES as PIPELINE_STAGES
-from .comparison import last_comparison
+from .comparison import IMAGES, last_comparison, row_label
 from .cycles_reference import ReferenceCache
 from .engine import ENGINE_ID
 from .frame_stats import last_stats
@@ -23,7 +23,8 @@ SETTING_GROUPS = {
                  "show_warp_status"),
     "Passes": ("debug_passes",),
     "Comparison": ("compare_cm", "compare_dpm", "compare_wdpm", "compare_tdpm", "compare_twdpm", "compare_auto",
-                   "compare_samples", "compare_noise_floor"),
+                   "compare_lpv", "compare_light_grid", "compare_vpl_gather", "compare_samples", "compare_noise_floor",
+                   "compare_peers"),
 }
 ENABLED_BY = {"lpv_slice_axis": "show_lpv_slice", "lpv_slice_position": "show_lpv_slice"}
 """Settings that matter only while another is on: drawn inactive while it is off."""
@@ -98,7 +99,8 @@ PANEL_FIGURES = (("psnr", "PSNR", ".1f"), ("relative_mse", "relMSE", ".3f"), ("s
 
 def draw_comparison(layout, properties):
     """The comparison settings, its button, the reference cache's size with a button that
-    empties it, and the last comparison's table (indirect image)."""
+    empties it, and the last comparison's tables: per reference and image, a row per method
+    and peer that has the image (denoised Cycles: combined only, its Combined pass)."""
     draw_settings(layout, properties, "Comparison")
     layout.operator(COMPARE_OPERATOR, icon="RENDER_STILL")
     row = layout.row()
@@ -107,21 +109,22 @@ def draw_comparison(layout, properties):
     comparison = last_comparison()
     if comparison is None:
         return
+    rows = comparison.table()
     for kind, reference in comparison.references.items():
-        box = layout.box()
-        box.label(text=f"Indirect vs Cycles {kind.replace('_', ' ')}: {comparison.samples} samples, "
-                       f"{reference.settings['render_seconds']:.1f} s")
-        headings = ("Method", "ms", *(label for _, label, _ in PANEL_FIGURES))
-        grid = box.grid_flow(columns=len(headings), row_major=True, even_columns=False, align=True)
-        for heading in headings:
-            grid.label(text=heading)
-        rows = [(r.method.upper(), f"{r.milliseconds:.0f}", r.errors[kind]["indirect"]) for r in comparison.methods]
-        if kind in comparison.noise_floor:
-            rows.append(("Noise", "", comparison.noise_floor[kind]["indirect"]))
-        for method, milliseconds, errors in rows:
-            figures = [figure_text(errors[metric], fmt) for metric, _, fmt in PANEL_FIGURES]
-            for text in (method, milliseconds, *figures):
-                grid.label(text=text)
+        for image in IMAGES:
+            box = layout.box()
+            box.label(text=f"{image.capitalize()} vs Cycles {kind.replace('_', ' ')}: {comparison.samples} samples, "
+                           f"{reference.settings['render_seconds']:.1f} s")
+            headings = ("Method", "ms", *(label for _, label, _ in PANEL_FIGURES))
+            grid = box.grid_flow(columns=len(headings), row_major=True, even_columns=False, align=True)
+            for heading in headings:
+                grid.label(text=heading)
+            for row in rows:
+                if row["reference"] != kind or (row[f"{image}_mse"] is None and "missing" not in row):
+                    continue
+                figures = [figure_text(row[f"{image}_{metric}"], fmt) for metric, _, fmt in PANEL_FIGURES]
+                for text in (row_label(row), "" if row["ms"] is None else f"{row['ms']:.0f}", *figures):
+                    grid.label(text=text)
     layout.label(text="Images: \"LPV Compare ...\" in the Image Editor")
 
 

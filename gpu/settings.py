@@ -117,7 +117,8 @@ class DisplaySettings(Validated):
 
 @dataclass(frozen=True)
 class ComparisonSettings(Validated):
-    """What the comparison with Cycles renders: the methods ticked and the references' samples."""
+    """What the comparison with Cycles renders: the RSM and indirect methods ticked, the
+    references' samples, the noise floor and the peers."""
 
     compare_cm: bool = _param(True, "Compare CM with Cycles")
     compare_dpm: bool = _param(False, "Compare DPM with Cycles")
@@ -125,12 +126,23 @@ class ComparisonSettings(Validated):
     compare_tdpm: bool = _param(False, "Compare TDPM with Cycles")
     compare_twdpm: bool = _param(False, "Compare TWDPM with Cycles")
     compare_auto: bool = _param(False, "Compare AUTO with Cycles")
+    compare_lpv: bool = _param(True, "Compare the light propagation volume (indirect method lpv) with Cycles")
+    compare_light_grid: bool = _param(True, "Compare the light grid (indirect method light_grid) with Cycles")
+    compare_vpl_gather: bool = _param(True, "Compare the per-pixel VPL gather (indirect method vpl_gather) with "
+                                            "Cycles")
     compare_samples: int = _param(256, "Cycles samples per pixel of each reference", 1, 65536)
     compare_noise_floor: bool = _param(True, "Render each reference again with another seed to measure its noise")
+    compare_peers: bool = _param(True, "Also render what a user might pick instead: EEVEE with ray tracing (the "
+                                       "scene's EEVEE settings; minutes without a GPU) and Cycles at 1 and 4 samples "
+                                       "denoised by OpenImageDenoise")
 
     @property
     def methods(self):
         return [method for method in METHODS if getattr(self, f"compare_{method}")]
+
+    @property
+    def indirect_methods(self):
+        return [method for method in INDIRECT_METHODS if getattr(self, f"compare_{method}")]
 
 
 PARAMETERS = {f.name: f for f in fields(Settings)}

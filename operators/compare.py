@@ -27,8 +27,11 @@ def comparison_of(scene):
         raise LPVError("No method is ticked for the comparison; tick at least one in the Comparison panel.")
     width, height = render_resolution(scene)
     settings = settings_from_properties(properties, width=width, height=height)
+    if not compare.indirect_methods:
+        raise LPVError("No indirect method is ticked for the comparison; tick at least one in the Comparison panel.")
     return comparison_steps(scene, compare.methods, compare.compare_samples, settings, ReferenceCache(),
-                            noise_floor=compare.compare_noise_floor)
+                            noise_floor=compare.compare_noise_floor, indirect_methods=compare.indirect_methods,
+                            peers=compare.compare_peers)
 
 
 def image_names(comparison):
@@ -39,10 +42,14 @@ def image_names(comparison):
             images[f"{IMAGE_PREFIX} Cycles {kind.replace('_', ' ')} {image}"] = (getattr(reference, image), "linear")
     for result in comparison.methods:
         for image in IMAGES:
-            images[f"{IMAGE_PREFIX} {result.method.upper()} {image}"] = (result.images[image], "linear")
+            images[f"{IMAGE_PREFIX} {result.label} {image}"] = (result.images[image], "linear")
         for kind in comparison.references:
-            images[f"{IMAGE_PREFIX} {result.method.upper()} error vs {kind.replace('_', ' ')}"] = (
+            images[f"{IMAGE_PREFIX} {result.label} error vs {kind.replace('_', ' ')}"] = (
                 comparison.heat_map(result, kind), "display")
+    for peer in comparison.peers:
+        for image, pixels in peer.images.items():
+            suffix = f" {peer.kind.replace('_', ' ')}" if peer.kind else ""
+            images[f"{IMAGE_PREFIX} {peer.name}{suffix} {image}"] = (pixels, "linear")
     return images
 
 
@@ -68,7 +75,7 @@ class LPV_OT_compare_with_cycles(bpy.types.Operator):
     bl_idname = "lpv_preview.compare_with_cycles"
     bl_label = "Compare with Cycles"
     bl_description = ("Render Cycles references (one bounce and full GI) of the current camera and frame, run each "
-                      "ticked method and measure its error; Esc stops")
+                      "ticked method and, when ticked, EEVEE and denoised Cycles, and measure their errors; Esc stops")
 
     def execute(self, context):
         try:

@@ -13,11 +13,11 @@ bpy = pytest.importorskip("bpy")
 
 from lpv_preview import demo  # noqa: E402
 from lpv_preview.__main__ import main  # noqa: E402
-from lpv_preview.addon.comparison import comparison_steps  # noqa: E402
+from lpv_preview.addon.comparison import comparison_steps, markdown_table, row_label  # noqa: E402
 from lpv_preview.addon.cycles_reference import run_to_end  # noqa: E402
 from lpv_preview.addon.cycles_reference import ReferenceCache  # noqa: E402
 from lpv_preview.gpu.errors import LPVError  # noqa: E402
-from lpv_preview.gpu.settings import Settings  # noqa: E402
+from lpv_preview.gpu.settings import INDIRECT_METHODS, Settings  # noqa: E402
 
 from .test_engine import scene_snapshot  # noqa: E402
 
@@ -30,6 +30,12 @@ def cycles_state(scene):
     return {prop.identifier: getattr(scene.cycles, prop.identifier) for prop in scene.cycles.bl_rna.properties
             if prop.identifier != "rna_type" and prop.type not in {"POINTER", "COLLECTION"}
             and not getattr(prop, "is_array", False)}
+
+
+def eevee_state(scene):
+    """Every plain EEVEE setting (the peers switch its ray tracing and samples on a copy)."""
+    from lpv_preview.addon.peers import rna_values
+    return rna_values(scene.eevee)
 
 
 @pytest.fixture()
@@ -73,6 +79,39 @@ def test_a_comparison_gives_finite_figures_and_leaves_the_scene_as_it_was(cornel
     assert (scene_snapshot(cornell), cycles_state(cornell)) == before
 
 
+def test_the_peers_get_rows_with_the_same_figures_and_leave_the_scene_as_it_was(cornell, tmp_path):
+    cornell.eevee.taa_render_samples = 4  # EEVEE's first sample has no ray-traced light yet
+    before = scene_snapshot(cornell), cycles_state(cornell), eevee_state(cornell)
+    cache = ReferenceCache(str(tmp_path / "cache"))
+    settings = SMALL.with_changes(width=32, height=32)
+    steps = comparison_steps(cornell, ["wdpm"], SAMPLES, settings, cache, noise_floor=False,
+                             indirect_methods=list(INDIRECT_METHODS), peers=True)
+    comparison = run_to_end(steps)
+    assert (scene_snapshot(cornell), cycles_state(cornell), eevee_state(cornell)) == before
+    rows = comparison.table()
+    ours = ["WDPM lpv", "WDPM light grid", "WDPM vpl gather"]
+    peers = ["Cycles 1 spp + OIDN", "Cycles 4 spp + OIDN", "EEVEE ray tracing"]
+    assert [(row_label(r), r["reference"]) for r in rows] == [
+        (label, kind) for kind in ("one_bounce", "full_gi") for label in ours + peers]
+    for row in rows:
+        images = ("combined",) if row["method"].startswith("Cycles") else ("indirect", "combined")
+        for image in ("indirect", "combined"):
+            for metric in ("psnr", "relative_mse", "ssim", "flip", "mse"):
+                value = row[f"{image}_{metric}"]
+                assert (math.isfinite(value) if image in images else value is None), (row, image, metric)
+        assert row["ms"] > 0
+    eevee = comparison.peers[-1]
+    # Ray tracing adds light where Cycles has indirect light: their means agree roughly.
+    reference = comparison.references["one_bounce"]
+    assert 0.5 < eevee.images["indirect"].mean() / reference.indirect.mean() < 2.0
+    assert "| Cycles 4 spp + OIDN | full gi |" in markdown_table(comparison)
+    # Again, every peer comes from the cache.
+    again = run_to_end(comparison_steps(cornell, ["wdpm"], SAMPLES, settings, cache, noise_floor=False, peers=True))
+    assert all(peer.settings["cached"] for peer in again.peers) and len(again.peers) == 5
+    np.testing.assert_array_equal(again.peers[-1].images["indirect"], eevee.images["indirect"])
+    assert (scene_snapshot(cornell), cycles_state(cornell), eevee_state(cornell)) == before
+
+
 def test_a_cancelled_comparison_leaves_the_scene_as_it_was(cornell, tmp_path):
     before = scene_snapshot(cornell), cycles_state(cornell)
     steps = comparison_steps(cornell, ["cm"], SAMPLES, SMALL, ReferenceCache(str(tmp_path)))
@@ -98,7 +137,7 @@ def test_the_compare_command_shows_its_progress_and_writes_the_table_and_images(
     out = tmp_path / "compare"
     argv = ["compare", "cornell", "--methods", "wdpm", "--samples", str(SAMPLES), "--out", str(out),
             "--cache", str(tmp_path / "cache"), "--width", "40", "--height", "32", "--rsm-resolution", "64",
-            "--vpls-per-light", "256", "--lpv-resolution", "16"]
+            "--vpls-per-light", "256", "--lpv-resolution", "16", "--indirect-method", "light_grid", "--no-peers"]
     assert main(argv) == 0
     progress = capsys.readouterr().err.splitlines()
     assert all(re.match(r"\[ +\d+ s +\d+%\] ", line) for line in progress), progress  # elapsed time, fraction
@@ -110,14 +149,15 @@ def test_the_compare_command_shows_its_progress_and_writes_the_table_and_images(
     for label in ("one bounce reference", "one bounce noise floor (a second seed)", "full gi reference",
                   "full gi noise floor (a second seed)"):
         assert re.search(rf"Cycles {re.escape(label)}: {SAMPLES}/{SAMPLES} samples in \d+ s, done", "\n".join(texts))
-    assert texts[-1] == "LPV Preview WDPM"
+    assert texts[-1] == "LPV Preview WDPM light grid"
     report = json.loads((out / "comparison.json").read_text())
     assert [(r["method"], r["reference"]) for r in report["rows"]] == [
         ("wdpm", "one_bounce"), ("Cycles seed 1", "one_bounce"), ("wdpm", "full_gi"), ("Cycles seed 1", "full_gi")]
     table = (out / "comparison.md").read_text()
-    assert table.startswith("| method | reference | ours ms | Cycles s | indirect PSNR dB")
-    assert "| WDPM | one bounce |" in table
-    for name in ("cycles_one_bounce_indirect.png", "ours_wdpm_combined.png", "error_wdpm_full_gi_indirect.png"):
+    assert table.startswith("| method | reference | ms | Cycles s | indirect PSNR dB")
+    assert "| WDPM light grid | one bounce |" in table
+    for name in ("cycles_one_bounce_indirect.png", "ours_wdpm_light_grid_combined.png",
+                 "error_wdpm_light_grid_full_gi_indirect.png"):
         assert (out / name).stat().st_size > 0
     capsys.readouterr()
     assert main(["compare", "nowhere.blend", "--out", str(out)]) == 2
@@ -134,6 +174,7 @@ def registered(cornell, tmp_path, monkeypatch):
     properties = cornell.lpv_preview
     properties.rsm_resolution, properties.vpls_per_light, properties.lpv_resolution = 64, 256, 16
     properties.compare_samples, properties.compare_tdpm = SAMPLES, True
+    properties.compare_lpv = properties.compare_vpl_gather = properties.compare_peers = False
     yield cornell
     lpv_preview.unregister()
 
@@ -144,16 +185,16 @@ def test_the_operator_fills_the_table_and_the_images_and_leaves_the_scene_as_it_
     assert bpy.ops.lpv_preview.compare_with_cycles() == {"FINISHED"}
     assert (scene_snapshot(registered), cycles_state(registered)) == before
     comparison = last_comparison()
-    assert [r.method for r in comparison.methods] == ["cm", "wdpm", "tdpm"]
-    for name in ("LPV Compare Cycles one bounce indirect", "LPV Compare WDPM combined",
-                 "LPV Compare TDPM error vs full gi"):
+    assert [r.label for r in comparison.methods] == ["CM light grid", "WDPM light grid", "TDPM light grid"]
+    for name in ("LPV Compare Cycles one bounce indirect", "LPV Compare WDPM light grid combined",
+                 "LPV Compare TDPM light grid error vs full gi"):
         image = bpy.data.images[name]
         assert tuple(image.size) == (40, 32)
         pixels = np.empty(40 * 32 * 4, dtype=np.float32)
         image.pixels.foreach_get(pixels)
         assert np.isfinite(pixels).all() and pixels.reshape(-1, 4)[:, :3].max() > 0
     np.testing.assert_allclose(  # the datablock holds the image, bottom row first
-        np.asarray(bpy.data.images["LPV Compare CM indirect"].pixels[:]).reshape(32, 40, 4)[::-1, :, :3],
+        np.asarray(bpy.data.images["LPV Compare CM light grid indirect"].pixels[:]).reshape(32, 40, 4)[::-1, :, :3],
         comparison.methods[0].images["indirect"], rtol=1e-6)
 
 
@@ -162,7 +203,7 @@ def test_the_panel_shows_the_cycles_cache_whose_button_empties_it(registered, tm
     cache = ReferenceCache()
     assert cache.folder == str(tmp_path / "cache") and cache.describe() == "0 Cycles references, 0 B"
     reference = CyclesReference("one_bounce", np.ones((4, 4, 3), np.float32), np.zeros((4, 4, 3), np.float32),
-                                {"samples": 1})
+                                np.ones((4, 4, 3), np.float32), {"samples": 1})
     keys = ("0123456789abcdef0123", "fedcba9876543210fedc")
     for key in keys:
         cache.store(key, reference)
@@ -192,14 +233,16 @@ def test_the_operator_reports_one_error_when_no_method_is_ticked(registered):
 def test_time_to_equal_error_fits_cycles_error_and_time_against_samples(cornell, tmp_path):
     from lpv_preview.scripts.time_to_equal_error import equal_error_of
     settings = Settings(width=32, height=32, rsm_resolution=64, vpls_per_light=256, lpv_resolution=16, method="wdpm")
-    results = equal_error_of(cornell, settings, 64, [1, 4, 16], "one_bounce", ReferenceCache(str(tmp_path)))
-    assert [r.image for r in results] == ["indirect", "combined"]
+    results = equal_error_of(cornell, settings, 64, [1, 4, 16], "one_bounce", ReferenceCache(str(tmp_path)),
+                             indirect_methods=["light_grid"], denoised_samples=[1])
+    assert [(r.label, r.image) for r in results] == [("WDPM light grid", "indirect"), ("WDPM light grid", "combined"),
+                                                     ("Cycles 1 spp + OIDN", "combined_pass")]
     for result in results:
         samples = [rung[0] for rung in result.ladder]
         errors = [rung[2] for rung in result.ladder]
         assert samples == [1, 4, 16] and errors[0] > errors[-1] > 0
         assert 0.5 < result.slope < 1.5  # Monte Carlo: MSE about 1 / samples
-        assert result.our_mse > 0 and result.our_ms > 0
+        assert result.mse > 0 and result.milliseconds > 0
         if result.samples is not None:
             assert result.samples >= 1 and result.seconds > 0
 
@@ -229,7 +272,8 @@ def test_a_black_reference_is_an_answer_measured_in_absolute_figures(tmp_path, c
     lone_plane_blend(blend)
     out = tmp_path / "compare"
     argv = ["compare", str(blend), "--methods", "cm", "--samples", "4", "--out", str(out), "--cache",
-            str(tmp_path / "cache"), "--rsm-resolution", "64", "--vpls-per-light", "256", "--lpv-resolution", "16"]
+            str(tmp_path / "cache"), "--rsm-resolution", "64", "--vpls-per-light", "256", "--lpv-resolution", "16",
+            "--no-peers"]
     assert main(argv) == 0, capsys.readouterr().err
     rows = strict_json((out / "comparison.json").read_text())["rows"]
     ours = next(row for row in rows if row["method"] == "cm" and row["reference"] == "one_bounce")

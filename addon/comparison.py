@@ -45,11 +45,17 @@ class MethodResult:
     milliseconds: float
     images: dict
     errors: dict = field(default_factory=dict)
+    vpl_sets: int = 1
 
     @property
     def label(self):
-        """Like 'WDPM light grid'."""
-        return f"{self.method.upper()} {self.indirect_method.replace('_', ' ')}"
+        """Like 'WDPM light grid' or 'WDPM vpl gather, 8 VPL sets'."""
+        return method_label(self.method, self.indirect_method, self.vpl_sets)
+
+
+def method_label(method, indirect_method, vpl_sets):
+    return (f"{method.upper()} {indirect_method.replace('_', ' ')}" +
+            (f", {vpl_sets} VPL sets" if vpl_sets > 1 else ""))
 
 
 @dataclass
@@ -74,8 +80,9 @@ class Comparison:
         for kind, reference in self.references.items():
             common = {"reference": kind, "cycles_s": reference.settings["render_seconds"]}
             for result in self.methods:
-                rows.append({"method": result.method, "indirect_method": result.indirect_method, **common,
-                             "ms": result.milliseconds, **_flat(result.errors[kind])})
+                rows.append({"method": result.method, "indirect_method": result.indirect_method,
+                             "vpl_sets": result.vpl_sets, **common, "ms": result.milliseconds,
+                             **_flat(result.errors[kind])})
             for peer, errors in zip(self.peers, self.peer_errors):
                 if peer.kind in (None, kind):
                     rows.append({"method": peer.name, "indirect_method": None, **common,
@@ -103,13 +110,14 @@ def _errors(test, reference, against=None):
 
 def full_frame(settings, lpv_scene):
     """A frame of `lpv_scene` with every stage redone and the shaders and Poisson cells
-    already made (the time a settled preview takes for a full update)."""
+    already made (the time a settled preview takes for a full update), averaging the VPL
+    sets the settings ask for (its stats' `converge_ms` is the time of them all)."""
     from ..gpu.pipeline import Pipeline
     pipeline = Pipeline(settings)
     try:
         pipeline.render(lpv_scene)
         pipeline.invalidate()
-        return pipeline.render(lpv_scene)
+        return pipeline.render_converged(lpv_scene)
     finally:
         pipeline.release()
 
@@ -166,7 +174,8 @@ def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(
         result = MethodResult(method, indirect, 0.0, {})
         yield (len(renders) + len(peer_steps) + index) / steps, f"LPV Preview {result.label}"
         frame = full_frame(settings.with_changes(method=method, indirect_method=indirect), lpv_scene)
-        result.milliseconds, result.images = frame.stats["total_ms"], {image: frame.passes[image] for image in IMAGES}
+        result.milliseconds, result.vpl_sets = frame.stats["converge_ms"], frame.stats["vpl_sets"]
+        result.images = {image: frame.passes[image] for image in IMAGES}
         for kind, reference in comparison.references.items():
             result.errors[kind] = _errors(result.images, reference)
         comparison.methods.append(result)
@@ -220,7 +229,7 @@ def row_label(row):
     """A table row's first cell: 'WDPM light grid', a peer's name (with why it is missing),
     'Cycles seed 1'."""
     if row["indirect_method"] is not None:
-        return f"{row['method'].upper()} {row['indirect_method'].replace('_', ' ')}"
+        return method_label(row["method"], row["indirect_method"], row["vpl_sets"])
     return row["method"] + (f" (missing: {row['missing']})" if "missing" in row else "")
 
 

@@ -11,7 +11,7 @@ import os
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .light_grid import CLUSTER_INTS, DIRECTIONS, EMITTER_BYTES, cluster_capacity
-from .occupancy import VOXELS_PER_CELL
+from .occupancy import GATHER_VOXELS_PER_CELL, VOXELS_PER_CELL
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import face_atlas_size, map_face_count
 from .surface_images import BYTES_PER_TEXEL, layer_size
@@ -82,7 +82,8 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     if s.indirect_method == "lpv":
         indirect = grids * (n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL)
     elif s.indirect_method == "vpl_gather":
-        indirect = n ** 3 * (VOXELS_PER_CELL ** 3 + 1) + (VOXELS_PER_CELL * n) ** 2 + pixels * GATHER_BYTES_PER_PIXEL
+        indirect = s.grid_levels * n ** 3 * (GATHER_VOXELS_PER_CELL ** 3 + 1) + (GATHER_VOXELS_PER_CELL * n) ** 2
+        indirect += pixels * GATHER_BYTES_PER_PIXEL
         indirect += scene.triangle_count * LARGE_TRIANGLE_BYTES
     else:
         indirect = grids * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
@@ -125,8 +126,9 @@ def check_limits(limits, renderer, settings, scene):
         if width > widest or height > tallest:
             raise LPVError(f"An RSM resolution of {s.rsm_resolution} makes {width} x {height} light maps, larger "
                            f"than {renderer} can render ({widest} x {tallest} at most); lower the RSM resolution.")
-    side = {"lpv": s.lpv_resolution + 1, "light_grid": DIRECTIONS * s.lpv_resolution,
-            "vpl_gather": VOXELS_PER_CELL * s.lpv_resolution}[s.indirect_method]
+    side = {"lpv": s.lpv_resolution + 1,  # the longest side of a volume: an occupancy's grids lie along z
+            "light_grid": max(DIRECTIONS, VOXELS_PER_CELL * s.grid_levels * s.grid_phases) * s.lpv_resolution,
+            "vpl_gather": GATHER_VOXELS_PER_CELL * s.grid_levels * s.lpv_resolution}[s.indirect_method]
     if side > limits["GL_MAX_3D_TEXTURE_SIZE"]:
         raise LPVError(f"A grid resolution of {s.lpv_resolution} needs volumes of {side} cells a side with "
                        f"indirect method {s.indirect_method}, more than {renderer} allows "

@@ -5,7 +5,7 @@ and a filter that heeds depth and normal puts the block back together."""
 
 
 from .context import dispatch, set_uniforms
-from .occupancy import Occupancy, march_batch
+from .occupancy import GATHER_VOXELS_PER_CELL, Occupancy, march_batch
 
 INTERLEAVE = 4
 """Pixels along each side of an interleaving block: each pixel gathers one VPL in
@@ -21,7 +21,7 @@ class VPLGather:
     def __init__(self, glc, levels):
         self.glc = glc
         self.levels = tuple(levels)
-        self.occupancy = Occupancy(glc, self.levels)
+        self.occupancy = Occupancy(glc, self.levels, GATHER_VOXELS_PER_CELL)
         self.emitter_sets = []
         self.gathered = self.filtered = None
 

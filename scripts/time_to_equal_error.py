@@ -3,10 +3,11 @@ and of Cycles at 1 and 4 samples denoised.
 
     .venv/bin/python scripts/time_to_equal_error.py [cornell atrium city] [--size 128x128]
         [--reference 4096] [--ladder 1,2,4,...,256] [--kind full_gi] [--method wdpm]
+        [--converge-sets 1] [--bounces 1]
 
 For each demo scene: a high-sample Cycles reference of the current camera and frame, Cycles
 at each sample count of the ladder (another seed), our preview at default settings with
-each indirect method, and Cycles at 1 and 4 samples with OpenImageDenoise (addon/peers.py);
+each indirect method (averaging --converge-sets VPL sets, with --bounces bounces), and Cycles at 1 and 4 samples with OpenImageDenoise (addon/peers.py);
 the MSE of each against the reference, and where Cycles' fitted MSE line meets it
 (bench/equal_error.py). Ours is measured on its indirect and combined images, denoised
 Cycles on the Combined pass (the denoiser's). Prints a Markdown row per scene, candidate
@@ -14,7 +15,7 @@ and image.
 """
 import argparse
 
-from lpv_preview.addon.comparison import full_frame
+from lpv_preview.addon.comparison import full_frame, method_label
 from lpv_preview.addon.cycles_reference import ReferenceCache, cycles_reference
 from lpv_preview.addon.peers import DENOISED_SAMPLES, cycles_denoised
 from lpv_preview.addon.render_scene import scene_to_render
@@ -36,8 +37,9 @@ def equal_error_of(scene, settings, reference_samples, ladder, kind, cache, indi
     candidates = []
     for indirect in indirect_methods:
         frame = full_frame(settings.with_changes(indirect_method=indirect), lpv_scene)
-        label = f"{settings.method.upper()} {indirect.replace('_', ' ')}"
-        candidates += [(label, image, frame.stats["total_ms"], frame.passes[image]) for image in COMPARED_PASS_NAMES]
+        label = method_label(settings.method, indirect, settings.converge_sets) + (
+            f", {settings.bounces} bounces" if settings.bounces > 1 else "")
+        candidates += [(label, image, frame.stats["converge_ms"], frame.passes[image]) for image in COMPARED_PASS_NAMES]
     for samples in denoised_samples:
         peer = cycles_denoised(scene, kind, samples, resolution, lpv_scene, cache)
         candidates.append((peer.name, "combined_pass", peer.seconds * 1000, peer.images["combined"]))
@@ -52,10 +54,13 @@ def main():
     parser.add_argument("--ladder", default="1,2,4,8,16,32,64,128,256")
     parser.add_argument("--kind", default="full_gi")
     parser.add_argument("--method", default="wdpm")
+    parser.add_argument("--converge-sets", type=int, default=1)
+    parser.add_argument("--bounces", type=int, default=1)
     args = parser.parse_args()
     width, height = (int(v) for v in args.size.split("x"))
     ladder = [int(v) for v in args.ladder.split(",")]
-    settings = Settings(method=args.method, width=width, height=height)
+    settings = Settings(method=args.method, width=width, height=height, converge_sets=args.converge_sets,
+                        bounces=args.bounces)
     cache = ReferenceCache()
     print(f"| scene | candidate | image | ms | MSE | Cycles MSE at {ladder[0]} / {ladder[-1]} samples | MSE slope | "
           f"equal-error samples | Cycles s at {ladder[0]} / {ladder[-1]} | equal-error Cycles s | speed-up |")

@@ -64,7 +64,7 @@ def test_a_driver_with_smaller_limits_refuses_what_it_cannot_render(glc):
                                 "more than a small GPU allows (32); lower the LPV resolution.")
     with pytest.raises(LPVError) as error:
         check_limits(limits, "a small GPU", Settings(lpv_resolution=16, indirect_method="light_grid"), scene)
-    assert str(error.value) == ("A grid resolution of 16 needs volumes of 96 cells a side with indirect method "
+    assert str(error.value) == ("A grid resolution of 16 needs volumes of 288 cells a side with indirect method "
                                 "light_grid, more than a small GPU allows (32); lower the LPV resolution.")
 
 

@@ -83,10 +83,13 @@ def pareto_front(points):
                               lambda p: p["timings_ms"]["total_ms"], lambda p: p[source][ERROR_METRIC])
 
 
-FAST_ERROR_FACTOR = 10.0
-"""`fast` is the fastest point of the front within this factor of the most accurate
-point's error against Cycles: a preset ten times further from Cycles than another helps
-no one however fast it is."""
+FAST_TIME_FACTOR = 2.0
+"""`fast` is the most accurate point of the front whose frame takes at most this factor of
+the fastest point's: as interactive as the fastest, not as far from Cycles."""
+ACCURATE_ERROR_FACTOR = 1.5
+"""`accurate` is the fastest point of the front within this factor of the least error
+against Cycles: at the front's end a little less error costs many times the frame time
+(in the fronts sweep of 2026-11-23 the last 22 % cost 17 times: docs/benchmarks.md)."""
 
 
 def _geometric_mean(values):
@@ -100,8 +103,9 @@ def choose_presets(report):
     Each set of preset parameters measured on every scene is a candidate, with its mean
     frame time over the scenes and its geometric-mean relMSE against Cycles' one bounce
     (a parameter the point's indirect method does not read is left out, its points
-    merged). On their Pareto front, accurate is the most accurate point, fast the fastest
-    within FAST_ERROR_FACTOR of accurate's error, and balanced the point with the least
+    merged). On their Pareto front, accurate is the fastest point within
+    ACCURATE_ERROR_FACTOR of the least error, fast the most accurate within
+    FAST_TIME_FACTOR of the least frame time, and balanced the point with the least
     product of time and error, each over the front's best."""
     points = [p for p in report["points"] if p.get("errors_vs_cycles", {}).get("relative_mse")]
     scenes = sorted({p["scene"] for p in points})
@@ -122,11 +126,10 @@ def choose_presets(report):
             "relative_mse_vs_cm": _geometric_mean([p["errors_vs_cm"]["relative_mse"] for p in group]),
             "relative_mse_vs_cycles": _geometric_mean([p["errors_vs_cycles"]["relative_mse"] for p in group])})
     front = lowest_error_front(candidates, lambda c: c["frame_ms"], lambda c: c["relative_mse_vs_cycles"])
-    accurate = front[-1]
-    fast = next(c for c in front
-                if c["relative_mse_vs_cycles"] <= FAST_ERROR_FACTOR * accurate["relative_mse_vs_cycles"])
-    balanced = min(front, key=lambda c: c["frame_ms"] / front[0]["frame_ms"]
-                   * c["relative_mse_vs_cycles"] / accurate["relative_mse_vs_cycles"])
+    least_error = front[-1]["relative_mse_vs_cycles"]
+    accurate = next(c for c in front if c["relative_mse_vs_cycles"] <= ACCURATE_ERROR_FACTOR * least_error)
+    fast = [c for c in front if c["frame_ms"] <= FAST_TIME_FACTOR * front[0]["frame_ms"]][-1]
+    balanced = min(front, key=lambda c: c["frame_ms"] / front[0]["frame_ms"] * c["relative_mse_vs_cycles"] / least_error)
     return {"fast": fast, "balanced": balanced, "accurate": accurate}
 
 

@@ -152,11 +152,11 @@ ALL_PARAMETERS = {**PARAMETERS, **DISPLAY_PARAMETERS, **COMPARISON_PARAMETERS}
 
 
 PRESETS = {
-    "fast": {"method": "auto", "rsm_resolution": 256, "vpls_per_light": 2048, "indirect_method": "light_grid",
+    "fast": {"method": "auto", "rsm_resolution": 256, "vpls_per_light": 65536, "indirect_method": "light_grid",
              "lpv_resolution": 16, "converge_sets": 1},
     "balanced": {"method": "auto", "rsm_resolution": 256, "vpls_per_light": 2048, "indirect_method": "light_grid",
                  "lpv_resolution": 32, "converge_sets": 1},
-    "accurate": {"method": "auto", "rsm_resolution": 256, "vpls_per_light": 65536, "indirect_method": "vpl_gather",
+    "accurate": {"method": "auto", "rsm_resolution": 256, "vpls_per_light": 2048, "indirect_method": "vpl_gather",
                  "lpv_resolution": 32, "converge_sets": 8},
 }
 """Named quality levels, each a set of Settings values: what `choose_presets` (bench/

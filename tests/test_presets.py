@@ -21,10 +21,6 @@ def test_presets_are_valid_distinct_and_ordered_by_cost():
         assert matching_preset(settings) == name
         assert describe_preset(name).startswith(settings.method.upper())
     assert len({tuple(getattr(s, k) for k in PRESET_PARAMETERS) for s in chosen}) == 3
-    # More of every resource from fast to accurate, never less.
-    for key in ("rsm_resolution", "vpls_per_light", "lpv_resolution", "propagation_iterations"):
-        values = [getattr(s, key) for s in chosen]
-        assert values == sorted(values), key
     with pytest.raises(LPVError, match="There is no preset 'best'; choose one of fast, balanced, accurate."):
         preset_settings("best")
 
@@ -79,3 +75,7 @@ def test_the_committed_fronts_report_still_chooses_the_presets():
     assert list(chosen) == list(PRESETS)
     for name, values in PRESETS.items():
         assert chosen[name]["settings"] == values, name
+    # from fast to accurate, each takes longer and comes closer to Cycles
+    times = [chosen[name]["frame_ms"] for name in PRESETS]
+    errors = [chosen[name]["relative_mse_vs_cycles"] for name in PRESETS]
+    assert times == sorted(times) and errors == sorted(errors, reverse=True)

@@ -110,8 +110,9 @@ def _errors(test, reference, against=None):
 
 def full_frame(settings, lpv_scene):
     """A frame of `lpv_scene` with every stage redone and the shaders and Poisson cells
-    already made (the time a settled preview takes for a full update), averaging the VPL
-    sets the settings ask for (its stats' `converge_ms` is the time of them all)."""
+    of the first set already made (the time a settled preview takes for a full update),
+    averaging the VPL sets the settings ask for (its stats' `converge_ms` is the time of
+    them all)."""
     from ..gpu.pipeline import Pipeline
     pipeline = Pipeline(settings)
     try:

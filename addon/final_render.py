@@ -73,7 +73,9 @@ def render_final(engine, depsgraph):
         raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
     engine.update_progress(0.2)
     engine.update_stats("", "LPV Preview: rendering")
-    frame = render_once(lpv_scene, settings, passes=tuple(p.name for p in passes), display_settings=display)
+    frame = render_once(lpv_scene, settings, passes=tuple(p.name for p in passes), display_settings=display,
+                        stop=engine.test_break,
+                        progress=lambda sets: engine.update_stats("", f"LPV Preview: {sets} VPL sets averaged"))
     frame_stats.remember(frame.stats)
     engine.update_progress(0.9)
     result = engine.begin_result(0, 0, width, height)
@@ -85,4 +87,4 @@ def render_final(engine, depsgraph):
             result_pixels(frame.passes[render_pass.name], alpha=alpha).ravel())
     engine.end_result(result)
     engine.update_progress(1.0)
-    engine.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms, {frame.stats['vpl_count']} VPLs")
+    engine.update_stats("", f"LPV Preview: {frame.stats['converge_ms']:.0f} ms, {frame.stats['accumulated_vpls']} VPLs")

@@ -17,6 +17,7 @@ the scene, timed in wall seconds, and kept in the references' cache.
 import os
 from dataclasses import dataclass, field
 
+from ..gpu.context import GLContext
 from ..gpu.errors import LPVError
 from .cycles_reference import (REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_output_settings, content_key,
                                read_exr_passes, render_cycles_denoised, render_to_file, temporary_copy,
@@ -71,7 +72,8 @@ def eevee_render(scene, resolution, content, cache=None):
             path = os.path.join(folder, f"{name}.exr")
             apply_output_settings(copy, view_layer, path, resolution)
             eevee.use_raytracing, eevee.taa_render_samples = ray_tracing, samples
-            seconds = render_to_file(copy, path, "EEVEE")
+            with GLContext.foreign_render():  # EEVEE leaves its GPU context current
+                seconds = render_to_file(copy, path, "EEVEE")
             return read_exr_passes(path, view_layer_name, layers), seconds
 
         render("warm", True, 1)

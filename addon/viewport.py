@@ -88,9 +88,9 @@ class ViewportSession:
         settings = settings_from_properties(properties, width=size[0], height=size[1])
         display = display_settings_from_properties(properties)
         depends_on = (camera.key(), settings)
-        if self.pending or self._shown is None or self._shown[0] != depends_on:
+        if self._shown is None or self._shown[0] != depends_on:
             self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings))
-        elif self.converging(display):
+        elif self.pending or self.converging(display):  # the pipeline starts again if the scene changed
             self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings, accumulate=True))
         self.overlays.update(self.pipeline, display)
         return self._shown[1]

@@ -22,7 +22,9 @@ class GLContext:
     """One standalone moderngl context and a cache of the programs compiled in it.
 
     `GLContext.shared()` is the process's one context: moderngl objects do not make their
-    own context current, so everything of ours lives in one context and never switches.
+    own context current, so everything of ours lives in one context. An EEVEE render in
+    the same process makes Blender's GPU context current and leaves it so: it goes inside
+    `foreign_render()`.
     """
 
     _shared = None
@@ -52,6 +54,17 @@ class GLContext:
         self.is_software = "llvmpipe" in self.renderer.lower() or "softpipe" in self.renderer.lower()
         self._programs = {}
         self._free = {}  # (kind, size, components, dtype) -> released textures to reuse
+
+    @classmethod
+    @contextmanager
+    def foreign_render(cls):
+        """A block in which Blender renders with its GPU (EEVEE), which leaves its own
+        context current: ours, once made, is current again after it."""
+        try:
+            yield
+        finally:
+            if cls._shared is not None:
+                cls._shared.gl.__enter__()
 
     def texture(self, size, components, dtype="f4"):
         """A 2D texture with nearest filtering, reused from `recycle` when one of the same

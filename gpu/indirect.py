@@ -37,13 +37,13 @@ class IndirectGrids:
         else:
             self.volumes = [VPLGather(glc, self.levels)]
 
-    def build(self, maps, mesh, scene_bounds, settings, stats, pattern=0, bound=None):
+    def build(self, maps, mesh, scene_bounds, settings, stats, pattern):
         """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage;
         with `settings.bounces` above 1 (light grid and VPL gathering) from the VPLs lit by
         one another too (gpu/bounces.py), their senders' subsets following the VPL
-        `pattern`; `bound` is the singularity bound of this VPL set."""
+        `pattern`."""
         timed = self.glc.timed
-        bound = settings.singularity_bound if bound is None else bound
+        bound = settings.singularity_bound
         flux_bound = sum(m.vpl_map.flux_bound for m in maps)
         first, second = INDIRECT_STAGES[self.method][0], INDIRECT_STAGES[self.method][-1]
         if self.method == "lpv":
@@ -65,7 +65,9 @@ class IndirectGrids:
                 else range(len(self.levels))
             with timed(stats, "bounce_ms"):
                 emitters = self.bounces.build(maps, settings.bounces, volume.occupancy, layers, bound, pattern)
-            flux_bound *= settings.bounces  # each generation carries less than the one before
+            flux_bound *= settings.bounces  # a generation carries at most its area times what it receives
+        else:
+            self.bounces.release()
         if self.method == "vpl_gather":
             volume.emitter_sets = emitters
             return

@@ -37,10 +37,10 @@ AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
           "inject_ms": "inject", "bounce_ms": "bounces", "propagate_ms": "propagate", "gather_ms": "gather",
-          "direct_ms": "direct",
-          "pixel_gather_ms": "pixel gather", "indirect_ms": "indirect"}
+          "direct_ms": "direct", "pixel_gather_ms": "pixel gather", "indirect_ms": "indirect"}
 """A frame's timed stages (its stats keys) in the order they run, with their names: the
-indirect stage's inject and propagate (LPV) or inject and gather (light grid)."""
+indirect stage's inject and propagate (LPV), inject, bounces and gather (light grid) or
+inject and bounces (VPL gathering, whose pixel gather follows the G-buffer)."""
 
 
 def render_once(scene, settings, glc=None, **render_args):
@@ -305,10 +305,9 @@ class Pipeline:
             sets, accumulated_vpls = self._accumulated[1] + 1, self._accumulated[2] + vpl_count
         else:
             sets, accumulated_vpls = 1, vpl_count
-        self._accumulated = (view, sets, accumulated_vpls)
-        bound = s.singularity_bound / sets  # the average of the sets' biases tends to zero as they add up
+        self._accumulated = None  # until this set is in the image
         indirect_key = (s.indirect_method, tuple(keys), self.vpl_pattern, grids, s.propagation_iterations,
-                        s.occlusion, bound, s.bounces)
+                        s.occlusion) + ((s.singularity_bound, s.bounces) if s.indirect_method != "lpv" else ())
         if self._indirect is None or self._indirect[0] != indirect_key:
             indirect = self._indirect[1] if self._indirect is not None else None
             if indirect is not None and (indirect.method, indirect.grids) != (s.indirect_method, grids):
@@ -316,7 +315,7 @@ class Pipeline:
                 indirect = None
             if indirect is None:
                 indirect = IndirectGrids(self.glc, s.indirect_method, grids, s.grid_phases)
-            indirect.build(maps, self._mesh[1], scene.bounds(), s, stats, self.vpl_pattern, bound)
+            indirect.build(maps, self._mesh[1], scene.bounds(), s, stats, self.vpl_pattern)
             self._indirect = (indirect_key, indirect)
         indirect = self._indirect[1]
         if not adding:
@@ -326,10 +325,13 @@ class Pipeline:
         if s.indirect_method == "vpl_gather":
             with self.glc.timed(stats, "pixel_gather_ms"):
                 bind_gbuffer(targets)
-                indirect.volumes[0].gather(targets, gbuffer_uniforms(scene.camera), scene.camera.position, bound)
+                # the n-th set of a converging frame bounds 1/r² by 1/n as much: the average's bias tends to zero
+                indirect.volumes[0].gather(targets, gbuffer_uniforms(scene.camera), scene.camera.position,
+                                           s.singularity_bound / sets)
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, scene.camera, indirect, len(levels), s.grid_phases, s.indirect_intensity,
                            display_into is not None, sets - 1)
+        self._accumulated = (view, sets, accumulated_vpls)
         self._shown_keys = tuple(keys)
         self.last_origin = scene.world_origin
         if any(name in DEBUG_PASS_NAMES for name in passes):
@@ -366,24 +368,32 @@ class Pipeline:
         })
         return Frame(images, stats, display)
 
-    def render_converged(self, scene, settings=None, passes=PASS_NAMES, display_settings=None):
+    def render_converged(self, scene, settings=None, passes=PASS_NAMES, display_settings=None, stop=None,
+                         progress=None):
         """A frame whose indirect light averages VPL sets of patterns 0, 1, 2, ...: as many
         as the settings' `converge_sets`, or while `converge_seconds` last when above zero
-        (the first set is always made). Stats `converge_ms` is the time of them all."""
+        (the first set is always made), or until `stop()` is true; `progress(sets done)`
+        after each. Stats: `converge_ms` the time of them all, each stage's ms their sum."""
         s = settings or self.settings
         start = time.perf_counter()
-        single = s.converge_seconds == 0 and s.converge_sets == 1
-        frame = self.render(scene, s, passes=passes if single else (), display_settings=display_settings, vpl_set=0)
+        frame = self.render(scene, s, passes=passes, display_settings=display_settings, vpl_set=0)
+        spent = {key: value for key, value in frame.stats.items() if key.endswith("_ms")}
         if s.converge_seconds > 0:
             done = lambda: time.perf_counter() - start >= s.converge_seconds  # noqa: E731
         else:
             done = lambda: frame.stats["vpl_sets"] >= s.converge_sets  # noqa: E731
-        while not done():
+        while not done() and not (stop is not None and stop()):
+            if progress is not None:
+                progress(frame.stats["vpl_sets"])
             frame = self.render(scene, s, passes=(), vpl_set=frame.stats["vpl_sets"], accumulate=True)
-        if not single:
+            for key, value in frame.stats.items():
+                if key.endswith("_ms") and key != "total_ms":
+                    spent[key] = spent.get(key, 0.0) + value
+        if frame.stats["vpl_sets"] > 1:
             if any(name in DEBUG_PASS_NAMES for name in passes):
                 self.draw_debug_passes(scene, display_settings)
             frame.passes = {name: self._targets.read(name) for name in passes}
+            frame.stats.update({key: value for key, value in spent.items() if key != "total_ms"})
         frame.stats["converge_ms"] = (time.perf_counter() - start) * 1000.0
         return frame
 

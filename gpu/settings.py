@@ -84,7 +84,7 @@ class Settings(Validated):
     singularity_bound: float = _param(1.0, "How far a VPL's 1/r² is bounded next to it: r² grows by this times the "
                                            "area the VPL stands for over pi (1: as a disk of that area lights its "
                                            "axis; 0: unbounded, exact on average but spiky); the n-th VPL set of a "
-                                           "converging frame takes 1/n of it", 0.0, 16.0)
+                                           "converging frame's pixel gather takes 1/n of it", 0.0, 16.0)
     converge_sets: int = _param(1, "VPL sets a rendered frame averages, each another Poisson pattern over the light "
                                    "maps: its indirect light converges toward every texel's", 1, 4096)
     converge_seconds: float = _param(0.0, "Seconds a rendered frame goes on averaging VPL sets; above zero it "

@@ -1,19 +1,20 @@
 #version 450 core
-// One more bounce of the VPLs' light (gpu/bounces.py): each VPL of one light (a receiver,
-// one workgroup) sums the irradiance the last generation of every light's VPLs gives it,
-// through a march over the grid levels' occupancy; its lanes share the senders. A receiver
+// One more bounce of a light's VPLs (gpu/bounces.py): each VPL (a receiver, one
+// workgroup of LANES) sums the irradiance the last generation of the same light's VPLs
+// gives it, through a march over the grid levels' occupancy; its lanes share the senders. A receiver
 // takes every `stride`-th sender from its own offset, the sum scaled by `stride`, so the
 // cost stays a few hundred marches a receiver and the subsets change with the receiver
 // (and the VPL pattern, when frames converge). One dispatch adds the senders [first,
 // first + batch) of one set into `irradiance`; with `finish`, the receiver's next
 // generation is written, its flux the first generation's times indirect over direct
-// irradiance (flux = albedo x direct irradiance x area, the cell's sums), and added to
-// the total that the indirect stage gathers.
+// irradiance (flux = albedo x direct irradiance x area, the cell's sums), at most its
+// area times the indirect irradiance (albedo <= 1: where the direct light at the VPL's
+// texel is far below its cell's, at a spot's edge, the ratio would run away), and added
+// to the total that the indirect stage gathers.
 #include "common.glsl"
 #include "emitter.glsl"
 #include "light.glsl"
 #include "levels_march.glsl"
-#define LANES 64
 layout(local_size_x = LANES) in;
 layout(std430, binding = 0) readonly buffer Senders { Emitter senders[]; };
 layout(std430, binding = 1) readonly buffer Receivers { Emitter receivers[]; };  // the first generation
@@ -77,7 +78,7 @@ void main() {
     vec3 direct = r.position.w > 0.0 ? direct_irradiance(r.position.xyz, r.normal.xyz) : vec3(0.0);
     generation.flux = vec4(0.0);
     for (int c = 0; c < 3; ++c)
-        if (direct[c] > 0.0) generation.flux[c] = r.flux[c] * received[c] / direct[c];
+        if (direct[c] > 0.0) generation.flux[c] = min(r.flux[c] * received[c] / direct[c], r.normal.w * received[c]);
     next[index] = generation;
     total[index].flux += generation.flux;
 }

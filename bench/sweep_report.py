@@ -89,7 +89,7 @@ the fastest point's: as interactive as the fastest, not as far from Cycles."""
 ACCURATE_ERROR_FACTOR = 1.5
 """`accurate` is the fastest point of the front within this factor of the least error
 against Cycles: at the front's end a little less error costs many times the frame time
-(in the fronts sweep of 2026-11-23 the last 23 % of relMSE cost 17 times: docs/accuracy.md)."""
+(docs/accuracy.md)."""
 
 
 def _geometric_mean(values):

@@ -40,6 +40,7 @@ VPL_CELL_BYTES = 16 + 8               # per atlas layout: a Poisson cell's bound
 LPV_BYTES_PER_CELL = 12 * 4 + 9 * 16
 """The injection's integer accumulator (12 channels) and the ping, pong and sum volumes
 (three RGBA32F volumes each, one per colour)."""
+BOUNCE_SCRATCH_BYTES_PER_VPL = 16 + 2 * EMITTER_BYTES  # received irradiance, two generations (gpu/bounces.py)
 GEOMETRY_VOLUME_BYTES_PER_CELL = 16 + 16  # its accumulator and its volume, one cell larger a side
 LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16 + VOXELS_PER_CELL ** 3 + 1
 """Six RGBA32F irradiances, the occupancy's one-byte voxels and its coarse byte."""
@@ -89,6 +90,8 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
         indirect = grids * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
         indirect += scene.triangle_count * LARGE_TRIANGLE_BYTES
         indirect += cluster_capacity(s.vpls_per_light * len(scene.lights)) * CLUSTER_BYTES
+    if s.bounces > 1 and s.indirect_method != "lpv":  # each light's summed generations, and one light's scratch
+        indirect += s.vpls_per_light * (len(scene.lights) * VPL_BYTES + BOUNCE_SCRATCH_BYTES_PER_VPL)
     mesh = scene.triangle_count * (3 * VERTEX_BYTES + 2 * RIM_LIST_BYTES_PER_TRIANGLE * (s.method != "cm"))
     mesh += len(scene.images) * layer_size(scene.images) ** 2 * BYTES_PER_TEXEL
     host = pixels * (READBACK_BYTES_PER_PIXEL * bool(passes) + PASS_BYTES_PER_PIXEL * len(passes))
@@ -126,7 +129,8 @@ def check_limits(limits, renderer, settings, scene):
         if width > widest or height > tallest:
             raise LPVError(f"An RSM resolution of {s.rsm_resolution} makes {width} x {height} light maps, larger "
                            f"than {renderer} can render ({widest} x {tallest} at most); lower the RSM resolution.")
-    side = {"lpv": s.lpv_resolution + 1,  # the longest side of a volume: an occupancy's grids lie along z
+    # the longest side of a volume: an occupancy's grids lie one after the other along z
+    side = {"lpv": s.lpv_resolution + 1,
             "light_grid": max(DIRECTIONS, VOXELS_PER_CELL * s.grid_levels * s.grid_phases) * s.lpv_resolution,
             "vpl_gather": GATHER_VOXELS_PER_CELL * s.grid_levels * s.lpv_resolution}[s.indirect_method]
     if side > limits["GL_MAX_3D_TEXTURE_SIZE"]:

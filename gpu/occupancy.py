@@ -15,8 +15,7 @@ two sides."""
 GATHER_VOXELS_PER_CELL = 6
 """Occupancy voxels along a cell's side for VPL gathering, which keeps no cells of light:
 the march decides every pixel's visibility, and coarse voxels thicken what it passes by
-(the point-lit atrium, its arcades lit through their arches, got 0.84 of Cycles' light
-at 3 and 0.91 at 6 with 16³ grids: docs/accuracy.md)."""
+(an atrium's arcades, lit through their arches: docs/accuracy.md)."""
 MARCH_STEP = 0.7  # voxels between a march's samples, as in shaders/occupancy.glsl
 LOOP_LIMIT = 60000  # llvmpipe stops a loop nest after 65,535 iterations in all
 

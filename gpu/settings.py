@@ -182,7 +182,7 @@ def preset_settings(name, **changes):
 
 def describe_preset(name):
     """A preset's values in a few words, like 'WDPM, RSM 512², 2048 VPLs, LPV 16³, 8 steps',
-    'WDPM, RSM 256², 2048 VPLs, light grid 32³' or 'WDPM, RSM 256², 2048 VPLs, VPL gather
+    'AUTO, RSM 256², 2048 VPLs, light grid 32³' or 'AUTO, RSM 256², 2048 VPLs, VPL gather
     (grids 32³), 8 VPL sets'."""
     s = preset_settings(name)
     words = f"{s.method.upper()}, RSM {s.rsm_resolution}², {s.vpls_per_light} VPLs, "

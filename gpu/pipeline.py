@@ -327,7 +327,7 @@ class Pipeline:
                 bind_gbuffer(targets)
                 # the n-th set of a converging frame bounds 1/r² by 1/n as much: the average's bias tends to zero
                 indirect.volumes[0].gather(targets, gbuffer_uniforms(scene.camera), scene.camera.position,
-                                           s.singularity_bound / sets)
+                                           s.singularity_bound / sets, self.vpl_pattern)
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, scene.camera, indirect, len(levels), s.grid_phases, s.indirect_intensity,
                            display_into is not None, sets - 1)

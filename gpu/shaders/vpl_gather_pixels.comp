@@ -2,7 +2,9 @@
 // VPL gathering (gpu/vpl_gather.py): every pixel of the camera's G-buffer sums the
 // irradiance of the VPLs that see it, through a march in the occupancy of every grid level. Interleaved: the
 // pixel at (x, y) of each INTERLEAVE x INTERLEAVE block takes every INTERLEAVE²-th VPL
-// from its own offset, its sum scaled by INTERLEAVE² (vpl_gather_filter.comp puts the
+// from its own offset (shifted by the VPL set's number: the VPLs are in the order of their
+// Poisson cells, so a fixed offset would give each pixel of a block its own lattice of
+// places to be lit from, a pattern that averaging sets would keep), its sum scaled by INTERLEAVE² (vpl_gather_filter.comp puts the
 // block's subsets back together). One dispatch adds the VPLs [first, first + batch) of
 // one set to what the ones before left: llvmpipe ends a loop nest after 65,535 iterations.
 #include "common.glsl"
@@ -16,6 +18,7 @@ uniform int emitter_count;
 uniform int first_emitter;
 uniform int batch;
 uniform bool accumulate;
+uniform int subset_shift;  // the VPL set's: a pixel's subset moves on from set to set
 const float OFF_SURFACE = 1.5;     // finest voxels off the pixel's surface where its marches end
 
 void main() {
@@ -24,7 +27,8 @@ void main() {
     vec3 p, n, albedo;
     vec3 sum = vec3(0.0);
     if (gbuffer_surface(pixel, p, n, albedo)) {
-        int subset = (pixel.y % INTERLEAVE) * INTERLEAVE + pixel.x % INTERLEAVE;
+        int subset = ((pixel.y % INTERLEAVE) * INTERLEAVE + pixel.x % INTERLEAVE + subset_shift)
+                     % (INTERLEAVE * INTERLEAVE);
         vec3 from_pixel = p + OFF_SURFACE * level_voxels[0] * n;
         int last = min(first_emitter + batch, emitter_count);
         int start = first_emitter + (subset - first_emitter % (INTERLEAVE * INTERLEAVE) + INTERLEAVE * INTERLEAVE)

@@ -49,7 +49,7 @@ class IndirectGrids:
         if self.method == "lpv":
             with timed(stats, first):
                 for lpv in self.volumes:
-                    lpv.inject([m.vpls for m in maps], flux_bound)
+                    lpv.inject([vpls for m in maps for vpls in (m.vpls, m.far_vpls) if vpls is not None], flux_bound)
                     if settings.occlusion:
                         lpv.inject_geometry([m.vpl_map for m in maps])
             with timed(stats, second):
@@ -59,12 +59,13 @@ class IndirectGrids:
         volume = self.volumes[0]
         with timed(stats, first):
             volume.occupancy.voxelise(mesh)
-        emitters = [(m.vpls.buffer, m.vpls.count) for m in maps]
+        emitters = [emitter for m in maps for emitter in m.emitter_sets()]
         if settings.bounces > 1 and maps:
             layers = range(0, len(self.grids), len(self.grids) // len(self.levels)) if self.method == "light_grid" \
                 else range(len(self.levels))
             with timed(stats, "bounce_ms"):
                 emitters = self.bounces.build(maps, settings.bounces, volume.occupancy, layers, bound, pattern)
+            emitters += [(m.far_vpls.buffer, m.far_vpls.count) for m in maps if m.far_vpls is not None]
             flux_bound *= settings.bounces  # a generation carries at most its area times what it receives
         else:
             self.bounces.release()

@@ -78,34 +78,60 @@ def auto_method(light):
     return "wdpm"
 
 
+FAR_FIELD_SHARE = 0.25
+"""A sun with a map of its own region gets this share of its VPL count again from its
+whole map outside that region: the far ground a house's walls see to the horizon."""
+
+
 @dataclass
 class LightMaps:
     """One light's RSM (warped for WDPM), its VPLs, the method that made them, for the
-    warped methods the warp status, for a sun whose map spans far more than the camera
-    sees, the map of the region it sees that the VPLs come from (`region`), and the
-    Poisson pattern of the VPLs (gpu/vpl.py)."""
+    warped methods the warp status, and for a sun whose map spans far more than the camera
+    sees, the map of the region it sees (`region`, the box `region_box`) that the VPLs come
+    from, with `far_vpls` from the whole map outside it; and the Poisson pattern of the
+    VPLs (gpu/vpl.py)."""
 
     rsm: object
-    vpls: object
     method: str
     warp: object = None
     region: object = None
-    pattern: int = 0
+    region_box: tuple = None
+    vpls: object = None
+    far_vpls: object = None
+    pattern: int = None
 
     @property
     def vpl_map(self):
         """The map the VPLs were sampled from."""
         return self.region if self.region is not None else self.rsm
 
+    def sample_vpls(self, sampler, count, pattern):
+        """(Re)sample the VPLs (and a sun's far field) in Poisson pattern `pattern`."""
+        for vpls in (self.vpls, self.far_vpls):
+            if vpls is not None:
+                vpls.release()
+        self.vpls = sampler.sample(self.vpl_map, count, pattern)
+        self.far_vpls = None if self.region is None else sampler.sample(
+            self.rsm, max(1, int(count * FAR_FIELD_SHARE)), pattern, exclude=self.region_box)
+        self.pattern = pattern
+
+    def emitter_sets(self):
+        """The light's VPL buffers with their counts, for the indirect stage."""
+        return [(vpls.buffer, vpls.count) for vpls in (self.vpls, self.far_vpls) if vpls is not None]
+
+    @property
+    def vpl_count(self):
+        return sum(count for _, count in self.emitter_sets())
+
     def resources(self):
         """The GPU memory of the maps, VPLs and warp status."""
-        held = (self.rsm.position, self.rsm.normal, self.rsm.flux, self.vpls.buffer)
+        held = (self.rsm.position, self.rsm.normal, self.rsm.flux, *(buffer for buffer, _ in self.emitter_sets()))
         held += (self.warp.texture,) if self.warp is not None else ()
         held += (self.region.position, self.region.normal, self.region.flux) if self.region is not None else ()
         return held
 
     def release(self):
-        for resource in (self.rsm, self.vpls, self.warp, self.region):
+        for resource in (self.rsm, self.vpls, self.far_vpls, self.warp, self.region):
             if resource is not None:
                 resource.release()
 
@@ -201,9 +227,7 @@ class Pipeline:
             light_maps = self._lights[key]
             if light_maps.pattern != self.vpl_pattern:
                 with self.glc.timed(stats, "vpl_ms"):
-                    vpls = self.vpl_sampler.sample(light_maps.vpl_map, s.vpls_per_light, self.vpl_pattern)
-                light_maps.vpls.release()
-                light_maps.vpls, light_maps.pattern = vpls, self.vpl_pattern
+                    light_maps.sample_vpls(self.vpl_sampler, s.vpls_per_light, self.vpl_pattern)
             maps.append(light_maps)
             keys.append(key)
         for stale in set(self._lights) - set(keys):
@@ -240,10 +264,10 @@ class Pipeline:
             with self.glc.timed(stats, "rsm_ms"):
                 region_map = render_rsm(self.glc, self._mesh[1], light, s.rsm_resolution,
                                         tuple(np.array(corner) for corner in region), reach=bounds)
+        maps = LightMaps(rsm, method, status, region_map, region)
         with self.glc.timed(stats, "vpl_ms"):
-            vpls = self.vpl_sampler.sample(rsm if region_map is None else region_map, s.vpls_per_light,
-                                           self.vpl_pattern)
-        return LightMaps(rsm, vpls, method, status, region_map, self.vpl_pattern)
+            maps.sample_vpls(self.vpl_sampler, s.vpls_per_light, self.vpl_pattern)
+        return maps
 
     def render(self, scene, settings=None, passes=PASS_NAMES, display_into=None, display_settings=None,
                vpl_set=None, accumulate=False):
@@ -300,7 +324,7 @@ class Pipeline:
         if vpl_set is not None:
             self.vpl_pattern = vpl_set
         maps, keys = self.light_maps(scene, stats, levels)
-        vpl_count = int(sum(m.vpls.count for m in maps))
+        vpl_count = int(sum(m.vpl_count for m in maps))
         if adding:
             sets, accumulated_vpls = self._accumulated[1] + 1, self._accumulated[2] + vpl_count
         else:

@@ -184,14 +184,17 @@ class VPLSampler:
         """The GPU resources of every cached Poisson cell layout."""
         return tuple(resource for _, cells in self._cells.values() for resource in cells.resources())
 
-    def sample(self, rsm, vpl_count, pattern=0):
-        """The VPLs of `rsm`'s cells in Poisson pattern `pattern`."""
+    def sample(self, rsm, vpl_count, pattern=0, exclude=None):
+        """The VPLs of `rsm`'s cells in Poisson pattern `pattern`, leaving out the texels
+        whose surface lies in the box `exclude` ((low, high) corners) when given."""
         cells = self.cells(rsm, vpl_count, pattern)
         program = self.glc.compute("vpl_gather")
         output = self.glc.gl.buffer(reserve=cells.count * 48)
         for unit, texture in enumerate((rsm.position, rsm.normal, rsm.flux, cells.cell_ids)):
             texture.use(location=unit)
-        set_uniforms(program, rsm_position=0, rsm_normal=1, rsm_flux=2, cell_ids=3, cell_count=cells.count)
+        low, high = exclude if exclude is not None else ((0.0,) * 3, (0.0,) * 3)
+        set_uniforms(program, rsm_position=0, rsm_normal=1, rsm_flux=2, cell_ids=3, cell_count=cells.count,
+                     exclude=exclude is not None, exclude_low=tuple(low), exclude_high=tuple(high))
         cells.samples.bind_to_storage_buffer(0)
         cells.bounds.bind_to_storage_buffer(1)
         output.bind_to_storage_buffer(2)

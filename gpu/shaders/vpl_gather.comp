@@ -1,6 +1,8 @@
 #version 450 core
 // One VPL per Poisson cell: the flux of every texel in the cell summed (so the VPLs carry
 // exactly the RSM's flux), placed at the valid texel nearest the cell's sample point.
+// With `exclude`, texels whose surface lies in the box [exclude_low, exclude_high] count
+// for nothing (a sun's far field, whose near part another map samples).
 #define GROUP 64
 layout(local_size_x = GROUP) in;
 uniform sampler2D rsm_position;
@@ -16,6 +18,9 @@ shared vec4 partial_flux[GROUP];   // rgb flux, a surfel area
 shared vec2 partial_best[GROUP];   // squared distance, texel index
 
 uniform int cell_count;
+uniform bool exclude;
+uniform vec3 exclude_low;
+uniform vec3 exclude_high;
 
 void main() {
     int cell = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);
@@ -30,7 +35,10 @@ void main() {
     for (int i = lane; i < count; i += GROUP) {
         ivec2 texel = ivec2(box.x + i % width, box.y + i / width);
         if (texelFetch(cell_ids, texel, 0).r != cell) continue;
-        if (texelFetch(rsm_position, texel, 0).w <= 0.0) continue;
+        vec4 position = texelFetch(rsm_position, texel, 0);
+        if (position.w <= 0.0) continue;
+        if (exclude && all(greaterThanEqual(position.xyz, exclude_low)) && all(lessThanEqual(position.xyz, exclude_high)))
+            continue;
         sum += vec4(texelFetch(rsm_flux, texel, 0).rgb, texelFetch(rsm_normal, texel, 0).w);
         vec2 d = vec2(texel) + 0.5 - target;
         float dd = dot(d, d);

@@ -86,6 +86,7 @@ def _assemble(meshes, batches, surfaces):
     triangles = np.empty((total, 3, 3), dtype=np.float32)
     normals = np.empty((total, 3, 3), dtype=np.float32)
     albedo = np.empty((total, 3), dtype=np.float32)
+    emission = np.zeros((total, 3), dtype=np.float32)
     visibility = np.empty(total, dtype=np.uint8)
     image_layers = np.full(total, -1, dtype=np.int16)
     textured = any(colour.image is not None for _, palettes, _ in batches.values() for slots in palettes
@@ -119,6 +120,7 @@ def _assemble(meshes, batches, surfaces):
             which = [index for index, instance_slots in enumerate(palettes) if instance_slots == slots]
             surface = mesh.surface(slots, surfaces, layer_of)
             per_instance(albedo)[which] = surface.albedo
+            per_instance(emission)[which] = surface.emission
             per_instance(image_layers)[which] = surface.layers
             if surface.uvs is not None:
                 per_instance(uvs)[which] = surface.uvs
@@ -131,7 +133,8 @@ def _assemble(meshes, batches, surfaces):
                 if corners is not None:
                     corners[reversed_corners] = corners[reversed_corners][:, ::-1]
         start = end
-    return {"triangles": triangles, "normals": normals, "albedo": albedo, "visibility": visibility,
+    return {"triangles": triangles, "normals": normals, "albedo": albedo,
+            "emission": emission if emission.any() else None, "visibility": visibility,
             "vertex_colors": vertex_colors, "uvs": uvs, "image_layers": image_layers if images else None,
             "images": images, "approximated_materials": sorted(approximated), "origin": origin}
 
@@ -189,14 +192,15 @@ def _mesh_key(obj):
 @dataclass
 class MeshSurface:
     """One instance's surface per triangle of a LocalMesh: albedo (T, 3), image layer
-    (T,), corner UVs (T, 3, 2) and colours (T, 3, 3) (None: not read), and the materials
-    approximated for want of a UV map or colour attribute."""
+    (T, ), corner UVs (T, 3, 2) and colours (T, 3, 3) (None: not read), the materials
+    approximated for want of a UV map or colour attribute, and emitted radiance (T, 3)."""
 
     albedo: np.ndarray
     layers: np.ndarray
     uvs: np.ndarray
     colors: np.ndarray
     approximated: set
+    emission: np.ndarray
 
 
 class LocalMesh:
@@ -310,7 +314,8 @@ class LocalMesh:
                 else:
                     colors = np.ones((self.triangle_count, 3, 3), np.float32) if colors is None else colors
                     colors[triangles] = corner[triangles]
-        return MeshSurface(factors[slot], layers[slot], uvs, colors, approximated)
+        emission = np.array([colour.emission for colour in slots], dtype=np.float32)
+        return MeshSurface(factors[slot], layers[slot], uvs, colors, approximated, emission[slot])
 
 
 def _corner_uvs(mesh, name, corners):

@@ -32,13 +32,14 @@ class BaseColour:
     """What a surface's diffuse colour is made of: the linear `factor`, times the `image`
     (a bpy Image, None: none) at the UV map `uv_map` ("": the active render one), times
     the colour attribute `attribute` ("": the active render one; None: none); `material`
-    names whose colour it is."""
+    names whose colour it is; `emission` is the radiance it emits (W/(m² sr), linear)."""
 
     factor: tuple
     image: object = None
     uv_map: str = ""
     attribute: str = None
     material: str = ""
+    emission: tuple = (0.0, 0.0, 0.0)
 
     @property
     def varies(self):
@@ -78,7 +79,7 @@ class MaterialSurfaces:
         key = material.as_pointer()
         if key not in self._materials:
             evaluation = _Evaluation(self)
-            colour = evaluation.material(material)
+            colour = replace(evaluation.material(material), emission=evaluation.emission(material))
             if colour.image is not None and self.pixels(colour.image) is None:  # a missing file: no pixels
                 colour, evaluation.approximated = replace(colour, image=None), True
             if evaluation.approximated:
@@ -120,6 +121,40 @@ class _Evaluation:
     def approximate(self, colour):
         self.approximated = True
         return colour
+
+    def emission(self, material):
+        """The radiance the material's Cycles surface emits: an Emission shader's or a
+        Principled BSDF's emission colour times strength, summed and weighted through Add
+        and Mix shaders (a linked colour or strength is taken at its socket's value and
+        the material counted as approximated)."""
+        tree = material.node_tree
+        output = tree.get_output_node("CYCLES") if tree is not None else None
+        if output is None:
+            return (0.0, 0.0, 0.0)
+        return tuple(float(c) for c in np.maximum(self.emitted(output.inputs["Surface"], 0), 0.0))
+
+    def emitted(self, socket, depth):
+        node = linked_node(socket)
+        if node is None or depth > 32:
+            return np.zeros(3)
+        if node.type == "EMISSION":
+            return self.value(node.inputs["Color"])[:3] * self.value(node.inputs["Strength"])
+        if node.type == "BSDF_PRINCIPLED":
+            return self.value(node.inputs["Emission Color"])[:3] * self.value(node.inputs["Emission Strength"])
+        if node.type == "ADD_SHADER":
+            return self.emitted(node.inputs[0], depth + 1) + self.emitted(node.inputs[1], depth + 1)
+        if node.type == "MIX_SHADER":
+            weight = float(np.clip(self.value(node.inputs[0]), 0.0, 1.0))
+            return ((1.0 - weight) * self.emitted(node.inputs[1], depth + 1)
+                    + weight * self.emitted(node.inputs[2], depth + 1))
+        return np.zeros(3)
+
+    def value(self, socket):
+        """A socket's own value as an array; a linked one is approximated by it."""
+        if socket.is_linked:
+            self.approximated = True
+        value = socket.default_value
+        return np.array(value if np.ndim(value) == 0 else value[:], dtype=np.float64)
 
     def shader(self, socket, fallback, depth):
         node = linked_node(socket)

@@ -13,7 +13,7 @@ from .frame_stats import last_stats
 from .properties import settings_from_properties
 
 SETTING_GROUPS = {
-    "Method": ("method", "rsm_resolution", "vpls_per_light"),
+    "Method": ("method", "rsm_resolution", "vpls_per_light", "emission_samples"),
     "Indirect Light": ("indirect_method", "lpv_resolution", "grid_levels", "propagation_iterations", "occlusion",
                        "bounces", "singularity_bound", "indirect_intensity", "shadow_bias", "grid_phases", "grid_shift"),
     "Convergence": ("viewport_vpl_sets", "converge_sets", "converge_seconds"),

@@ -24,6 +24,7 @@ from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
 from .settings import DisplaySettings, Settings
 from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, render_gbuffer, seen_points, shade_direct,
                     shade_indirect)
+from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES, warp_paraboloid_map
 
@@ -37,7 +38,8 @@ AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
           "inject_ms": "inject", "bounce_ms": "bounces", "propagate_ms": "propagate", "gather_ms": "gather",
-          "direct_ms": "direct", "pixel_gather_ms": "pixel gather", "indirect_ms": "indirect"}
+          "direct_ms": "direct", "emission_ms": "emission", "pixel_gather_ms": "pixel gather",
+          "indirect_ms": "indirect"}
 """A frame's timed stages (its stats keys) in the order they run, with their names: the
 indirect stage's inject and propagate (LPV), inject, bounces and gather (light grid) or
 inject and bounces (VPL gathering, whose pixel gather follows the G-buffer)."""
@@ -177,6 +179,7 @@ class Pipeline:
         self._mesh = None          # (geometry key, MeshBuffer)
         self._lights = {}          # light cache key -> LightMaps
         self._indirect = None      # (key, IndirectGrids)
+        self._emission = None      # SurfaceEmission of the emissive surfaces, over the last frame's levels
         self._targets = None
         self._shown_keys = ()      # the light cache keys of the last frame
         self._fits = None          # what the last frame that fitted the machine depended on
@@ -346,6 +349,9 @@ class Pipeline:
             with self.glc.timed(stats, "direct_ms"):
                 for m in maps:
                     shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
+            if scene.emission is not None:
+                with self.glc.timed(stats, "emission_ms"):
+                    self._emitted_light(scene, s, targets, levels)
         if s.indirect_method == "vpl_gather":
             with self.glc.timed(stats, "pixel_gather_ms"):
                 bind_gbuffer(targets)
@@ -426,11 +432,24 @@ class Pipeline:
         render_debug_passes(self.glc, self._targets, scene.camera, self.last_light_maps,
                             (display_settings or DisplaySettings()).vpl_point_size)
 
+    def _emitted_light(self, scene, s, targets, levels):
+        """Add the direct light of the scene's emissive surfaces into the direct image."""
+        if self._emission is not None and self._emission.levels != tuple(levels):
+            self._emission.release()
+            self._emission = None
+        if self._emission is None:
+            self._emission = SurfaceEmission(self.glc, levels)
+        self._emission.build(self._mesh[1], scene, s.emission_samples, self.vpl_pattern)
+        bind_gbuffer(targets)
+        self._emission.add_light(targets, gbuffer_uniforms(scene.camera), scene.camera.position,
+                                 s.singularity_bound, self.vpl_pattern)
+
     def gpu_bytes(self):
         """GPU memory the pipeline holds now: mesh, light maps, VPLs, LPV, camera images."""
         held = [*self.vpl_sampler.resources()]
         held += self._mesh[1].resources() if self._mesh is not None else ()
         held += self._indirect[1].resources() if self._indirect is not None else ()
+        held += self._emission.resources() if self._emission is not None else ()
         for maps in self._lights.values():
             held += maps.resources()
         held += self._targets.resources() if self._targets is not None else ()
@@ -443,6 +462,9 @@ class Pipeline:
         self._lights.clear()
         self._placement = None
         self._accumulated = None
+        if self._emission is not None:
+            self._emission.release()
+            self._emission = None
         if self._indirect is not None:
             self._indirect[1].forget()
             self._indirect = (None, self._indirect[1])  # keep the volumes' memory, forget their content

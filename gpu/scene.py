@@ -183,8 +183,9 @@ class Scene:
     seen by both). A textured surface's colour is its albedo times, per corner,
     `vertex_colors` (T, 3, 3) linear (None: white) and times the image `images[layer]`
     at the corners' `uvs` (T, 3, 2) where `image_layers` (T,) is not -1 (None: no image).
-    `approximated_materials` names the materials whose colour the extraction could only
-    approximate. Positions, lights and camera are relative to the world point `origin`
+    `emission` (T, 3) float32 is the radiance each triangle emits from both sides (None:
+    none). `approximated_materials` names the materials whose colour the extraction could
+    only approximate. Positions, lights and camera are relative to the world point `origin`
     (float64; None: the world origin), which `sanitize` moves to the scene when it is far
     (`local_origin`) before anything becomes float32. `dropped` counts what `sanitize` removed, by reason. Once sanitized, the
     triangles the camera sees are the range `camera_triangles` (first, count) and those
@@ -202,6 +203,7 @@ class Scene:
     vertex_colors: np.ndarray = None
     uvs: np.ndarray = None
     image_layers: np.ndarray = None
+    emission: np.ndarray = None
     images: list = field(default_factory=list)
     approximated_materials: list = field(default_factory=list)
     origin: np.ndarray = None
@@ -271,6 +273,9 @@ class Scene:
             uvs = np.zeros((count, 3, 2), np.float32) if self.uvs is None else np.asarray(self.uvs, np.float32)
             arrays["image_layers"] = layers
             arrays["uvs"] = np.nan_to_num(uvs.reshape(count, 3, 2), nan=0.0, posinf=0.0, neginf=0.0)
+        if self.emission is not None:
+            emission = np.asarray(self.emission, dtype=np.float32).reshape(count, 3)
+            arrays["emission"] = np.maximum(np.nan_to_num(emission, nan=0.0, posinf=0.0, neginf=0.0), 0.0)
         return arrays
 
     def sanitize(self):
@@ -316,8 +321,10 @@ class Scene:
         self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
         self.visibility = None if np.all(seen == SEEN_BY_ALL) else seen
-        for name in ("vertex_colors", "uvs", "image_layers"):
+        for name in ("vertex_colors", "uvs", "image_layers", "emission"):
             setattr(self, name, np.ascontiguousarray(per_triangle[name]) if name in per_triangle else None)
+        if self.emission is not None and not self.emission.any():
+            self.emission = None
         if self.image_layers is not None and not np.any(self.image_layers >= 0):
             self.uvs = self.image_layers = None
         camera_only, both = int(np.sum(seen == SEEN_BY_CAMERA)), int(np.sum(seen == SEEN_BY_ALL))
@@ -330,8 +337,8 @@ class Scene:
         return self
 
     def require_lights(self):
-        if not self.lights:
-            raise LPVError("The scene has no lights; add a point, spot, area or sun light.")
+        if not self.lights and (self.emission is None or not np.any(self.emission)):
+            raise LPVError("The scene has no lights; add a point, spot, area or sun light, or an emissive material.")
 
     def geometry_key(self):
         """A content key of the triangles and their surfaces: normals, albedo, visibility,
@@ -341,7 +348,7 @@ class Scene:
             return self._geometry_key
         h = hashlib.sha1()
         for array in (self.triangles, self.normals, self.albedo, self.visibility, self.vertex_colors, self.uvs,
-                      self.image_layers):
+                      self.image_layers, self.emission):
             h.update(b"-" if array is None else np.ascontiguousarray(array).tobytes())
         for image in self.images:
             h.update(image.key().encode())

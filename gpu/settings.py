@@ -78,6 +78,8 @@ class Settings(Validated):
                                  "depends less on where cell boundaries fall", 1, 2)
     grid_shift: float = _param(0.0, "Shift of the light grid against the scene, in cells along every axis "
                                     "(the picture should not depend on it: for invariance tests)", 0.0, 1.0)
+    emission_samples: int = _param(4096, "Points sampled on emissive surfaces, in proportion to their power, whose "
+                                         "light every pixel gathers as direct light", 16, 1048576)
     bounces: int = _param(1, "Diffuse bounces of the indirect light: above 1 the VPLs are lit by one another "
                              "that many times less one, as Cycles' full global illumination (light grid and VPL "
                              "gathering)", 1, 8)

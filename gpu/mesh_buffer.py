@@ -36,6 +36,11 @@ class MeshBuffer:
         self.camera_triangles = scene.camera_triangles or (0, count)
         self.light_triangles = scene.light_triangles or (0, count)
         self.buffer = glc.gl.buffer(interleaved.tobytes())
+        self.emission = None  # each triangle's emitted radiance (vec4), for the camera's glow
+        if scene.emission is not None:
+            emission = np.zeros((count, 4), dtype=np.float32)
+            emission[:, :3] = scene.emission
+            self.emission = glc.gl.buffer(emission.tobytes())
         self._arrays = {}
         self.rim_lists = {}
 
@@ -81,7 +86,7 @@ class MeshBuffer:
     def resources(self):
         """The vertex buffer, the images and each hemisphere's rim-split lists and draw
         commands."""
-        return (self.buffer, *self.images.resources(),
+        return (self.buffer, *self.images.resources(), *((self.emission,) if self.emission is not None else ()),
                 *(buffer for buffers in self.rim_lists.values() for buffer in buffers))
 
     def release(self):

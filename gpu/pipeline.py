@@ -22,8 +22,8 @@ from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
 from .settings import DisplaySettings, Settings
-from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, render_gbuffer, seen_points, shade_direct,
-                    shade_indirect)
+from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, render_gbuffer, render_glow, seen_points,
+                    shade_direct, shade_indirect)
 from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES, warp_paraboloid_map
@@ -352,6 +352,7 @@ class Pipeline:
             if scene.emission is not None:
                 with self.glc.timed(stats, "emission_ms"):
                     self._emitted_light(scene, s, targets, levels)
+                    render_glow(self.glc, self._mesh[1], scene.camera, targets)
         if s.indirect_method == "vpl_gather":
             with self.glc.timed(stats, "pixel_gather_ms"):
                 bind_gbuffer(targets)
@@ -360,7 +361,7 @@ class Pipeline:
                                            s.singularity_bound / sets, self.vpl_pattern)
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, scene.camera, indirect, len(levels), s.grid_phases, s.indirect_intensity,
-                           display_into is not None, sets - 1)
+                           display_into is not None, sets - 1, glow=scene.emission is not None)
         self._accumulated = (view, sets, accumulated_vpls)
         self._shown_keys = tuple(keys)
         self.last_origin = scene.world_origin

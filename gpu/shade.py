@@ -39,6 +39,7 @@ class FrameTargets:
         self.seen = gl.buffer(reserve=VIEW_LATTICE * VIEW_LATTICE * 16)  # seen_points' positions
         self.vpl_splats = self.warp_status = None  # debug passes (gpu/debug_views.py), made on first use
         self.splat_framebuffer = None
+        self.glow = self.glow_framebuffer = None  # emissive surfaces' radiance, made on first use
 
     def debug_images(self):
         """The VPL Splats and Warp Status images, and the framebuffer the splats are drawn
@@ -49,6 +50,15 @@ class FrameTargets:
                                                          depth_attachment=self.depth)
             self.splat_framebuffer.depth_mask = False
         return self.vpl_splats, self.warp_status, self.splat_framebuffer
+
+    def glow_images(self):
+        """The glow image and its framebuffer (tested against the G-buffer's depth, never
+        writing it), made on first use."""
+        if self.glow is None:
+            self.glow = self.gl.texture(self.size, 4, dtype="f4")
+            self.glow_framebuffer = self.gl.framebuffer(color_attachments=[self.glow], depth_attachment=self.depth)
+            self.glow_framebuffer.depth_mask = False
+        return self.glow, self.glow_framebuffer
 
     def display_buffer(self):
         if self.display is None:
@@ -72,14 +82,15 @@ class FrameTargets:
     def resources(self):
         """Every texture and buffer made so far (the display and debug ones on request)."""
         return tuple(resource for resource in (self.depth, self.surface, self.direct, self.indirect, self.combined,
-                                               self.seen, self.display, self.vpl_splats, self.warp_status)
+                                               self.seen, self.display, self.vpl_splats, self.warp_status, self.glow)
                      if resource is not None)
 
     def release(self):
         self.framebuffer.release()
         self.direct_framebuffer.release()
-        if self.splat_framebuffer is not None:
-            self.splat_framebuffer.release()
+        for framebuffer in (self.splat_framebuffer, self.glow_framebuffer):
+            if framebuffer is not None:
+                framebuffer.release()
         for resource in self.resources():
             resource.release()
 
@@ -110,6 +121,23 @@ def render_gbuffer(glc, mesh, camera, targets):
     targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
 
 
+def render_glow(glc, mesh, camera, targets):
+    """Draw the radiance of the emissive surfaces the camera sees into the glow image."""
+    gl = glc.gl
+    program = glc.program("raster", "glow")
+    _, framebuffer = targets.glow_images()
+    framebuffer.use()
+    framebuffer.viewport = (0, 0, *targets.size)
+    framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+    gl.enable(moderngl.DEPTH_TEST)
+    gl.depth_func = "<="
+    mesh.emission.bind_to_storage_buffer(0)
+    first, _ = mesh.camera_triangles
+    set_uniforms(program, view_projection=camera.projection @ camera.view, first_triangle=first)
+    mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles)
+    gl.depth_func = "<"
+
+
 def shade_direct(glc, targets, camera, rsm, shadow_bias):
     """Add one light's shadowed Lambert term into the direct image."""
     program = glc.compute("shade_direct")
@@ -134,11 +162,13 @@ def seen_points(glc, targets, camera):
     return points[points[:, 3] > 0, :3].astype(np.float64)
 
 
-def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, display=False, accumulated=0):
+def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, display=False, accumulated=0,
+                   glow=False):
     """Look the indirect grids (gpu/indirect.py: `levels` nested levels of `phases` grids
     each) up at every pixel and write the indirect and combined images, and with `display`
     the combined one into the display buffer too. With `accumulated` > 0 the indirect
-    image holds the mean of that many VPL sets' light, which this set's joins."""
+    image holds the mean of that many VPL sets' light, which this set's joins. With `glow`
+    the composite adds the glow image (render_glow)."""
     program = glc.compute("shade_indirect", LEVELS=levels, PHASES=phases,
                           INDIRECT=INDIRECT_METHODS.index(indirect.method))
     bind_gbuffer(targets)
@@ -146,11 +176,13 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
     targets.direct.bind_to_image(0, read=True, write=False)
     targets.indirect.bind_to_image(1, read=True, write=True)
     targets.combined.bind_to_image(2, read=False, write=True)
+    if glow:
+        targets.glow.bind_to_image(3, read=True, write=False)
     if display:
         targets.display_buffer().bind_to_storage_buffer(0)
     grids = indirect.grids
     set_uniforms(program, **gbuffer_uniforms(camera), **units, write_display=display,
                  grid_origins=np.array([grid.origin for grid in grids]),
                  cell_sizes=np.array([grid.cell_size for grid in grids]), grid_size=grids[0].size,
-                 intensity=intensity, accumulated=accumulated)
+                 intensity=intensity, accumulated=accumulated, add_glow=glow)
     dispatch(program, *targets.size)

@@ -92,3 +92,12 @@ def test_emitters_carry_the_surfaces_power_from_both_sides():
     np.testing.assert_allclose(np.abs(rows[:, 1, 2]), 1.0)  # normals ±z
     np.testing.assert_array_equal(rows, sample_surface_emitters(triangles, emission, 4096, pattern=3))
     assert not np.array_equal(rows, sample_surface_emitters(triangles, emission, 4096, pattern=4))
+
+
+def test_an_emissive_surface_glows_in_the_combined_image_not_in_the_direct_light():
+    built = room_lit_by_a_panel()
+    built.camera = camera("Up", (0.0, -1.2, 1.0), (0.0, 0.0, 2.95))  # looking up at the panel
+    frame = render_once(scene_to_render(built, SIZE), Settings(width=SIZE[0], height=SIZE[1]))
+    brightest = frame.passes["combined"].reshape(-1, 3)[np.argmax(frame.passes["combined"].sum(axis=2))]
+    np.testing.assert_allclose(brightest, [10.0, 9.0, 7.0], rtol=0.05)  # the panel's radiance (black albedo)
+    assert frame.passes["direct"].max() < 2.0 and frame.passes["indirect"].max() < 2.0

@@ -28,6 +28,8 @@ layout(std430, binding = 0) writeonly buffer Display { vec4 display_rows[]; };
 uniform bool write_display;
 uniform float intensity;
 uniform int accumulated;
+uniform bool add_glow;   // the emissive surfaces' own radiance (shade.py render_glow)
+layout(rgba32f, binding = 3) uniform readonly image2D glow;
 
 // How much a level answers at q: all of it from two cells inside its box, none within one.
 float level_share(int grid, vec3 q) {
@@ -62,6 +64,7 @@ void main() {
     if (accumulated > 0) light = mix(imageLoad(indirect, pixel).rgb, light, 1.0 / float(accumulated + 1));
     imageStore(indirect, pixel, vec4(light, 1.0));
     vec4 composite = vec4(direct_light.rgb + light, 1.0);
+    if (add_glow) composite.rgb += imageLoad(glow, pixel).rgb;
     imageStore(combined, pixel, composite);
     if (write_display) display_rows[pixel.y * imageSize(combined).x + pixel.x] = composite;
 }

@@ -92,6 +92,9 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
         indirect += cluster_capacity(s.vpls_per_light * len(scene.lights)) * CLUSTER_BYTES
     if s.bounces > 1 and s.indirect_method != "lpv":  # each light's summed generations, and one light's scratch
         indirect += s.vpls_per_light * (len(scene.lights) * VPL_BYTES + BOUNCE_SCRATCH_BYTES_PER_VPL)
+    if scene.emission is not None:  # emitters, their gather's occupancy and images, the glow and its radiances
+        indirect += 2 * s.emission_samples * EMITTER_BYTES + pixels * (GATHER_BYTES_PER_PIXEL + 16)
+        indirect += s.grid_levels * n ** 3 * (GATHER_VOXELS_PER_CELL ** 3 + 1) + scene.triangle_count * 16
     mesh = scene.triangle_count * (3 * VERTEX_BYTES + 2 * RIM_LIST_BYTES_PER_TRIANGLE * (s.method != "cm"))
     mesh += len(scene.images) * layer_size(scene.images) ** 2 * BYTES_PER_TEXEL
     host = pixels * (READBACK_BYTES_PER_PIXEL * bool(passes) + PASS_BYTES_PER_PIXEL * len(passes))

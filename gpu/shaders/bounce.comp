@@ -36,8 +36,7 @@ vec3 direct_irradiance(vec3 p, vec3 n) {
     vec3 w;
     float dist;
     light_ray(p, w, dist);
-    float cosine = max(0.0, -dot(n, w));
-    return light_kind == LIGHT_SUN ? light_peak * cosine : light_intensity(w) * cosine / max(dist * dist, 1e-30);
+    return light_irradiance(w, dist, max(0.0, -dot(n, w)));
 }
 
 void main() {

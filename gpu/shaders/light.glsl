@@ -23,6 +23,13 @@ vec3 light_intensity(vec3 w) {
     return light_peak;
 }
 
+// Irradiance the light gives a surface at distance `dist` along `w` (light_ray's) whose
+// normal makes `cos_theta` with -w (unshadowed).
+vec3 light_irradiance(vec3 w, float dist, float cos_theta) {
+    return light_kind == LIGHT_SUN ? light_peak * cos_theta
+                                   : light_intensity(w) * cos_theta / max(dist * dist, 1e-30);
+}
+
 // Direction from the light toward p, and the distance its shadow map stores.
 void light_ray(vec3 p, out vec3 w, out float dist) {
     if (light_kind == LIGHT_SUN) {

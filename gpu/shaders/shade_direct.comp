@@ -41,8 +41,7 @@ void main() {
     light_ray(p, w, dist);
     float cos_theta = dot(n, -w);
     if (cos_theta <= 0.0) return;
-    vec3 irradiance = light_kind == LIGHT_SUN ? light_peak * cos_theta
-                                              : light_intensity(w) * cos_theta / (dist * dist);
+    vec3 irradiance = light_irradiance(w, dist, cos_theta);
     float texel_world = light_kind == LIGHT_SUN ? ortho_texel : dist * texel_angle;
     float v = visibility(p + n * shadow_bias * texel_world);
     vec4 previous = imageLoad(direct, pixel);

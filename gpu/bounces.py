@@ -11,9 +11,8 @@ surface a light does not see passes none of that light's on.
 import math
 
 from .context import set_uniforms
-from .light_grid import EMITTER_BYTES
 from .occupancy import march_batch
-from .vpl import GATHER_ROW
+from .vpl import EMITTER_BYTES, GATHER_ROW
 
 RECEIVER_SENDERS = 256
 """Senders each VPL gathers from per bounce: a random subset (scaled up), so the cost is

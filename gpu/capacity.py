@@ -10,11 +10,12 @@ import os
 
 from .errors import LPVError
 from .grids import VIEW_LATTICE
-from .light_grid import CLUSTER_INTS, DIRECTIONS, EMITTER_BYTES, cluster_capacity
+from .light_grid import CLUSTER_INTS, DIRECTIONS, cluster_capacity
 from .occupancy import GATHER_VOXELS_PER_CELL, VOXELS_PER_CELL
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import face_atlas_size, map_face_count
 from .surface_images import BYTES_PER_TEXEL, layer_size
+from .vpl import EMITTER_BYTES
 
 GIB = 2 ** 30
 
@@ -34,7 +35,6 @@ WARP_STATUS_BYTES_PER_TEXEL = 4
 SHARED_BYTES_PER_TEXEL = 4 + 4
 """Per atlas layout: the depth renderbuffer its maps are drawn with and the VPLs' Poisson
 cell ids; the warped methods keep a spare set of maps there too (the warp's source)."""
-VPL_BYTES = 3 * 16                    # position, normal, flux (three vec4)
 VPL_CELL_BYTES = 16 + 8               # per atlas layout: a Poisson cell's bounds and sample point
 
 LPV_BYTES_PER_CELL = 12 * 4 + 9 * 16
@@ -63,6 +63,14 @@ def map_method(method):
     return "cm" if method == "cm" else "dpm"
 
 
+def pixel_gather_bytes(s, scene, pixels):
+    """A pixel gather's (gpu/vpl_gather.py): every level's occupancy, its canvas, its
+    images and the voxelisation's list of large triangles."""
+    n = s.lpv_resolution
+    return (s.grid_levels * n ** 3 * (GATHER_VOXELS_PER_CELL ** 3 + 1) + (GATHER_VOXELS_PER_CELL * n) ** 2
+            + pixels * GATHER_BYTES_PER_PIXEL + scene.triangle_count * LARGE_TRIANGLE_BYTES)
+
+
 def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     """(GPU bytes, host bytes) that a frame of `scene` with `settings` needs at its peak:
     the camera's images (with `display`, the viewport's rows too), every light's maps and
@@ -75,7 +83,7 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     atlases = [face_atlas_size(map_face_count(light, map_method(s.method)), s.rsm_resolution)
                for light in scene.lights]
     per_light = MAP_BYTES_PER_TEXEL + WARP_STATUS_BYTES_PER_TEXEL * warped
-    maps = sum(width * height * per_light + s.vpls_per_light * VPL_BYTES for width, height in atlases)
+    maps = sum(width * height * per_light + s.vpls_per_light * EMITTER_BYTES for width, height in atlases)
     per_layout = SHARED_BYTES_PER_TEXEL + MAP_BYTES_PER_TEXEL * warped
     maps += sum(width * height * per_layout + s.vpls_per_light * VPL_CELL_BYTES for width, height in set(atlases))
     n = s.lpv_resolution
@@ -83,18 +91,16 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     if s.indirect_method == "lpv":
         indirect = grids * (n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL)
     elif s.indirect_method == "vpl_gather":
-        indirect = s.grid_levels * n ** 3 * (GATHER_VOXELS_PER_CELL ** 3 + 1) + (GATHER_VOXELS_PER_CELL * n) ** 2
-        indirect += pixels * GATHER_BYTES_PER_PIXEL
-        indirect += scene.triangle_count * LARGE_TRIANGLE_BYTES
+        indirect = pixel_gather_bytes(s, scene, pixels)
     else:
         indirect = grids * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
         indirect += scene.triangle_count * LARGE_TRIANGLE_BYTES
         indirect += cluster_capacity(s.vpls_per_light * len(scene.lights)) * CLUSTER_BYTES
     if s.bounces > 1 and s.indirect_method != "lpv":  # each light's summed generations, and one light's scratch
-        indirect += s.vpls_per_light * (len(scene.lights) * VPL_BYTES + BOUNCE_SCRATCH_BYTES_PER_VPL)
-    if scene.emission is not None:  # emitters, their gather's occupancy and images, the glow and its radiances
-        indirect += 2 * s.emission_samples * EMITTER_BYTES + pixels * (GATHER_BYTES_PER_PIXEL + 16)
-        indirect += s.grid_levels * n ** 3 * (GATHER_VOXELS_PER_CELL ** 3 + 1) + scene.triangle_count * 16
+        indirect += s.vpls_per_light * (len(scene.lights) * EMITTER_BYTES + BOUNCE_SCRATCH_BYTES_PER_VPL)
+    if scene.emission is not None:  # emitters and their gather, the glow and the triangles' radiances
+        indirect += 2 * s.emission_samples * EMITTER_BYTES + pixel_gather_bytes(s, scene, pixels)
+        indirect += pixels * 16 + scene.triangle_count * 16
     mesh = scene.triangle_count * (3 * VERTEX_BYTES + 2 * RIM_LIST_BYTES_PER_TRIANGLE * (s.method != "cm"))
     mesh += len(scene.images) * layer_size(scene.images) ** 2 * BYTES_PER_TEXEL
     host = pixels * (READBACK_BYTES_PER_PIXEL * bool(passes) + PASS_BYTES_PER_PIXEL * len(passes))

@@ -17,6 +17,8 @@ from .context import dispatch, set_uniforms
 from .rsm import PROJECTION_PARABOLOID
 
 GATHER_ROW = 32768  # workgroups per row of the gather dispatch (GL guarantees 65535)
+EMITTER_BYTES = 3 * 16
+"""A VPL's or any point emitter's bytes (shaders/emitter.glsl): position, normal, flux vec4s."""
 
 
 @lru_cache(maxsize=64)
@@ -189,7 +191,7 @@ class VPLSampler:
         whose surface lies in the box `exclude` ((low, high) corners) when given."""
         cells = self.cells(rsm, vpl_count, pattern)
         program = self.glc.compute("vpl_gather")
-        output = self.glc.gl.buffer(reserve=cells.count * 48)
+        output = self.glc.gl.buffer(reserve=cells.count * EMITTER_BYTES)
         for unit, texture in enumerate((rsm.position, rsm.normal, rsm.flux, cells.cell_ids)):
             texture.use(location=unit)
         low, high = exclude if exclude is not None else ((0.0,) * 3, (0.0,) * 3)

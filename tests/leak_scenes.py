@@ -63,6 +63,18 @@ def box(name, low, high, material):
     return mesh_object(name, corners, faces, materials=(material,))
 
 
+def room_shell(half_x, half_y, height, walls, floor, thickness=0.1):
+    """A closed room's floor, ceiling and four walls, each a closed box `thickness` thick,
+    around [-half_x, half_x] x [-half_y, half_y] x [0, height]."""
+    x, y, t = half_x, half_y, thickness
+    box("Floor", (-x - t, -y - t, -t), (x + t, y + t, 0.0), floor)
+    box("Ceiling", (-x - t, -y - t, height), (x + t, y + t, height + t), walls)
+    box("Left wall", (-x - t, -y, 0.0), (-x, y, height), walls)
+    box("Right wall", (x, -y, 0.0), (x + t, y, height), walls)
+    box("Back wall", (-x - t, y, 0.0), (x + t, y + t, height), walls)
+    box("Front wall", (-x - t, -y - t, 0.0), (x + t, -y, height), walls)
+
+
 def wall_with_opening(name, low, high, opening_low, opening_high, material):
     """The box `low`-`high` less the box `opening_low`-`opening_high` that runs through it
     along its thinnest axis: the closed boxes below, above and beside the opening."""
@@ -144,14 +156,7 @@ def thin_wall(size=(64, 48), scale=1.0):
     `scale` scales the objects (their scale and place), the light's power by its square
     (the same radiance) and the camera's clipping range."""
     scene = empty_scene(size)
-    walls, floor = diffuse("walls", GREY), diffuse("floor", WARM)
-    t = 0.1
-    box("Floor", (-3 - t, -1.5 - t, -t), (3 + t, 1.5 + t, 0.0), floor)
-    box("Ceiling", (-3 - t, -1.5 - t, 2.5), (3 + t, 1.5 + t, 2.5 + t), walls)
-    box("Left wall", (-3 - t, -1.5, 0.0), (-3.0, 1.5, 2.5), walls)
-    box("Right wall", (3.0, -1.5, 0.0), (3 + t, 1.5, 2.5), walls)
-    box("Back wall", (-3 - t, 1.5, 0.0), (3 + t, 1.5 + t, 2.5), walls)
-    box("Front wall", (-3 - t, -1.5 - t, 0.0), (3 + t, -1.5, 2.5), walls)
+    room_shell(3.0, 1.5, 2.5, diffuse("walls", GREY), diffuse("floor", WARM))
     wall_with_opening("Shared wall", (-0.01, -1.5, 0.0), (0.01, 1.5, 2.5), (-0.01, 0.8, 0.0), (0.01, 1.3, 1.0),
                       diffuse("shared", COOL))
     light("POINT", (-1.5, -0.5, 1.8), energy=300.0)

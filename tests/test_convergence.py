@@ -10,7 +10,8 @@ bpy = pytest.importorskip("bpy")
 from lpv_preview.addon.render_scene import scene_to_render  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
-from lpv_preview.gpu.vpl import concentric_disk, concentric_square, poisson_disk_points, shifted_pattern  # noqa: E402
+from lpv_preview.gpu.vpl import (VPLSet, concentric_disk, concentric_square, poisson_disk_points,  # noqa: E402
+                                 shifted_pattern)
 
 from .leak_scenes import lone_floor, thin_wall  # noqa: E402
 
@@ -88,8 +89,7 @@ def generations(pipeline):
     """The flux of the last frame's VPLs summed over them: the first generation's, and
     every later one's together."""
     first = sum(m.vpls.read()["flux"].sum(axis=0) for m in pipeline.last_light_maps)
-    total = sum(np.frombuffer(buffer.read(), dtype=np.float32).reshape(count, 3, 4)[:, 2, :3].sum(axis=0)
-                for buffer, count in pipeline.last_indirect.bounces.sets)
+    total = sum(VPLSet(buffer, count).read()["flux"].sum(axis=0) for buffer, count in pipeline.last_indirect.bounces.sets)
     return first, total - first
 
 

@@ -13,7 +13,7 @@ from lpv_preview.gpu.pipeline import render_once  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 from lpv_preview.gpu.surface_emitters import sample_surface_emitters  # noqa: E402
 
-from .leak_scenes import box, camera, diffuse, empty_scene, quad  # noqa: E402
+from .leak_scenes import box, camera, diffuse, empty_scene, quad, room_shell  # noqa: E402
 
 SIZE = (64, 48)
 
@@ -39,13 +39,8 @@ def emissive(name, colour, strength, node="principled"):
 def room_lit_by_a_panel(node="principled"):
     """A closed 4 × 4 × 3 m room with a table, lit only by an emissive 1 m ceiling panel."""
     scene = empty_scene(SIZE)
-    walls, t = diffuse("walls", (0.8, 0.8, 0.8)), 0.1
-    box("Floor", (-2 - t, -2 - t, -t), (2 + t, 2 + t, 0.0), walls)
-    box("Ceiling", (-2 - t, -2 - t, 3.0), (2 + t, 2 + t, 3.0 + t), walls)
-    box("Left", (-2 - t, -2, 0), (-2, 2, 3), walls)
-    box("Right", (2, -2, 0), (2 + t, 2, 3), walls)
-    box("Back", (-2 - t, 2, 0), (2 + t, 2 + t, 3), walls)
-    box("Front", (-2 - t, -2 - t, 0), (2 + t, -2, 3), walls)
+    walls = diffuse("walls", (0.8, 0.8, 0.8))
+    room_shell(2.0, 2.0, 3.0, walls, walls)
     box("Table", (-0.6, -0.4, 0.7), (0.6, 0.4, 0.8), diffuse("table", (0.6, 0.4, 0.3)))
     quad("Panel", 0.5, 2.95, emissive("glow", (1.0, 0.9, 0.7), 10.0, node))
     scene.camera = camera("Inside", (1.7, -1.7, 1.6), (0.0, 0.3, 0.6), lens=20)

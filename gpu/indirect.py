@@ -30,6 +30,7 @@ class IndirectGrids:
         self.grids = tuple(grids)
         self.levels = self.grids[::phases]
         self.bounces = Bounces(glc)
+        self.emitter_sets = []  # what VPL gathering gathers from: (buffer, count) pairs
         if method == "lpv":
             self.volumes = [LightPropagationVolume(glc, grid) for grid in self.grids]
         elif method == "light_grid":
@@ -70,7 +71,7 @@ class IndirectGrids:
         else:
             self.bounces.release()
         if self.method == "vpl_gather":
-            volume.emitter_sets = emitters
+            self.emitter_sets = emitters
             return
         with timed(stats, first):
             cluster_grids = [grid.coarser(CLUSTER_CELLS) for grid in self.levels]

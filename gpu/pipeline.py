@@ -351,14 +351,14 @@ class Pipeline:
                     shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
             if scene.emission is not None:
                 with self.glc.timed(stats, "emission_ms"):
-                    self._emitted_light(scene, s, targets, levels)
+                    self._emitted_light(scene, s, targets, levels, indirect)
                     render_glow(self.glc, self._mesh[1], scene.camera, targets)
         if s.indirect_method == "vpl_gather":
             with self.glc.timed(stats, "pixel_gather_ms"):
                 bind_gbuffer(targets)
                 # the n-th set of a converging frame bounds 1/r² by 1/n as much: the average's bias tends to zero
                 indirect.volumes[0].gather(targets, gbuffer_uniforms(scene.camera), scene.camera.position,
-                                           s.singularity_bound / sets, self.vpl_pattern)
+                                           indirect.emitter_sets, s.singularity_bound / sets, self.vpl_pattern)
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, scene.camera, indirect, len(levels), s.grid_phases, s.indirect_intensity,
                            display_into is not None, sets - 1, glow=scene.emission is not None)
@@ -433,17 +433,17 @@ class Pipeline:
         render_debug_passes(self.glc, self._targets, scene.camera, self.last_light_maps,
                             (display_settings or DisplaySettings()).vpl_point_size)
 
-    def _emitted_light(self, scene, s, targets, levels):
-        """Add the direct light of the scene's emissive surfaces into the direct image."""
-        if self._emission is not None and self._emission.levels != tuple(levels):
-            self._emission.release()
-            self._emission = None
+    def _emitted_light(self, scene, s, targets, levels, indirect):
+        """Add the direct light of the scene's emissive surfaces into the direct image,
+        gathered through VPL gathering's own occupancy and images when that is the
+        indirect method (its gather comes later in the frame)."""
         if self._emission is None:
-            self._emission = SurfaceEmission(self.glc, levels)
-        self._emission.build(self._mesh[1], scene, s.emission_samples, self.vpl_pattern)
+            self._emission = SurfaceEmission(self.glc)
+        self._emission.sample(scene, s.emission_samples, self.vpl_pattern)
+        gather = indirect.volumes[0] if indirect.method == "vpl_gather" else self._emission.own_gather(levels)
         bind_gbuffer(targets)
-        self._emission.add_light(targets, gbuffer_uniforms(scene.camera), scene.camera.position,
-                                 s.singularity_bound, self.vpl_pattern)
+        self._emission.add_light(gather, self._mesh[1], targets, gbuffer_uniforms(scene.camera),
+                                 scene.camera.position, s.singularity_bound, self.vpl_pattern)
 
     def gpu_bytes(self):
         """GPU memory the pipeline holds now: mesh, light maps, VPLs, LPV, camera images."""

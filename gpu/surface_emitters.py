@@ -43,46 +43,54 @@ def sample_surface_emitters(triangles, emission, count, pattern):
 
 
 class SurfaceEmission:
-    """The emitters of a scene's emissive surfaces and the gather that adds their light
-    to the direct image."""
+    """The emitters of a scene's emissive surfaces, and for indirect methods other than
+    VPL gathering a pixel gather of its own to add their light to the direct image."""
 
-    def __init__(self, glc, levels):
+    def __init__(self, glc):
         self.glc = glc
-        self.levels = tuple(levels)
-        self.gather = VPLGather(glc, self.levels)
         self.emitters = None
+        self.count = 0
         self._key = None
+        self._own = None  # VPLGather over the last levels asked for
 
-    def build(self, mesh, scene, count, pattern):
-        """Voxelise the mesh (once per mesh) and sample the emitters (once per scene
-        geometry, count and pattern)."""
-        self.gather.occupancy.voxelise(mesh)
+    def sample(self, scene, count, pattern):
+        """Sample the emitters, once per scene geometry, count and pattern."""
         key = (scene.geometry_key(), count, pattern)
         if key != self._key:
             rows = sample_surface_emitters(scene.triangles, scene.emission, count, pattern)
             if self.emitters is not None:
                 self.emitters.release()
-            self.emitters = self.glc.gl.buffer(rows.tobytes())
-            self._key = key
-            self.gather.emitter_sets = [(self.emitters, len(rows))]
+            self.emitters, self.count, self._key = self.glc.gl.buffer(rows.tobytes()), len(rows), key
 
-    def add_light(self, targets, uniforms, camera_position, singularity_bound, pattern):
-        """Gather the emitters' irradiance at every pixel and add albedo / π times it to
-        the direct image. `uniforms` are the G-buffer's, its textures bound."""
-        self.gather.gather(targets, uniforms, camera_position, singularity_bound, pattern)
+    def own_gather(self, levels):
+        """A pixel gather of its own over `levels`, made again when they change."""
+        if self._own is not None and self._own.levels != tuple(levels):
+            self._own.release()
+            self._own = None
+        if self._own is None:
+            self._own = VPLGather(self.glc, levels)
+        return self._own
+
+    def add_light(self, gather, mesh, targets, uniforms, camera_position, singularity_bound, pattern):
+        """Gather the emitters' irradiance at every pixel with `gather` (a VPLGather; its
+        occupancy voxelised once per mesh) and add albedo / π times it to the direct
+        image. `uniforms` are the G-buffer's, its textures bound."""
+        gather.occupancy.voxelise(mesh)
+        gather.gather(targets, uniforms, camera_position, [(self.emitters, self.count)], singularity_bound, pattern)
         program = self.glc.compute("add_irradiance")
         bind_gbuffer(targets)
-        self.gather.filtered.use(location=2)
+        gather.filtered.use(location=2)
         targets.direct.bind_to_image(0, read=True, write=True)
         set_uniforms(program, **uniforms, gathered=2)
         dispatch(program, *targets.size)
 
     def resources(self):
-        return (*self.gather.resources(), *((self.emitters,) if self.emitters is not None else ()))
+        held = self._own.resources() if self._own is not None else ()
+        return (*held, *((self.emitters,) if self.emitters is not None else ()))
 
     def release(self):
-        self.gather.release()
+        if self._own is not None:
+            self._own.release()
         if self.emitters is not None:
             self.emitters.release()
-        self.emitters = None
-
+        self.emitters, self._own, self._key = None, None, None

@@ -22,7 +22,6 @@ class VPLGather:
         self.glc = glc
         self.levels = tuple(levels)
         self.occupancy = Occupancy(glc, self.levels, GATHER_VOXELS_PER_CELL)
-        self.emitter_sets = []
         self.gathered = self.filtered = None
 
     def _images(self, size):
@@ -33,11 +32,11 @@ class VPLGather:
             self.gathered, self.filtered = (self.glc.gl.texture(size, 4, dtype="f4") for _ in range(2))
         return self.gathered, self.filtered
 
-    def gather(self, targets, uniforms, camera_position, singularity_bound, vpl_set):
-        """Gather every pixel's irradiance from the VPLs, their 1/r² bounded by
-        `singularity_bound` (shaders/emitter.glsl), and filter it into `filtered`; the
-        pixels' VPL subsets follow `vpl_set`. `uniforms` are the G-buffer's (gpu/shade.py
-        gbuffer_uniforms), its textures bound."""
+    def gather(self, targets, uniforms, camera_position, emitter_sets, singularity_bound, vpl_set):
+        """Gather every pixel's irradiance from the emitters (buffers with counts), their
+        1/r² bounded by `singularity_bound` (shaders/emitter.glsl), and filter it into
+        `filtered`; the pixels' subsets follow `vpl_set`. `uniforms` are the G-buffer's
+        (gpu/shade.py gbuffer_uniforms), its textures bound."""
         gathered, filtered = self._images(targets.size)
         program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE, LEVELS=len(self.levels))
         gathered.bind_to_image(0, read=True, write=True)
@@ -45,7 +44,7 @@ class VPLGather:
         set_uniforms(program, **uniforms, **self.occupancy.march_uniforms(range(len(self.levels)), first_unit=2),
                      batch=batch, singularity_bound=singularity_bound, subset_shift=vpl_set % INTERLEAVE ** 2)
         accumulate = False
-        for buffer, count in self.emitter_sets:
+        for buffer, count in emitter_sets:
             buffer.bind_to_storage_buffer(0)
             for first in range(0, count, batch):
                 set_uniforms(program, emitter_count=count, first_emitter=first, accumulate=accumulate)

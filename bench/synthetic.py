@@ -25,3 +25,29 @@ def room_scene(quads_per_side, scale=1.0, light_position=(0.4, -0.3, 2.0), offse
     camera = Camera.look_at(np.array((0, -1.9, 1.5)) * scale + offset, np.array((0, 0, 1)) * scale + offset,
                             near=0.01 * scale, far=20 * scale)
     return Scene(triangles, np.zeros_like(triangles), np.full((len(triangles), 3), 0.6), [light], camera).sanitize()
+
+
+def particle_room(count, quads_per_side=4, total_flux=200.0, seed=0):
+    """The room lit only by `count` emissive particles (together `total_flux` W, warm
+    white, each 1 cm across) in a swirl over the floor, denser near its axis. Sanitized."""
+    rng = np.random.default_rng(seed)
+    room = room_scene(quads_per_side)
+    turn = rng.random(count) * 6 * np.pi
+    radius = 1.6 * np.sqrt(rng.random(count))
+    height = 0.2 + 2.4 * rng.random(count)
+    emitters = np.zeros((count, 7), dtype=np.float64)
+    emitters[:, 0], emitters[:, 1], emitters[:, 2] = radius * np.cos(turn), radius * np.sin(turn), height
+    emitters[:, 3:6] = np.array([1.0, 0.8, 0.6]) * total_flux / count
+    emitters[:, 6] = np.pi * 0.005 ** 2
+    return Scene(room.triangles, room.normals, room.albedo, [], room.camera, point_emitters=emitters).sanitize()
+
+
+def lamps_over_floor(count, quads_per_side=4, total_power=400.0, seed=0):
+    """The room lit by `count` point lights (together `total_power` W, random colours)
+    scattered 0.3-0.8 m over its floor. Sanitized."""
+    rng = np.random.default_rng(seed)
+    room = room_scene(quads_per_side)
+    lights = [Light("POINT", (rng.uniform(-1.8, 1.8), rng.uniform(-1.8, 1.8), rng.uniform(0.3, 0.8)), (0, 0, -1),
+                    (0, 1, 0), 0.5 + 0.5 * rng.random(3), total_power / count, radius=0.05, name=f"lamp{i}")
+              for i in range(count)]
+    return Scene(room.triangles, room.normals, room.albedo, lights, room.camera).sanitize()

@@ -9,7 +9,9 @@ import numpy as np
 from .grids import fit_grid
 from .light_grid import CLUSTER_CELLS, LightGrid
 from .bounces import Bounces
+from .emitter_bounce import light_receivers
 from .lpv import LightPropagationVolume
+from .occupancy import Occupancy
 from .vpl_gather import VPLGather
 
 INDIRECT_STAGES = {"lpv": ("inject_ms", "propagate_ms"), "light_grid": ("inject_ms", "gather_ms"),
@@ -31,6 +33,8 @@ class IndirectGrids:
         self.levels = self.grids[::phases]
         self.bounces = Bounces(glc)
         self.emitter_sets = []  # what VPL gathering gathers from: (buffer, count) pairs
+        self.emitter_vpls = None  # the emitters' bounce (gpu/emitter_bounce.py)
+        self._lpv_occupancy = None  # what the emitters' bounce marches through with LPVs
         if method == "lpv":
             self.volumes = [LightPropagationVolume(glc, grid) for grid in self.grids]
         elif method == "light_grid":
@@ -38,19 +42,33 @@ class IndirectGrids:
         else:
             self.volumes = [VPLGather(glc, self.levels)]
 
-    def build(self, maps, mesh, scene_bounds, settings, stats, pattern):
+    def build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources=(), receivers=None):
         """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage;
         with `settings.bounces` above 1 (light grid and VPL gathering) from the VPLs lit by
         one another too (gpu/bounces.py), their senders' subsets following the VPL
-        `pattern`."""
+        `pattern`; and from the emitter sets `sources` ((buffer, count) pairs) through the
+        points `receivers()` gives (gpu/emitter_bounce.py)."""
         timed = self.glc.timed
         bound = settings.singularity_bound
         flux_bound = sum(m.vpl_map.flux_bound for m in maps)
         first, second = INDIRECT_STAGES[self.method][0], INDIRECT_STAGES[self.method][-1]
+        if self.emitter_vpls is not None:
+            self.emitter_vpls.release()
+            self.emitter_vpls = None
         if self.method == "lpv":
+            vpl_sets = [vpls for m in maps for vpls in (m.vpls, m.far_vpls) if vpls is not None]
+            if sources:
+                if self._lpv_occupancy is None:
+                    self._lpv_occupancy = Occupancy(self.glc, self.levels)
+                with timed(stats, "emitter_bounce_ms"):
+                    self._lpv_occupancy.voxelise(mesh)
+                    self.emitter_vpls = light_receivers(self.glc, receivers(), sources, self._lpv_occupancy,
+                                                        range(len(self.levels)), bound, pattern)
+                vpl_sets.append(self.emitter_vpls)
+                flux_bound += self.emitter_vpls.flux_bound
             with timed(stats, first):
                 for lpv in self.volumes:
-                    lpv.inject([vpls for m in maps for vpls in (m.vpls, m.far_vpls) if vpls is not None], flux_bound)
+                    lpv.inject(vpl_sets, flux_bound)
                     if settings.occlusion:
                         lpv.inject_geometry([m.vpl_map for m in maps])
             with timed(stats, second):
@@ -70,6 +88,14 @@ class IndirectGrids:
             flux_bound *= settings.bounces  # a generation carries at most its area times what it receives
         else:
             self.bounces.release()
+        if sources:
+            layers = range(0, len(self.grids), len(self.grids) // len(self.levels)) if self.method == "light_grid" \
+                else range(len(self.levels))
+            with timed(stats, "emitter_bounce_ms"):
+                self.emitter_vpls = light_receivers(self.glc, receivers(), sources, volume.occupancy, layers, bound,
+                                                    pattern)
+            emitters = emitters + [(self.emitter_vpls.buffer, self.emitter_vpls.count)]
+            flux_bound += self.emitter_vpls.flux_bound
         if self.method == "vpl_gather":
             self.emitter_sets = emitters
             return
@@ -82,8 +108,9 @@ class IndirectGrids:
 
     def forget(self):
         """Build everything again next time, the occupancy too."""
-        if self.method != "lpv":
-            self.volumes[0].occupancy.forget()
+        for occupancy in (self.volumes[0].occupancy if self.method != "lpv" else None, self._lpv_occupancy):
+            if occupancy is not None:
+                occupancy.forget()
 
     def lookup_uniforms(self, first_unit):
         """Bind the volumes for the lookup from texture unit `first_unit` on; the uniforms
@@ -111,9 +138,14 @@ class IndirectGrids:
 
     def resources(self):
         return (*(resource for volume in self.volumes for resource in volume.resources()),
-                *self.bounces.resources())
+                *self.bounces.resources(),
+                *((self.emitter_vpls.buffer,) if self.emitter_vpls is not None else ()),
+                *(self._lpv_occupancy.resources() if self._lpv_occupancy is not None else ()))
 
     def release(self):
         for volume in self.volumes:
             volume.release()
         self.bounces.release()
+        for held in (self.emitter_vpls, self._lpv_occupancy):
+            if held is not None:
+                held.release()

@@ -13,8 +13,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .capacity import check_frame_fits
+from .colour import LUMINANCE_WEIGHTS
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
+from .emitter_grid import EmitterGrid, emitter_rows, skip_weak
 from .errors import LPVError
 from .grids import fit_grid, keep_or_move, level_boxes
 from .indirect import IndirectGrids
@@ -24,6 +26,7 @@ from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
 from .settings import DisplaySettings, Settings
 from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, render_gbuffer, render_glow, seen_points,
                     shade_direct, shade_indirect)
+from .emitter_bounce import sample_receivers
 from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES, warp_paraboloid_map
@@ -38,7 +41,8 @@ AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
           "inject_ms": "inject", "bounce_ms": "bounces", "propagate_ms": "propagate", "gather_ms": "gather",
-          "direct_ms": "direct", "emission_ms": "emission", "pixel_gather_ms": "pixel gather",
+          "emitter_bounce_ms": "emitter bounce", "direct_ms": "direct", "emission_ms": "emission",
+          "emitter_grid_ms": "emitter grid", "emitter_light_ms": "emitter light", "pixel_gather_ms": "pixel gather",
           "indirect_ms": "indirect"}
 """A frame's timed stages (its stats keys) in the order they run, with their names: the
 indirect stage's inject and propagate (LPV), inject, bounces and gather (light grid) or
@@ -158,6 +162,61 @@ def sun_region(levels, bounds):
     return tuple(map(float, low)), tuple(map(float, high))
 
 
+def seen_box(levels, bounds):
+    """The coarsest grid level's box within the scene's bounds: where the camera looks."""
+    coarsest = levels[-1]
+    low = np.maximum(np.asarray(coarsest.origin), bounds[0])
+    high = np.maximum(np.minimum(np.asarray(coarsest.origin) + coarsest.cell_size * coarsest.size, bounds[1]), low)
+    return low, high
+
+
+@dataclass
+class FrameLights:
+    """What lights a frame: the lights that get maps, the point emitters (the scene's and
+    the point lights beyond the budget) as emitter rows with a content key, and counts."""
+
+    mapped: list
+    emitters: np.ndarray
+    key: tuple
+    skipped_lights: int
+    skipped_emitters: int
+    lights_as_emitters: int
+
+
+def frame_lights(scene, settings, box, min_distance):
+    """Split the scene's lights and point emitters for a frame looking at `box`: the
+    weakest there, together under `light_cutoff` of the light, are skipped (a sun never
+    is); of the point lights left, the `light_map_budget` strongest get maps and the rest
+    join the point emitters."""
+    lights = scene.lights
+    emitters = scene.point_emitters if scene.point_emitters is not None else np.zeros((0, 7), np.float32)
+    luminance = LUMINANCE_WEIGHTS
+    intensity = np.concatenate([[float(light.peak_intensity @ luminance) for light in lights],
+                                emitters[:, 3:6].astype(np.float64) @ luminance / (4 * np.pi)])
+    positions = np.concatenate([np.array([light.position for light in lights]).reshape(-1, 3),
+                                emitters[:, :3].astype(np.float64)])
+    keep = skip_weak(positions, intensity, box, min_distance, settings.light_cutoff)
+    low, high = box
+    gap = np.maximum(np.maximum(low - positions, positions - high), 0.0)
+    strength = intensity / np.maximum(np.einsum("ij,ij->i", gap, gap), min_distance ** 2)
+    for index, light in enumerate(lights):
+        if light.kind == "SUN":
+            keep[index], strength[index] = True, np.inf
+    kept_lights = [i for i in range(len(lights)) if keep[i]]
+    points = sorted((i for i in kept_lights if lights[i].kind == "POINT"), key=lambda i: -strength[i])
+    as_emitters = set(points[settings.light_map_budget:])
+    mapped = [lights[i] for i in kept_lights if i not in as_emitters]
+    extra = [lights[i] for i in sorted(as_emitters)]
+    kept_emitters = keep[len(lights):]
+    rows = np.concatenate([emitter_rows(emitters[kept_emitters, :3], emitters[kept_emitters, 3:6],
+                                        emitters[kept_emitters, 6]),
+                           emitter_rows(np.array([light.position for light in extra]).reshape(-1, 3),
+                                        np.array([light.rgb_power for light in extra]).reshape(-1, 3),
+                                        np.array([np.pi * light.radius ** 2 for light in extra]))])
+    key = (scene.point_emitters_key(), np.packbits(kept_emitters).tobytes(), tuple(light.key() for light in extra))
+    return FrameLights(mapped, rows, key, len(lights) - len(kept_lights), int((~kept_emitters).sum()), len(extra))
+
+
 @dataclass
 class Frame:
     """The passes (name -> (height, width, 3) float32 linear, top row first), statistics,
@@ -180,6 +239,7 @@ class Pipeline:
         self._lights = {}          # light cache key -> LightMaps
         self._indirect = None      # (key, IndirectGrids)
         self._emission = None      # SurfaceEmission of the emissive surfaces, over the last frame's levels
+        self._emitter_grid = None  # EmitterGrid of the point emitters
         self._targets = None
         self._shown_keys = ()      # the light cache keys of the last frame
         self._fits = None          # what the last frame that fitted the machine depended on
@@ -209,10 +269,11 @@ class Pipeline:
         """The camera's G-buffer and images of the last frame (gpu/shade.py FrameTargets)."""
         return self._targets
 
-    def light_maps(self, scene, stats=None, levels=None):
-        """Each light's LightMaps, rendered only when the light, geometry, settings or (for
-        a sun) the region of the grid `levels` changed, its VPLs sampled again when the
-        pattern (`vpl_pattern`) changed; and their cache keys."""
+    def light_maps(self, scene, stats=None, levels=None, lights=None):
+        """Each light's LightMaps (of `lights`, by default the scene's), rendered only when
+        the light, geometry, settings or (for a sun) the region of the grid `levels`
+        changed, its VPLs sampled again when the pattern (`vpl_pattern`) changed; and their
+        cache keys."""
         stats = {} if stats is None else stats
         s = self.settings
         geometry_key = self._upload(scene, stats)
@@ -222,7 +283,7 @@ class Pipeline:
         if any(recipe.warp_alpha is not None for recipe in recipes):
             recipes += (s.warp_iterations, s.warp_significant_figures)
         region = sun_region(levels, bounds)
-        for light in scene.lights:
+        for light in scene.lights if lights is None else lights:
             light_region = region if light.kind == "SUN" else None
             key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes, light_region)
             if key not in self._lights:
@@ -326,7 +387,10 @@ class Pipeline:
         levels = list(grids[::s.grid_phases])
         if vpl_set is not None:
             self.vpl_pattern = vpl_set
-        maps, keys = self.light_maps(scene, stats, levels)
+        box = seen_box(levels, scene.bounds())
+        lit = frame_lights(scene, s, box, levels[0].cell_size)
+        maps, keys = self.light_maps(scene, stats, levels, lit.mapped)
+        sources, sources_key = self._emitter_sources(scene, s, lit, box, stats)
         vpl_count = int(sum(m.vpl_count for m in maps))
         if adding:
             sets, accumulated_vpls = self._accumulated[1] + 1, self._accumulated[2] + vpl_count
@@ -334,7 +398,7 @@ class Pipeline:
             sets, accumulated_vpls = 1, vpl_count
         self._accumulated = None  # until this set is in the image
         indirect_key = (s.indirect_method, tuple(keys), self.vpl_pattern, grids, s.propagation_iterations,
-                        s.occlusion) + ((s.singularity_bound, s.bounces) if s.indirect_method != "lpv" else ())
+                        s.occlusion, sources_key) + ((s.singularity_bound, s.bounces) if s.indirect_method != "lpv" else ())
         if self._indirect is None or self._indirect[0] != indirect_key:
             indirect = self._indirect[1] if self._indirect is not None else None
             if indirect is not None and (indirect.method, indirect.grids) != (s.indirect_method, grids):
@@ -342,13 +406,17 @@ class Pipeline:
                 indirect = None
             if indirect is None:
                 indirect = IndirectGrids(self.glc, s.indirect_method, grids, s.grid_phases)
-            indirect.build(maps, self._mesh[1], scene.bounds(), s, stats, self.vpl_pattern)
+            indirect.build(maps, self._mesh[1], scene.bounds(), s, stats, self.vpl_pattern, sources,
+                           lambda: sample_receivers(scene, s.emitter_bounce_samples, self.vpl_pattern))
             self._indirect = (indirect_key, indirect)
         indirect = self._indirect[1]
         if not adding:
             with self.glc.timed(stats, "direct_ms"):
                 for m in maps:
                     shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
+            if lit.emitters.size:
+                with self.glc.timed(stats, "emitter_light_ms"):
+                    self._emitter_grid.add_light(targets, gbuffer_uniforms(scene.camera), s)
             if scene.emission is not None:
                 with self.glc.timed(stats, "emission_ms"):
                     self._emitted_light(scene, s, targets, levels, indirect)
@@ -383,6 +451,11 @@ class Pipeline:
             "vpl_sets": sets,
             "accumulated_vpls": accumulated_vpls,
             "lights": len(scene.lights),
+            "mapped_lights": len(lit.mapped),
+            "lights_as_emitters": lit.lights_as_emitters,
+            "skipped_lights": lit.skipped_lights,
+            "point_emitters": len(lit.emitters),
+            "skipped_emitters": lit.skipped_emitters,
             "triangles": scene.triangle_count,
             "dropped_triangles": dict(scene.dropped),
             "images": [image.name for image in scene.images],
@@ -433,13 +506,34 @@ class Pipeline:
         render_debug_passes(self.glc, self._targets, scene.camera, self.last_light_maps,
                             (display_settings or DisplaySettings()).vpl_point_size)
 
+    def _emitter_sources(self, scene, s, lit, box, stats):
+        """Build the emitter grid of the frame's point emitters (when it has any) and sample
+        the emissive surfaces' emitters; the (buffer, count) sets whose light bounces, and
+        a key of what they hold."""
+        sources, key = [], ()
+        if lit.emitters.size:
+            if self._emitter_grid is None or self._emitter_grid.resolution < s.emitter_grid_resolution or \
+                    self._emitter_grid.resolution >= 2 * s.emitter_grid_resolution:
+                if self._emitter_grid is not None:
+                    self._emitter_grid.release()
+                self._emitter_grid = EmitterGrid(self.glc, s.emitter_grid_resolution)
+            with self.glc.timed(stats, "emitter_grid_ms"):
+                self._emitter_grid.upload(lit.emitters, lit.key)
+                self._emitter_grid.build(box, s.singularity_bound)
+            sources.append((self._emitter_grid.emitters, self._emitter_grid.count))
+            key += lit.key[1:] + (lit.key[0],)
+        if scene.emission is not None:
+            if self._emission is None:
+                self._emission = SurfaceEmission(self.glc)
+            self._emission.sample(scene, s.emission_samples, self.vpl_pattern)
+            sources.append((self._emission.emitters, self._emission.count))
+            key += (scene.geometry_key(), s.emission_samples)
+        return sources, key + ((s.emitter_bounce_samples,) if sources else ())
+
     def _emitted_light(self, scene, s, targets, levels, indirect):
         """Add the direct light of the scene's emissive surfaces into the direct image,
         gathered through VPL gathering's own occupancy and images when that is the
         indirect method (its gather comes later in the frame)."""
-        if self._emission is None:
-            self._emission = SurfaceEmission(self.glc)
-        self._emission.sample(scene, s.emission_samples, self.vpl_pattern)
         gather = indirect.volumes[0] if indirect.method == "vpl_gather" else self._emission.own_gather(levels)
         bind_gbuffer(targets)
         self._emission.add_light(gather, self._mesh[1], targets, gbuffer_uniforms(scene.camera),
@@ -451,6 +545,7 @@ class Pipeline:
         held += self._mesh[1].resources() if self._mesh is not None else ()
         held += self._indirect[1].resources() if self._indirect is not None else ()
         held += self._emission.resources() if self._emission is not None else ()
+        held += self._emitter_grid.resources() if self._emitter_grid is not None else ()
         for maps in self._lights.values():
             held += maps.resources()
         held += self._targets.resources() if self._targets is not None else ()
@@ -463,9 +558,10 @@ class Pipeline:
         self._lights.clear()
         self._placement = None
         self._accumulated = None
-        if self._emission is not None:
-            self._emission.release()
-            self._emission = None
+        for cached in ("_emission", "_emitter_grid"):
+            if getattr(self, cached) is not None:
+                getattr(self, cached).release()
+                setattr(self, cached, None)
         if self._indirect is not None:
             self._indirect[1].forget()
             self._indirect = (None, self._indirect[1])  # keep the volumes' memory, forget their content

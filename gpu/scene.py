@@ -173,6 +173,23 @@ class SurfaceImage:
         return self._key
 
 
+POINT_EMITTER_COLUMNS = 7  # position xyz, flux rgb, area
+
+
+def _sane_point_emitters(emitters, dropped):
+    """The point emitters as float32 rows with finite positions, flux above zero in some
+    channel and no negative value (None when none is left); `dropped["emitters"]` counts
+    the rest."""
+    if emitters is None:
+        return None
+    rows = np.asarray(emitters, dtype=np.float64).reshape(-1, POINT_EMITTER_COLUMNS)
+    with np.errstate(invalid="ignore"):
+        good = np.isfinite(rows).all(axis=1) & (rows[:, 3:].min(axis=1) >= 0) & (rows[:, 3:6].max(axis=1) > 0)
+    if not good.all():
+        dropped["emitters"] = dropped.get("emitters", 0) + int((~good).sum())
+    return np.ascontiguousarray(rows[good], dtype=np.float32) if good.any() else None
+
+
 @dataclass
 class Scene:
     """Triangles in world space, their surfaces, lights and a camera.
@@ -184,7 +201,9 @@ class Scene:
     `vertex_colors` (T, 3, 3) linear (None: white) and times the image `images[layer]`
     at the corners' `uvs` (T, 3, 2) where `image_layers` (T,) is not -1 (None: no image).
     `emission` (T, 3) float32 is the radiance each triangle emits from both sides (None:
-    none). `approximated_materials` names the materials whose colour the extraction could
+    none). `point_emitters` (M, 7) float32 are emitters too small to be surfaces
+    (emissive particles and instances): position xyz, flux rgb (W, sent alike in every
+    direction) and the area it comes from (m², bounding 1/r² next to it; None: none). `approximated_materials` names the materials whose colour the extraction could
     only approximate. Positions, lights and camera are relative to the world point `origin`
     (float64; None: the world origin), which `sanitize` moves to the scene when it is far
     (`local_origin`) before anything becomes float32. `dropped` counts what `sanitize` removed, by reason. Once sanitized, the
@@ -204,6 +223,7 @@ class Scene:
     uvs: np.ndarray = None
     image_layers: np.ndarray = None
     emission: np.ndarray = None
+    point_emitters: np.ndarray = None
     images: list = field(default_factory=list)
     approximated_materials: list = field(default_factory=list)
     origin: np.ndarray = None
@@ -259,6 +279,10 @@ class Scene:
         self.origin = self.world_origin + shift
         self.lights = [replace(light, position=light.position - shift) for light in self.lights]
         self.camera = None if self.camera is None else self.camera.moved_by(shift)
+        if self.point_emitters is not None:
+            emitters = np.array(self.point_emitters, dtype=np.float64).reshape(-1, POINT_EMITTER_COLUMNS)
+            emitters[:, :3] -= shift
+            self.point_emitters = emitters
         return np.asarray(triangles, dtype=np.float64) - shift
 
     def _surface_arrays(self, count):
@@ -327,6 +351,7 @@ class Scene:
             self.emission = None
         if self.image_layers is not None and not np.any(self.image_layers >= 0):
             self.uvs = self.image_layers = None
+        self.point_emitters = _sane_point_emitters(self.point_emitters, self.dropped)
         camera_only, both = int(np.sum(seen == SEEN_BY_CAMERA)), int(np.sum(seen == SEEN_BY_ALL))
         self.camera_triangles = (0, camera_only + both)
         self.light_triangles = (camera_only, len(seen) - camera_only)
@@ -337,8 +362,18 @@ class Scene:
         return self
 
     def require_lights(self):
-        if not self.lights and (self.emission is None or not np.any(self.emission)):
+        if not self.lights and (self.emission is None or not np.any(self.emission)) and self.point_emitter_count == 0:
             raise LPVError("The scene has no lights; add a point, spot, area or sun light, or an emissive material.")
+
+    @property
+    def point_emitter_count(self):
+        return 0 if self.point_emitters is None else len(self.point_emitters)
+
+    def point_emitters_key(self):
+        """A content key of the point emitters ("" for none)."""
+        if self.point_emitters is None:
+            return ""
+        return hashlib.sha1(np.ascontiguousarray(self.point_emitters).tobytes()).hexdigest()[:16]
 
     def geometry_key(self):
         """A content key of the triangles and their surfaces: normals, albedo, visibility,

@@ -9,8 +9,8 @@ import numpy as np
 from .errors import LPVError
 from .scene import Camera, Light, Scene, SurfaceImage
 
-SURFACE_FIELDS = ("visibility", "vertex_colors", "uvs", "image_layers", "emission")
-"""The Scene's optional per-triangle arrays, saved when present."""
+SURFACE_FIELDS = ("visibility", "vertex_colors", "uvs", "image_layers", "emission", "point_emitters")
+"""The Scene's optional arrays (per triangle, and the point emitters), saved when present."""
 LIGHT_FIELDS = ("kind", "position", "direction", "up", "color", "power", "radius", "spot_size", "spot_blend", "size",
                 "name")
 

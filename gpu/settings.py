@@ -14,6 +14,8 @@ from .errors import LPVError
 METHODS = ("cm", "dpm", "wdpm", "tdpm", "twdpm", "auto")
 INDIRECT_METHODS = ("lpv", "light_grid", "vpl_gather")
 SLICE_AXES = ("x", "y", "z")
+EMITTER_LIGHTS = ("grid", "brute_force")
+EMITTER_INTERPOLATIONS = ("trilinear", "tricubic", "supersampled")
 
 
 def _param(default, description, minimum=None, maximum=None, choices=None):
@@ -80,6 +82,22 @@ class Settings(Validated):
                                     "(the picture should not depend on it: for invariance tests)", 0.0, 1.0)
     emission_samples: int = _param(4096, "Points sampled on emissive surfaces, in proportion to their power, whose "
                                          "light every pixel gathers as direct light", 16, 1048576)
+    emitter_light: str = _param("grid", "How point emitters (emissive particles and instances, point lights beyond "
+                                        "the light-map budget) light the pixels: through the emitter grid's 3D "
+                                        "textures (grid) or every pixel summing every emitter (brute_force, the "
+                                        "reference)", choices=EMITTER_LIGHTS)
+    emitter_interpolation: str = _param("tricubic", "How the emitter grid is read at a pixel: trilinear, tricubic "
+                                                    "(Catmull-Rom) or super-sampled (eight trilinear reads)",
+                                        choices=EMITTER_INTERPOLATIONS)
+    emitter_grid_resolution: int = _param(64, "Cells along each side of the emitter grid (rounded up to a power of "
+                                              "two)", 8, 256)
+    emitter_bounce_samples: int = _param(2048, "Points on the surfaces that the emitters light (and their light "
+                                               "bounces from) for the indirect light", 16, 65536)
+    light_map_budget: int = _param(4, "Point lights that get light maps (the strongest at the view): the others "
+                                      "light through the emitter grid, without shadows", 0, 4096)
+    light_cutoff: float = _param(0.001, "Share of the light at the view that the weakest lights and emitters may "
+                                        "give together and be skipped (bounded by intensity over distance²)",
+                                 0.0, 0.5)
     bounces: int = _param(1, "Diffuse bounces of the indirect light: above 1 the VPLs are lit by one another "
                              "that many times less one, as Cycles' full global illumination (light grid and VPL "
                              "gathering)", 1, 8)

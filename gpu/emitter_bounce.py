@@ -1,0 +1,84 @@
+"""The emitters' indirect light: points sampled on the surfaces the lights see, each lit
+by the emitters (point emitters, emissive surfaces) through a march over the occupancy
+(shaders/emitter_bounce.comp), become VPLs that the indirect stage gathers beside the
+lights' own: a room lit by emissive particles gets its bounce light."""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .context import set_uniforms
+from .occupancy import march_batch
+from .vpl import EMITTER_BYTES, GATHER_ROW
+
+RECEIVER_SENDERS = 256
+"""Emitters of each set a receiver gathers from: a strided subset scaled up."""
+LANES = 64
+
+
+@dataclass
+class EmitterVPLs:
+    """The receivers as VPLs: a buffer of shaders/emitter.glsl rows, their count and a
+    bound on any channel's total flux."""
+
+    buffer: object
+    count: int
+    flux_bound: float
+
+    def release(self):
+        self.buffer.release()
+
+
+def sample_receivers(scene, count, pattern):
+    """(count, 3, 4) float32 emitter rows on the triangles the lights see, drawn in
+    proportion to area (stratified): position, face normal and the area each stands
+    for, and the triangle's albedo in the flux row."""
+    first, total = scene.light_triangles
+    corners = scene.triangles[first:first + total].astype(np.float64)
+    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    doubled = np.linalg.norm(cross, axis=1)
+    cumulative = np.cumsum(doubled) / doubled.sum()
+    rng = np.random.default_rng(pattern)
+    picked = np.minimum(np.searchsorted(cumulative, (np.arange(count) + rng.random(count)) / count), total - 1)
+    root, v = np.sqrt(rng.random(count)), rng.random(count)
+    a, b, c = (corners[picked, k] for k in range(3))
+    rows = np.zeros((count, 3, 4), dtype=np.float32)
+    rows[:, 0, :3] = (1 - root)[:, None] * a + (root * (1 - v))[:, None] * b + (root * v)[:, None] * c
+    rows[:, 0, 3] = 1.0
+    rows[:, 1, :3] = cross[picked] / doubled[picked, None]
+    rows[:, 1, 3] = doubled.sum() / 2 / count
+    rows[:, 2, :3] = scene.albedo[first:first + total][picked]
+    return rows
+
+
+def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity_bound, pattern):
+    """The receivers (rows of `sample_receivers`) lit by the emitter sets ((buffer,
+    count) pairs), marching `occupancy`'s grids `layers`: an EmitterVPLs."""
+    gl = glc.gl
+    count = len(receivers)
+    receiver_buffer = gl.buffer(receivers.tobytes())
+    irradiance = gl.buffer(reserve=count * 32)
+    lit = gl.buffer(reserve=count * EMITTER_BYTES)
+    program = glc.compute("emitter_bounce", LEVELS=len(layers), LANES=LANES)
+    set_uniforms(program, **occupancy.march_uniforms(list(layers), first_unit=0), singularity_bound=singularity_bound,
+                 receiver_count=count, pattern=pattern)
+    receiver_buffer.bind_to_storage_buffer(1)
+    irradiance.bind_to_storage_buffer(2)
+    lit.bind_to_storage_buffer(3)
+    passes = [(buffer, senders, first, stride, batch)
+              for buffer, senders in emitter_sets if senders
+              for stride in [max(1, math.ceil(senders / RECEIVER_SENDERS))]
+              for batch in [march_batch(occupancy.voxels, len(layers), LANES * stride)]
+              for first in range(0, senders, batch)]
+    for number, (buffer, senders, first, stride, batch) in enumerate(passes):
+        buffer.bind_to_storage_buffer(0)
+        set_uniforms(program, sender_count=senders, first_sender=first, stride=stride, batch=batch,
+                     accumulate=number > 0, finish=number == len(passes) - 1)
+        program.run(min(count, GATHER_ROW), -(-count // GATHER_ROW), 1)
+        gl.memory_barrier()
+    for buffer in (receiver_buffer, irradiance):
+        buffer.release()
+    if not passes:
+        lit.write(np.zeros((count, 3, 4), dtype=np.float32).tobytes())
+    flux = np.frombuffer(lit.read(), dtype=np.float32).reshape(count, 3, 4)[:, 2, :3]
+    return EmitterVPLs(lit, count, float(flux.sum(axis=0).max()))

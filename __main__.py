@@ -281,6 +281,13 @@ def command_bench(args):
         from .bench.invariance import measure_invariances, write_invariances
         check_writable(args.out)
         return write_invariances(measure_invariances(log=log), args.out, command_line(args))
+    if args.emitters:
+        from .bench.emitters import measure_emitter_counts, measure_many_lights, write_emitter_report
+        check_writable(args.out)
+        counts = tuple(4 ** k for k in range(args.emitters_up_to + 1))
+        report = {"counts": measure_emitter_counts(counts, log=log),
+                  "lights": measure_many_lights(log=log), "command": command_line(args)}
+        return write_emitter_report(report, args.out)
     if args.fuzz:
         from .bench.fuzz import fuzz
         report = fuzz(range(args.fuzz), log=log)
@@ -382,6 +389,11 @@ def build_parser():
     command.add_argument("--invariance", action="store_true",
                          help="measure the invariances (translation, grid shift, light frame, scale) per method "
                               "on the closed room (invariance.json and invariance.md in --out)")
+    command.add_argument("--emitters", action="store_true",
+                         help="measure the emitter grid against the emitter count (1 to 4^N, --emitters-up-to) and "
+                              "64 point lights against one (emitters.json, emitters.md)")
+    command.add_argument("--emitters-up-to", type=int, default=10, choices=range(11), metavar="N",
+                         help="largest emitter count's power of 4 for --emitters (default 10: 1,048,576)")
     command.add_argument("--fuzz", type=positive_int, metavar="N",
                          help="render N seeded random scenes; any that neither renders finite bounded light nor "
                               "stops with one sentence is a failure (exit 2)")

@@ -10,6 +10,7 @@ import numpy as np
 
 from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene, SurfaceImage, local_origin
 from .materials import MaterialSurfaces
+from .point_emitters import PointEmitters
 
 MESH_LIKE_TYPES = {"MESH", "SURFACE", "META"}
 """Object types whose evaluated geometry `Object.to_mesh` turns into triangles. Curve and
@@ -46,12 +47,15 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
     """One pass over the depsgraph's instances reading what is asked for: the Scene's
     geometry fields (triangles relative to their local origin, normals, albedo,
     visibility, the surfaces' vertex colours, UVs, image layers, images and approximated
-    materials, and the origin) of everything visible (unsanitized; empty when not asked)
-    and the visible lights in world space (empty when not asked)."""
+    materials, and the origin, and the point emitters of emissive particles and instances)
+    of everything visible (unsanitized; empty when not asked) and the visible lights in
+    world space (empty when not asked)."""
     surfaces = MaterialSurfaces()
     meshes = {}
     batches = {}
     found_lights = []
+    emitters = PointEmitters(depsgraph, surfaces, lambda obj: view3d is None or obj.visible_in_viewport_get(view3d)) \
+        if geometry else None
     for instance in depsgraph.object_instances:
         obj = instance.object
         if not instance.show_self or not _visible_in_view3d(instance, view3d):
@@ -60,6 +64,8 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
             if lights:
                 found_lights.append(_light(obj, np.array(instance.matrix_world, dtype=np.float64)))
         elif geometry and obj.type in MESH_LIKE_TYPES:
+            if emitters.names and emitters.stands_for(instance):
+                continue
             seen = _ray_visibility(instance)
             if not seen:
                 continue
@@ -75,10 +81,10 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
                 batch[0].append(np.array(instance.matrix_world, dtype=np.float64))
                 batch[1].append(tuple(slots + slots[-1:] * (mesh.material_count - len(slots))))
                 batch[2].append(seen)
-    return _assemble(meshes, batches, surfaces), found_lights
+    return _assemble(meshes, batches, surfaces, emitters), found_lights
 
 
-def _assemble(meshes, batches, surfaces):
+def _assemble(meshes, batches, surfaces, emitters=None):
     """The Scene's geometry fields from the batches of instances of each mesh, placed
     relative to the local origin of their world bounds (float64 until then)."""
     origin = _batches_origin(meshes, batches)
@@ -136,7 +142,8 @@ def _assemble(meshes, batches, surfaces):
     return {"triangles": triangles, "normals": normals, "albedo": albedo,
             "emission": emission if emission.any() else None, "visibility": visibility,
             "vertex_colors": vertex_colors, "uvs": uvs, "image_layers": image_layers if images else None,
-            "images": images, "approximated_materials": sorted(approximated), "origin": origin}
+            "images": images, "approximated_materials": sorted(approximated), "origin": origin,
+            "point_emitters": emitters.array(origin) if emitters is not None else None}
 
 
 def _batches_origin(meshes, batches):

@@ -54,11 +54,14 @@ def skip_weak(positions, intensity, box, min_distance, cutoff):
 
 
 def grid_box(box, resolution):
-    """A cube holding `box` (low, high), a hair larger, as (origin, cell size)."""
+    """(origin, cell size) of a cube of `resolution` cells whose first and last cell
+    centres lie on the faces of a cube around `box` (low, high), a hair larger: the walls
+    of a room the box spans are read at cell centres, not from the centres half a cell
+    inside (nearer the emitters)."""
     low, high = (np.asarray(corner, dtype=np.float64) for corner in box)
     side = max(float(np.max(high - low)), 1e-6) * 1.02
-    origin = (low + high) / 2 - side / 2
-    return origin, side / resolution
+    cell = side / (resolution - 1)
+    return (low + high) / 2 - side / 2 - cell / 2, cell
 
 
 class EmitterGrid:

@@ -1,0 +1,142 @@
+"""Emissive particles and instances -> point emitters (gpu/scene.py `point_emitters`).
+
+An instancer (a particle system showing an object, or geometry nodes' instances) that
+places at least BULK_INSTANCES copies of an emissive mesh makes each copy one point
+emitter: its position, the mesh's emitted flux scaled by the copy's scale², and the
+area it comes from. Their places are read in bulk (`foreach_get` on the particles or on
+the instances' point cloud), never one instance at a time, and the depsgraph walk leaves
+those copies out of the triangles. Fewer copies stay meshes whose emissive surfaces are
+sampled exactly (gpu/surface_emitters.py).
+"""
+import numpy as np
+
+BULK_INSTANCES = 64
+"""Copies of one emissive mesh from one instancer from which on they are point emitters."""
+GEOMETRY_TYPES = {"MESH", "CURVES", "POINTCLOUD", "VOLUME", "GREASEPENCIL", "CURVE", "SURFACE", "FONT", "META"}
+"""Object types whose evaluated geometry may hold instances."""
+ALIVE = 2  # Particle.alive_state's index of 'ALIVE' (DEAD, UNBORN, ALIVE, DYING)
+
+
+def mesh_emission(mesh, palette):
+    """(flux rgb one side sends, W; area, m²) of a mesh whose material slots have the
+    BaseColours `palette`: π × radiance × area summed over its faces."""
+    count = len(mesh.polygons)
+    if count == 0:
+        return np.zeros(3), 0.0
+    areas = np.empty(count, dtype=np.float64)
+    mesh.polygons.foreach_get("area", areas)
+    slots = np.empty(count, dtype=np.int32)
+    mesh.polygons.foreach_get("material_index", slots)
+    radiance = np.array([colour.emission for colour in palette], dtype=np.float64).reshape(-1, 3)
+    slots = np.clip(slots, 0, len(radiance) - 1)
+    return np.pi * (areas[:, None] * radiance[slots]).sum(axis=0), float(areas.sum())
+
+
+class PointEmitters:
+    """The point emitters of one depsgraph and which instances they stand for."""
+
+    def __init__(self, depsgraph, surfaces, visible):
+        self.rows = []
+        self.instancers = {}  # instancer's original pointer -> names of the emissive meshes it places (an
+        # instance's mesh is a copy of the one geometry nodes hold, only the name is the same)
+        self.names = set()    # every one of those names
+        self._power = {}      # mesh pointer -> (flux, area)
+        for obj in depsgraph.objects:
+            if not visible(obj):
+                continue
+            self._particles(obj, surfaces)
+            self._geometry_instances(obj, surfaces)
+
+    def _emission(self, mesh, palette_of):
+        key = mesh.as_pointer()
+        if key not in self._power:
+            self._power[key] = mesh_emission(mesh, palette_of())
+        return self._power[key]
+
+    def _add(self, instancer, mesh, positions, scales, flux, area):
+        rows = np.zeros((len(positions), 7), dtype=np.float64)
+        rows[:, :3] = positions
+        rows[:, 3:6] = flux * (scales ** 2)[:, None]
+        rows[:, 6] = area * scales ** 2
+        self.rows.append(rows)
+        self.instancers.setdefault(instancer.original.as_pointer(), set()).add(mesh.name)
+        self.names.add(mesh.name)
+
+    def _particles(self, obj, surfaces):
+        for system in getattr(obj, "particle_systems", ()):
+            settings = system.settings
+            source = settings.instance_object if settings.render_type == "OBJECT" else None
+            if source is None or source.type != "MESH" or len(system.particles) < BULK_INSTANCES:
+                continue
+            flux, area = self._emission(source.data, lambda: surfaces.palette(source, max(1, len(source.material_slots))))
+            if not flux.any():
+                continue
+            count = len(system.particles)
+            positions = np.empty(count * 3, dtype=np.float64)
+            system.particles.foreach_get("location", positions)
+            sizes = np.empty(count, dtype=np.float64)
+            system.particles.foreach_get("size", sizes)
+            state = np.empty(count, dtype=np.int32)
+            system.particles.foreach_get("alive_state", state)
+            shown = state == ALIVE
+            scale = sizes * float(np.cbrt(abs(np.linalg.det(np.array(source.matrix_world)[:3, :3]))))
+            self._add(obj, source.data, positions.reshape(-1, 3)[shown], scale[shown], flux, area)
+
+    def _geometry_instances(self, obj, surfaces):
+        if obj.type not in GEOMETRY_TYPES:
+            return
+        geometry = obj.evaluated_geometry()
+        cloud = geometry.instances_pointcloud() if geometry is not None else None
+        if cloud is None or len(cloud.points) < BULK_INSTANCES:
+            return
+        references = geometry.instance_references()
+        count = len(cloud.points)
+        which = np.empty(count, dtype=np.int32)
+        cloud.attributes[".reference_index"].data.foreach_get("value", which)
+        transforms = None
+        for index, reference in enumerate(references):
+            mesh, palette_of = _reference_mesh(reference, surfaces)
+            if mesh is None:
+                continue
+            chosen = which == index
+            if chosen.sum() < BULK_INSTANCES:
+                continue
+            flux, area = self._emission(mesh, palette_of)
+            if not flux.any():
+                continue
+            if transforms is None:
+                transforms = np.empty(count * 16, dtype=np.float32)
+                cloud.attributes["instance_transform"].data.foreach_get("value", transforms)
+                # the instances' matrices, column-major, placed by the instancer's world matrix
+                local = transforms.reshape(count, 4, 4).transpose(0, 2, 1).astype(np.float64)
+                transforms = np.array(obj.matrix_world, dtype=np.float64) @ local
+            placed = transforms[chosen]
+            scales = np.cbrt(np.abs(np.linalg.det(placed[:, :3, :3])))
+            self._add(obj, mesh, placed[:, :3, 3], scales, flux, area)
+
+    def stands_for(self, instance):
+        """Whether a depsgraph instance is one of the copies made point emitters (its
+        mesh's name first: the cheapest test of the million)."""
+        data = instance.object.data
+        if data is None or data.name not in self.names or not instance.is_instance or instance.parent is None:
+            return False
+        return data.name in self.instancers.get(instance.parent.original.as_pointer(), ())
+
+    def array(self, origin):
+        """The (M, 7) rows relative to `origin`, or None without emitters."""
+        if not self.rows:
+            return None
+        rows = np.concatenate(self.rows)
+        rows[:, :3] -= origin
+        return rows
+
+
+def _reference_mesh(reference, surfaces):
+    """The mesh an instance reference places and a function giving its palette, or
+    (None, None) for a collection or anything without a mesh."""
+    if getattr(reference, "type", None) == "MESH":  # an Object
+        return reference.data, lambda: surfaces.palette(reference, max(1, len(reference.material_slots)))
+    mesh = getattr(reference, "mesh", None)  # a GeometrySet
+    if mesh is None:
+        return None, None
+    return mesh, lambda: [surfaces.base_colour(material) for material in mesh.materials] or [surfaces.base_colour(None)]

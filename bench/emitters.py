@@ -1,0 +1,126 @@
+"""Many emitters (issue 17): frame time and error against the emitter count for the
+emitter grid's three interpolations and the brute-force loop, the GPU memory the grid
+holds, and the frame time of many point lights against one.
+
+Every figure is measured on the machine that runs it (`python -m lpv_preview bench
+--emitters`); the report names the renderer.
+"""
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..gpu.context import GLContext, resource_bytes
+from ..gpu.metrics import psnr
+from ..gpu.pipeline import Pipeline
+from ..gpu.settings import EMITTER_INTERPOLATIONS, Settings
+from .synthetic import lamps_over_floor, particle_room
+
+COUNTS = tuple(4 ** k for k in range(11))  # 1 .. 1,048,576
+GRID_STAGES = ("emitter_grid_ms", "emitter_light_ms")
+
+
+def _median_stages(pipeline, scene, settings, repeats):
+    """Median ms of the grid's build plus shading over `repeats` frames that rebuild it
+    (the pipeline forgets its stages before each), the direct image of the last."""
+    times = []
+    for _ in range(repeats):
+        pipeline.invalidate()
+        frame = pipeline.render(scene, settings, passes=("direct",))
+        times.append({key: frame.stats.get(key, 0.0) for key in (*GRID_STAGES, "total_ms")})
+    median = {key: float(np.median([t[key] for t in times])) for key in times[0]}
+    return median, frame.passes["direct"]
+
+
+def measure_emitter_counts(counts=COUNTS, width=1920, height=1080, resolution=64, repeats=3, brute_limit=1 << 20,
+                           log=print):
+    """For each count: the particle room's frame with the grid (each interpolation) and
+    by brute force (up to `brute_limit` emitters), the grid's PSNR against brute force,
+    and the grid's GPU memory."""
+    glc = GLContext.shared()
+    rows = []
+    base = Settings(width=width, height=height, emitter_grid_resolution=resolution, indirect_method="light_grid",
+                    emitter_bounce_samples=256)
+    for count in counts:
+        scene = particle_room(count)
+        pipeline = Pipeline(base, glc)
+        try:
+            row = {"emitters": count}
+            reference = None
+            if count <= brute_limit:
+                timed, reference = _median_stages(pipeline, scene, base.with_changes(emitter_light="brute_force"), 1)
+                row["brute_force_ms"] = timed["emitter_light_ms"]
+            for interpolation in EMITTER_INTERPOLATIONS:
+                settings = base.with_changes(emitter_interpolation=interpolation)
+                timed, direct = _median_stages(pipeline, scene, settings, repeats)
+                row[interpolation] = {"build_ms": timed["emitter_grid_ms"], "shade_ms": timed["emitter_light_ms"],
+                                      "grid_ms": timed["emitter_grid_ms"] + timed["emitter_light_ms"]}
+                if reference is not None:
+                    row[interpolation]["psnr_vs_brute_db"] = float(psnr(direct, reference))
+            row["grid_bytes"] = resource_bytes(*pipeline._emitter_grid.resources())
+        finally:
+            pipeline.release()
+        log(json.dumps(row))
+        rows.append(row)
+    return {"renderer": glc.renderer, "width": width, "height": height, "grid_resolution": resolution,
+            "rows": rows}
+
+
+def measure_many_lights(count=64, width=640, height=480, repeats=3, log=print):
+    """A frame of `count` point lights over the room's floor against a frame of one, with
+    the default light-map budget (the rest through the emitter grid) and with every
+    light given maps."""
+    glc = GLContext.shared()
+    result = {"renderer": glc.renderer, "lights": count, "width": width, "height": height}
+    for name, scene, changes in (("one_light", lamps_over_floor(1), {}),
+                                 ("many_lights", lamps_over_floor(count), {}),
+                                 ("many_lights_all_mapped", lamps_over_floor(count), {"light_map_budget": count})):
+        settings = Settings(width=width, height=height, **changes)
+        pipeline = Pipeline(settings, glc)
+        try:
+            times = []
+            for _ in range(repeats):
+                pipeline.invalidate()
+                start = time.perf_counter()
+                frame = pipeline.render(scene, settings, passes=("combined",))
+                times.append((time.perf_counter() - start) * 1000.0)
+            result[name] = {"frame_ms": float(np.median(times)), "mapped_lights": frame.stats["mapped_lights"],
+                            "lights_as_emitters": frame.stats["lights_as_emitters"]}
+        finally:
+            pipeline.release()
+        log(json.dumps({name: result[name]}))
+    result["ratio"] = result["many_lights"]["frame_ms"] / result["one_light"]["frame_ms"]
+    result["ratio_all_mapped"] = result["many_lights_all_mapped"]["frame_ms"] / result["one_light"]["frame_ms"]
+    return result
+
+
+def write_emitter_report(report, out):
+    """emitters.json and emitters.md in the folder `out`."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "emitters.json").write_text(json.dumps(report, indent=1))
+    counts = report["counts"]
+    lines = [f"# Many emitters ({counts['renderer']})", "",
+             f"Particle room at {counts['width']}×{counts['height']}, emitter grid {counts['grid_resolution']}³: grid "
+             f"build + shading (ms), brute force (ms), grid against brute force (PSNR, dB), grid memory.", "",
+             "| emitters | " + " | ".join(f"{i} ms | {i} dB" for i in EMITTER_INTERPOLATIONS) +
+             " | brute force ms | grid MiB |",
+             "|---:|" + "---:|" * (2 * len(EMITTER_INTERPOLATIONS) + 2)]
+    for row in counts["rows"]:
+        cells = []
+        for interpolation in EMITTER_INTERPOLATIONS:
+            entry = row[interpolation]
+            cells += [f"{entry['grid_ms']:.2f}", f"{entry['psnr_vs_brute_db']:.1f}" if "psnr_vs_brute_db" in entry
+                      else "–"]
+        brute = f"{row['brute_force_ms']:.1f}" if "brute_force_ms" in row else "–"
+        lines.append(f"| {row['emitters']:,} | " + " | ".join(cells) + f" | {brute} | {row['grid_bytes'] / 2**20:.1f} |")
+    lights = report["lights"]
+    lines += ["", f"{lights['lights']} point lights at {lights['width']}×{lights['height']}: a frame "
+              f"{lights['many_lights']['frame_ms']:.1f} ms ({lights['many_lights']['mapped_lights']} with maps, "
+              f"{lights['many_lights']['lights_as_emitters']} through the grid) against one light's "
+              f"{lights['one_light']['frame_ms']:.1f} ms: {lights['ratio']:.2f}×; every light with maps "
+              f"{lights['many_lights_all_mapped']['frame_ms']:.1f} ms ({lights['ratio_all_mapped']:.2f}×).", "",
+              f"Command: `{report['command']}`"]
+    (out / "emitters.md").write_text("\n".join(lines) + "\n")
+    return {"out": str(out), "rows": len(counts["rows"])}

@@ -1,0 +1,153 @@
+"""Many emitters (issue 17, seed 002): emissive particles and instances read in bulk as
+point emitters, the emitter grid against the brute-force loop, point lights beyond the
+light-map budget, skipping what the view does not need, the emitters' bounce. Real GL
+through llvmpipe, real bpy."""
+import numpy as np
+import pytest
+
+from lpv_preview.bench.synthetic import lamps_over_floor, particle_room
+from lpv_preview.gpu.emitter_grid import skip_weak
+from lpv_preview.gpu.metrics import psnr
+from lpv_preview.gpu.pipeline import Pipeline
+from lpv_preview.gpu.scene import Scene
+from lpv_preview.gpu.scene_file import load_scene, save_scene
+from lpv_preview.gpu.settings import EMITTER_INTERPOLATIONS, Settings
+
+SMALL = dict(width=80, height=60, emitter_grid_resolution=16, lpv_resolution=8, rsm_resolution=64,
+             vpls_per_light=256, emitter_bounce_samples=256)
+
+
+@pytest.fixture(scope="module")
+def particles():
+    return particle_room(2000)
+
+
+def test_grid_matches_brute_force(particles):
+    """Each interpolation of a 16³ grid stays within 35 dB of every pixel summing every emitter."""
+    pipeline = Pipeline(Settings(**SMALL))
+    try:
+        reference = pipeline.render(particles, Settings(**SMALL, emitter_light="brute_force"),
+                                    passes=("direct",)).passes["direct"]
+        for interpolation in EMITTER_INTERPOLATIONS:
+            frame = pipeline.render(particles, Settings(**SMALL, emitter_interpolation=interpolation),
+                                    passes=("direct", "indirect"))
+            assert psnr(frame.passes["direct"], reference) >= 35.0, interpolation
+            assert frame.stats["point_emitters"] + frame.stats["skipped_emitters"] == 2000
+    finally:
+        pipeline.release()
+    assert reference.mean() > 0
+
+
+def test_emitters_light_the_room_and_it_bounces(particles):
+    """A room lit only by particles gets direct light on every wall the camera sees and
+    bounce light from them; an unchanged frame builds no grid again."""
+    pipeline = Pipeline(Settings(**SMALL))
+    try:
+        frame = pipeline.render(particles, passes=("direct", "indirect"))
+        grid = pipeline._emitter_grid
+        built = grid._built
+        again = pipeline.render(particles, passes=("direct",))
+        assert grid._built is built and "emitter_grid_ms" in again.stats
+        assert not grid.upload(np.zeros((0, 3, 4), np.float32), grid._key)
+    finally:
+        pipeline.release()
+    direct, indirect = frame.passes["direct"], frame.passes["indirect"]
+    assert np.all(direct.mean(axis=2) > 0)
+    assert 0.05 * direct.mean() < indirect.mean() < direct.mean()  # albedo 0.6 in a closed room
+
+
+def test_light_map_budget_and_weak_lights():
+    """Of 64 lamps the 4 strongest get maps and the other 60 light through the grid; a
+    lamp a kilometre away is skipped, and the frame is the same without it."""
+    scene = lamps_over_floor(64)
+    far = lamps_over_floor(1).lights[0]
+    far.position = np.array([1000.0, 0.0, 1.0])
+    with_far = Scene(scene.triangles, scene.normals, scene.albedo, scene.lights + [far], scene.camera).sanitize()
+    pipeline = Pipeline(Settings(**SMALL))
+    try:
+        frame = pipeline.render(with_far, passes=("combined",))
+        assert (frame.stats["mapped_lights"], frame.stats["lights_as_emitters"], frame.stats["skipped_lights"]) == \
+            (4, 60, 1)
+        everything = pipeline.render(with_far, Settings(**SMALL, light_cutoff=0.0), passes=("combined",))
+        assert everything.stats["skipped_lights"] == 0
+    finally:
+        pipeline.release()
+    assert psnr(frame.passes["combined"], everything.passes["combined"]) > 40.0
+
+
+def test_skip_weak_bounds_what_it_drops():
+    rng = np.random.default_rng(3)
+    positions = rng.uniform(-100, 100, (5000, 3))
+    intensity = rng.uniform(0, 1, 5000)
+    box = (np.array([-1.0, -1, -1]), np.array([1.0, 1, 1]))
+    keep = skip_weak(positions, intensity, box, 0.1, 0.01)
+    gap = np.maximum(np.maximum(box[0] - positions, positions - box[1]), 0)
+    bound = intensity / np.maximum((gap ** 2).sum(axis=1), 0.01)
+    assert 0 < (~keep).sum() < 5000
+    assert bound[~keep].sum() <= 0.01 * bound.sum()
+    assert bound[~keep].max() <= bound[keep].min()
+
+
+def test_point_emitters_are_checked_and_saved(tmp_path, particles):
+    """Rows with NaN, negative or no flux are dropped and counted; a scene file keeps the rest."""
+    rows = np.array([[0, 0, 1, 1, 1, 1, 0.01], [np.nan, 0, 1, 1, 1, 1, 0.01], [0, 0, 1, -1, 1, 1, 0.01],
+                     [0, 0, 1, 0, 0, 0, 0.01]])
+    scene = Scene(particles.triangles, particles.normals, particles.albedo, [], particles.camera,
+                  point_emitters=rows).sanitize()
+    assert scene.point_emitter_count == 1 and scene.dropped["emitters"] == 3
+    save_scene(particles, tmp_path / "particles.npz")
+    loaded = load_scene(tmp_path / "particles.npz")
+    assert np.array_equal(loaded.point_emitters, particles.point_emitters)
+
+
+def test_emissive_instances_and_particles_become_point_emitters():
+    """Geometry-node instances and a particle system of an emissive sphere are read in
+    bulk as one point emitter each, with the sphere's flux, and drawn as no triangles;
+    a few copies stay meshes."""
+    bpy = pytest.importorskip("bpy")
+    from lpv_preview.addon.extract import extract_scene
+    from lpv_preview.addon.point_emitters import BULK_INSTANCES
+
+    from .leak_scenes import camera, diffuse, empty_scene, light, quad
+    empty_scene((32, 24))
+    quad("Floor", 3.0, 0.0, diffuse("Grey", (0.8, 0.8, 0.8)))
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=0.02, location=(0, 0, 40))
+    sphere = bpy.context.object
+    glow = bpy.data.materials.new("Glow")
+    principled = glow.node_tree.nodes["Principled BSDF"]
+    principled.inputs["Emission Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+    principled.inputs["Emission Strength"].default_value = 10.0
+    sphere.data.materials.append(glow)
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=9, y_subdivisions=9, size=2, location=(0, 0, 1))
+    instancer = bpy.context.object
+    tree = bpy.data.node_groups.new("Scatter", "GeometryNodeTree")
+    tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    nodes = tree.nodes
+    given, result = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
+    points, place, info = (nodes.new(kind) for kind in ("GeometryNodeMeshToPoints", "GeometryNodeInstanceOnPoints",
+                                                          "GeometryNodeObjectInfo"))
+    info.inputs["Object"].default_value = sphere
+    tree.links.new(given.outputs[0], points.inputs["Mesh"])
+    tree.links.new(points.outputs[0], place.inputs["Points"])
+    tree.links.new(info.outputs["Geometry"], place.inputs["Instance"])
+    tree.links.new(place.outputs[0], result.inputs[0])
+    instancer.modifiers.new("Scatter", "NODES").node_group = tree
+    bpy.ops.mesh.primitive_plane_add(size=2, location=(0, 0, 0.5))
+    emitter = bpy.context.object
+    emitter.modifiers.new("Sparks", "PARTICLE_SYSTEM")
+    sparks = emitter.particle_systems[0].settings
+    sparks.count, sparks.frame_start, sparks.frame_end, sparks.lifetime = 70, 1, 1, 100
+    sparks.render_type, sparks.instance_object, sparks.particle_size = "OBJECT", sphere, 2.0
+    light("POINT", (0, 0, 3), energy=10.0)
+    camera("Camera", (0, -5, 3), (0, 0, 0))
+    bpy.context.scene.frame_set(3)
+    scene = extract_scene(bpy.context.evaluated_depsgraph_get())
+    assert BULK_INSTANCES <= 70 and scene.point_emitter_count == 100 + 70
+    areas = np.empty(len(sphere.data.polygons))
+    sphere.data.polygons.foreach_get("area", areas)
+    one = np.pi * np.array([1.0, 0.5, 0.25]) * 10.0 * areas.sum()
+    flux = scene.point_emitters[:, 3:6]
+    assert np.allclose(flux[:100], one, rtol=1e-4) and np.allclose(flux[100:], 4 * one, rtol=1e-4)
+    assert scene.triangle_count == 2 + 2 + 20  # floor, particle plane and the sphere itself: no copy drawn
+    assert np.allclose(scene.point_emitters[:100, 2], 1.0, atol=1e-5)

@@ -263,6 +263,27 @@ def bench_cycles_indirect(item, samples, width, height):
     return demo.cycles_indirect(demo.build(item), samples, width), samples
 
 
+def blender_available():
+    """Whether bpy can be imported here (not on the GPU machine)."""
+    import importlib.util
+    return importlib.util.find_spec("bpy") is not None
+
+
+EMITTER_CYCLES_COUNTS = (1024, 16384)
+EMITTER_CYCLES_SIZE = (160, 120)
+EMITTER_CYCLES_SAMPLES = 256
+
+
+def particle_cases(counts, width, height, samples):
+    """(count, Scene, Cycles' direct image) of the particles demo scene for each count."""
+    from .addon.cycles_reference import ReferenceCache, cycles_reference
+    from .addon.render_scene import scene_to_render
+    for count in counts:
+        bpy_scene = demo.build("particles", particles=count, resolution=(width, height))
+        reference = cycles_reference(bpy_scene, "one_bounce", samples, 0, (width, height), ReferenceCache())
+        yield count, scene_to_render(bpy_scene, (width, height)), reference.direct
+
+
 def command_bench(args):
     """Table 1 on demo scenes (built with bpy) or .npz scene files (no Blender needed),
     a declared sweep (--sweep), the outputs of a sweep report again (--report), or the
@@ -285,8 +306,14 @@ def command_bench(args):
         from .bench.emitters import measure_emitter_counts, measure_many_lights, write_emitter_report
         check_writable(args.out)
         counts = tuple(4 ** k for k in range(args.emitters_up_to + 1))
-        report = {"counts": measure_emitter_counts(counts, log=log),
+        report = {"counts": [measure_emitter_counts(counts, resolution=resolution, log=log) for resolution in (32, 64)],
                   "lights": measure_many_lights(log=log), "command": command_line(args)}
+        if blender_available():
+            from .bench.emitters import measure_against_cycles
+            report["cycles"] = {**measure_against_cycles(particle_cases(EMITTER_CYCLES_COUNTS, *EMITTER_CYCLES_SIZE,
+                                                                        EMITTER_CYCLES_SAMPLES),
+                                                         *EMITTER_CYCLES_SIZE, log=log),
+                                "samples": EMITTER_CYCLES_SAMPLES}
         return write_emitter_report(report, args.out)
     if args.fuzz:
         from .bench.fuzz import fuzz
@@ -375,8 +402,9 @@ def build_parser():
     command.set_defaults(run=command_export)
 
     command = commands.add_parser("bench", help="every RSM method against CM: time, DPM and LPV quality")
-    command.add_argument("--scenes", default=",".join(demo.SCENES),
-                         help=f"comma-separated demo scene names and/or .npz files (default: {','.join(demo.SCENES)})")
+    command.add_argument("--scenes", default=",".join(demo.LAMP_SCENES),
+                         help=f"comma-separated demo scene names and/or .npz files (default: "
+                              f"{','.join(demo.LAMP_SCENES)})")
     command.add_argument("--methods", type=method_list, default=list(TABLE1_METHODS),
                          help=f"comma-separated methods (default: {','.join(TABLE1_METHODS)})")
     command.add_argument("--budget", default=BUDGETS[0], choices=(*BUDGETS, "both"))

@@ -12,19 +12,21 @@ from pathlib import Path
 import numpy as np
 
 from ..gpu.context import GLContext, resource_bytes
-from ..gpu.metrics import psnr
+from ..gpu.metrics import psnr, relative_mse
 from ..gpu.pipeline import Pipeline
 from ..gpu.settings import EMITTER_INTERPOLATIONS, Settings
 from .synthetic import lamps_over_floor, particle_room
 
 COUNTS = tuple(4 ** k for k in range(11))  # 1 .. 1,048,576
-GRID_STAGES = ("emitter_grid_ms", "emitter_light_ms")
+GRID_STAGES = ("emitter_upload_ms", "emitter_grid_ms", "emitter_light_ms")
 
 
 def _median_stages(pipeline, scene, settings, repeats):
-    """Median ms of the grid's build plus shading over `repeats` frames that rebuild it
-    (the pipeline forgets its stages before each), the direct image of the last."""
+    """Median ms of the emitters' upload, the grid's build and the shading over `repeats`
+    frames that redo them (the pipeline forgets its stages before each; a first frame
+    compiles the shaders), the direct image of the last."""
     times = []
+    pipeline.render(scene, settings, passes=())
     for _ in range(repeats):
         pipeline.invalidate()
         frame = pipeline.render(scene, settings, passes=("direct",))
@@ -54,7 +56,8 @@ def measure_emitter_counts(counts=COUNTS, width=1920, height=1080, resolution=64
             for interpolation in EMITTER_INTERPOLATIONS:
                 settings = base.with_changes(emitter_interpolation=interpolation)
                 timed, direct = _median_stages(pipeline, scene, settings, repeats)
-                row[interpolation] = {"build_ms": timed["emitter_grid_ms"], "shade_ms": timed["emitter_light_ms"],
+                row[interpolation] = {"upload_ms": timed["emitter_upload_ms"], "build_ms": timed["emitter_grid_ms"],
+                                      "shade_ms": timed["emitter_light_ms"],
                                       "grid_ms": timed["emitter_grid_ms"] + timed["emitter_light_ms"]}
                 if reference is not None:
                     row[interpolation]["psnr_vs_brute_db"] = float(psnr(direct, reference))
@@ -95,32 +98,69 @@ def measure_many_lights(count=64, width=640, height=480, repeats=3, log=print):
     return result
 
 
+def measure_against_cycles(cases, width, height, log=print):
+    """The direct light of brute force and of the grid (each interpolation) against
+    Cycles': `cases` are (emitter count, Scene, Cycles' direct image at width × height),
+    made where Blender is (the caller's). PSNR, relMSE and the ratio of the means."""
+    rows = []
+    base = Settings(width=width, height=height, emitter_bounce_samples=256)
+    for count, scene, reference in cases:
+        pipeline = Pipeline(base)
+        try:
+            row = {"emitters": count}
+            for name, changes in [("brute_force", {"emitter_light": "brute_force"})] + \
+                    [(interpolation, {"emitter_interpolation": interpolation}) for interpolation in EMITTER_INTERPOLATIONS]:
+                direct = pipeline.render(scene, base.with_changes(**changes), passes=("direct",)).passes["direct"]
+                row[name] = {"psnr_db": float(psnr(direct, reference)), "rel_mse": float(relative_mse(direct, reference)),
+                             "mean_ratio": float(direct.mean() / reference.mean())}
+        finally:
+            pipeline.release()
+        log(json.dumps(row))
+        rows.append(row)
+    return {"width": width, "height": height, "rows": rows}
+
+
 def write_emitter_report(report, out):
     """emitters.json and emitters.md in the folder `out`."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "emitters.json").write_text(json.dumps(report, indent=1))
-    counts = report["counts"]
-    lines = [f"# Many emitters ({counts['renderer']})", "",
-             f"Particle room at {counts['width']}×{counts['height']}, emitter grid {counts['grid_resolution']}³: grid "
-             f"build + shading (ms), brute force (ms), grid against brute force (PSNR, dB), grid memory.", "",
-             "| emitters | " + " | ".join(f"{i} ms | {i} dB" for i in EMITTER_INTERPOLATIONS) +
-             " | brute force ms | grid MiB |",
-             "|---:|" + "---:|" * (2 * len(EMITTER_INTERPOLATIONS) + 2)]
-    for row in counts["rows"]:
-        cells = []
-        for interpolation in EMITTER_INTERPOLATIONS:
-            entry = row[interpolation]
-            cells += [f"{entry['grid_ms']:.2f}", f"{entry['psnr_vs_brute_db']:.1f}" if "psnr_vs_brute_db" in entry
-                      else "–"]
-        brute = f"{row['brute_force_ms']:.1f}" if "brute_force_ms" in row else "–"
-        lines.append(f"| {row['emitters']:,} | " + " | ".join(cells) + f" | {brute} | {row['grid_bytes'] / 2**20:.1f} |")
+    lines = []
+    for counts in report["counts"]:
+        lines += [f"# Many emitters: emitter grid {counts['grid_resolution']}³ ({counts['renderer']})", "",
+                  f"Particle room at {counts['width']}×{counts['height']}: grid build + shading (ms) and the grid "
+                  f"against brute force (PSNR, dB) per interpolation, brute force (ms), the upload of the emitters (ms, "
+                  f"with the trilinear grid), grid memory.", "",
+                  "| emitters | " + " | ".join(f"{i} ms | {i} dB" for i in EMITTER_INTERPOLATIONS) +
+                  " | brute force ms | upload ms | grid MiB |",
+                  "|---:|" + "---:|" * (2 * len(EMITTER_INTERPOLATIONS) + 3)]
+        for row in counts["rows"]:
+            cells = []
+            for interpolation in EMITTER_INTERPOLATIONS:
+                entry = row[interpolation]
+                cells += [f"{entry['grid_ms']:.2f}",
+                          f"{entry['psnr_vs_brute_db']:.1f}" if "psnr_vs_brute_db" in entry else "–"]
+            brute = f"{row['brute_force_ms']:.1f}" if "brute_force_ms" in row else "–"
+            lines.append(f"| {row['emitters']:,} | " + " | ".join(cells) + f" | {brute} | "
+                         f"{row['trilinear']['upload_ms']:.2f} | {row['grid_bytes'] / 2**20:.1f} |")
+        lines.append("")
     lights = report["lights"]
-    lines += ["", f"{lights['lights']} point lights at {lights['width']}×{lights['height']}: a frame "
+    cycles = report.get("cycles")
+    if cycles:
+        names = ("brute_force", *EMITTER_INTERPOLATIONS)
+        lines += [f"## Against Cycles (the particles demo scene, {cycles['width']}×{cycles['height']}, "
+                  f"{cycles['samples']} samples, light tree)", "",
+                  "Direct light: PSNR (dB) / relMSE / our mean over Cycles'.", "",
+                  "| emitters | " + " | ".join(names) + " |", "|---:|" + "---|" * len(names)]
+        for row in cycles["rows"]:
+            lines.append(f"| {row['emitters']:,} | " + " | ".join(
+                f"{row[n]['psnr_db']:.1f} / {row[n]['rel_mse']:.4f} / {row[n]['mean_ratio']:.3f}" for n in names) + " |")
+        lines.append("")
+    lines += [f"{lights['lights']} point lights at {lights['width']}×{lights['height']}: a frame "
               f"{lights['many_lights']['frame_ms']:.1f} ms ({lights['many_lights']['mapped_lights']} with maps, "
               f"{lights['many_lights']['lights_as_emitters']} through the grid) against one light's "
               f"{lights['one_light']['frame_ms']:.1f} ms: {lights['ratio']:.2f}×; every light with maps "
               f"{lights['many_lights_all_mapped']['frame_ms']:.1f} ms ({lights['ratio_all_mapped']:.2f}×).", "",
               f"Command: `{report['command']}`"]
     (out / "emitters.md").write_text("\n".join(lines) + "\n")
-    return {"out": str(out), "rows": len(counts["rows"])}
+    return {"out": str(out), "rows": sum(len(counts["rows"]) for counts in report["counts"])}

@@ -8,7 +8,9 @@ import importlib
 
 from ..gpu.errors import LPVError
 
-SCENES = ("cornell", "atrium", "city")
+SCENES = ("cornell", "atrium", "city", "particles")
+LAMP_SCENES = ("cornell", "atrium", "city")
+"""The demo scenes lit by lamps, whose maps Table 1 compares (the particle room has none)."""
 
 TRIANGLE_RANGES = {"atrium": (5_000, 10_000_000), "city": (500, 10_000_000)}
 """The triangle counts the scenes that take one can be built with: from about their

@@ -215,6 +215,19 @@ def set_uniforms(program, **values):
             member.value = value
 
 
+ZERO_DISPATCH_WORDS = 64 * 65535  # the most words one dispatch of zero_buffer.comp reaches
+
+
+def zero_buffer(glc, buffer):
+    """Zero `buffer` on the GPU (shaders/zero_buffer.comp)."""
+    program = glc.compute("zero_buffer")
+    buffer.bind_to_storage_buffer(0)
+    words = buffer.size // 4
+    for first in range(0, words, ZERO_DISPATCH_WORDS):
+        set_uniforms(program, word_count=words, first_word=first)
+        dispatch(program, min(ZERO_DISPATCH_WORDS, words - first), local=(64,))
+
+
 def dispatch(program, *counts, local=(8, 8, 1)):
     """Run a compute shader over `counts` invocations and make its writes visible."""
     groups = [max(1, -(-c // l)) for c, l in zip(counts, local)]

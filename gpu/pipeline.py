@@ -42,7 +42,7 @@ AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
           "inject_ms": "inject", "bounce_ms": "bounces", "propagate_ms": "propagate", "gather_ms": "gather",
           "emitter_bounce_ms": "emitter bounce", "direct_ms": "direct", "emission_ms": "emission",
-          "emitter_grid_ms": "emitter grid", "emitter_light_ms": "emitter light", "pixel_gather_ms": "pixel gather",
+          "emitter_upload_ms": "emitter upload", "emitter_grid_ms": "emitter grid", "emitter_light_ms": "emitter light", "pixel_gather_ms": "pixel gather",
           "indirect_ms": "indirect"}
 """A frame's timed stages (its stats keys) in the order they run, with their names: the
 indirect stage's inject and propagate (LPV), inject, bounces and gather (light grid) or
@@ -240,6 +240,7 @@ class Pipeline:
         self._indirect = None      # (key, IndirectGrids)
         self._emission = None      # SurfaceEmission of the emissive surfaces, over the last frame's levels
         self._emitter_grid = None  # EmitterGrid of the point emitters
+        self._frame_lights = None  # (what it depends on, the last frame's FrameLights)
         self._targets = None
         self._shown_keys = ()      # the light cache keys of the last frame
         self._fits = None          # what the last frame that fitted the machine depended on
@@ -388,7 +389,11 @@ class Pipeline:
         if vpl_set is not None:
             self.vpl_pattern = vpl_set
         box = seen_box(levels, scene.bounds())
-        lit = frame_lights(scene, s, box, levels[0].cell_size)
+        lit_key = (scene.point_emitters_key(), tuple(light.key() for light in scene.lights), tuple(map(tuple, box)),
+                   levels[0].cell_size, s.light_cutoff, s.light_map_budget)
+        if self._frame_lights is None or self._frame_lights[0] != lit_key:
+            self._frame_lights = (lit_key, frame_lights(scene, s, box, levels[0].cell_size))
+        lit = self._frame_lights[1]
         maps, keys = self.light_maps(scene, stats, levels, lit.mapped)
         sources, sources_key = self._emitter_sources(scene, s, lit, box, stats)
         vpl_count = int(sum(m.vpl_count for m in maps))
@@ -517,8 +522,9 @@ class Pipeline:
                 if self._emitter_grid is not None:
                     self._emitter_grid.release()
                 self._emitter_grid = EmitterGrid(self.glc, s.emitter_grid_resolution)
-            with self.glc.timed(stats, "emitter_grid_ms"):
+            with self.glc.timed(stats, "emitter_upload_ms"):
                 self._emitter_grid.upload(lit.emitters, lit.key)
+            with self.glc.timed(stats, "emitter_grid_ms"):
                 self._emitter_grid.build(box, s.singularity_bound)
             sources.append((self._emitter_grid.emitters, self._emitter_grid.count))
             key += lit.key[1:] + (lit.key[0],)
@@ -558,6 +564,7 @@ class Pipeline:
         self._lights.clear()
         self._placement = None
         self._accumulated = None
+        self._frame_lights = None
         for cached in ("_emission", "_emitter_grid"):
             if getattr(self, cached) is not None:
                 getattr(self, cached).release()

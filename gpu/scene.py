@@ -232,6 +232,7 @@ class Scene:
     light_triangles: tuple = None
     _bounds: tuple = field(default=None, repr=False, compare=False)
     _geometry_key: str = field(default=None, repr=False, compare=False)
+    _point_emitters_key: str = field(default=None, repr=False, compare=False)
 
     @property
     def triangle_count(self):
@@ -340,7 +341,7 @@ class Scene:
         if bad.any():
             face = cross / np.linalg.norm(cross, axis=1, keepdims=True)
             nrm = np.where(bad, face[:, None, :], nrm)
-        self._bounds = self._geometry_key = None
+        self._bounds = self._geometry_key = self._point_emitters_key = None
         self.triangles = np.ascontiguousarray(tri)
         self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
@@ -370,10 +371,14 @@ class Scene:
         return 0 if self.point_emitters is None else len(self.point_emitters)
 
     def point_emitters_key(self):
-        """A content key of the point emitters ("" for none)."""
+        """A content key of the point emitters ("" for none; kept once sanitized, as
+        `geometry_key` is)."""
         if self.point_emitters is None:
             return ""
-        return hashlib.sha1(np.ascontiguousarray(self.point_emitters).tobytes()).hexdigest()[:16]
+        if self.sanitized and self._point_emitters_key is not None:
+            return self._point_emitters_key
+        self._point_emitters_key = hashlib.sha1(np.ascontiguousarray(self.point_emitters)).hexdigest()[:16]
+        return self._point_emitters_key
 
     def geometry_key(self):
         """A content key of the triangles and their surfaces: normals, albedo, visibility,

@@ -1,6 +1,6 @@
 #version 450 core
 // The emitter grid's finest clusters (gpu/emitter_grid.py): every point emitter adds its
-// flux, its flux-weighted position and its area to the cell of the finest level that
+// flux, its flux-weighted position and its flux-weighted area to the cell of the finest level that
 // holds it (an emitter outside the grid to the nearest border cell: its own position
 // still places its light).
 #extension GL_NV_shader_atomic_float : require
@@ -25,5 +25,5 @@ void main() {
     for (int c = 0; c < 3; ++c) atomicAdd(clusters[at + c], e.flux[c]);
     atomicAdd(clusters[at + 3], weight);
     for (int c = 0; c < 3; ++c) atomicAdd(clusters[at + 4 + c], weight * e.position[c]);
-    atomicAdd(clusters[at + 7], e.normal.w);
+    atomicAdd(clusters[at + 7], weight * e.normal.w);
 }

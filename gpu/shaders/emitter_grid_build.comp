@@ -7,7 +7,9 @@
 // the coarsest level whose cell is still apart from the centre's: the 27 finest cells
 // around the centre, then at each level the children of the parent level's 27
 // neighbours that are not neighbours themselves (189 cells), up to the level of two
-// cells a side. A cluster lights as one isotropic point at its flux-weighted position.
+// cells a side. A cluster lights as one isotropic point at its flux-weighted position,
+// its 1/r² bounded as its emitters' flux-weighted mean area says (their sum would dim
+// a cluster of many).
 #include "common.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 1) readonly buffer Clusters { float clusters[]; };
@@ -28,7 +30,7 @@ void add_cluster(int at, vec3 centre, inout vec3 colour, inout vec3 positive, in
     vec3 d = position - centre;
     float r2 = dot(d, d);
     vec3 flux = vec3(clusters[at], clusters[at + 1], clusters[at + 2]);
-    vec3 light = flux / (4.0 * PI) / (r2 + singularity_bound * clusters[at + 7] / PI + 1e-30);
+    vec3 light = flux / (4.0 * PI) / (r2 + singularity_bound * clusters[at + 7] / weight / PI + 1e-30);
     colour += light;
     vec3 w = d * inversesqrt(max(r2, 1e-30));
     float luminance = dot(light, luminance_weights);

@@ -303,13 +303,15 @@ def command_bench(args):
         check_writable(args.out)
         return write_invariances(measure_invariances(log=log), args.out, command_line(args))
     if args.emitters:
-        from .bench.emitters import measure_emitter_counts, measure_many_lights, write_emitter_report
+        from .bench.emitters import (emitter_bench_size, measure_against_cycles, measure_emitter_counts,
+                                     measure_many_lights, write_emitter_report)
         check_writable(args.out)
         counts = tuple(4 ** k for k in range(args.emitters_up_to + 1))
-        report = {"counts": [measure_emitter_counts(counts, resolution=resolution, log=log) for resolution in (32, 64)],
+        width, height = emitter_bench_size()
+        report = {"counts": [measure_emitter_counts(counts, width, height, resolution, log=log)
+                             for resolution in (32, 64)],
                   "lights": measure_many_lights(log=log), "command": command_line(args)}
         if blender_available():
-            from .bench.emitters import measure_against_cycles
             report["cycles"] = {**measure_against_cycles(particle_cases(EMITTER_CYCLES_COUNTS, *EMITTER_CYCLES_SIZE,
                                                                         EMITTER_CYCLES_SAMPLES),
                                                          *EMITTER_CYCLES_SIZE, log=log),

@@ -13,7 +13,9 @@ from .frame_stats import last_stats
 from .properties import settings_from_properties
 
 SETTING_GROUPS = {
-    "Method": ("method", "rsm_resolution", "vpls_per_light", "emission_samples"),
+    "Method": ("method", "rsm_resolution", "vpls_per_light"),
+    "Emitters": ("emission_samples", "emitter_light", "emitter_interpolation", "emitter_grid_resolution",
+                 "emitter_bounce_samples", "light_map_budget", "light_cutoff"),
     "Indirect Light": ("indirect_method", "lpv_resolution", "grid_levels", "propagation_iterations", "occlusion",
                        "bounces", "singularity_bound", "indirect_intensity", "shadow_bias", "grid_phases", "grid_shift"),
     "Convergence": ("viewport_vpl_sets", "converge_sets", "converge_seconds"),
@@ -69,6 +71,10 @@ def draw_statistics(layout, stats):
     column.label(text=f"{stats.get('vpl_count', 0):,} VPLs, {stats.get('triangles', 0):,} triangles")
     if stats.get("vpl_sets", 1) > 1:
         column.label(text=f"Converging: {stats['vpl_sets']} VPL sets, {stats['accumulated_vpls']:,} VPLs averaged")
+    if stats.get("lights_as_emitters") or stats.get("point_emitters") or stats.get("skipped_lights"):
+        column.label(text=f"Lights: {stats['mapped_lights']} with maps, {stats['lights_as_emitters']} through the "
+                          f"emitter grid, {stats['skipped_lights']} skipped")
+        column.label(text=f"{stats['point_emitters']:,} point emitters, {stats['skipped_emitters']:,} skipped")
     methods = stats.get("light_methods")
     if methods:
         column.label(text="Methods: " + ", ".join(m.upper() for m in methods))

@@ -18,50 +18,56 @@ from ..gpu.settings import EMITTER_INTERPOLATIONS, Settings
 from .synthetic import lamps_over_floor, particle_room
 
 COUNTS = tuple(4 ** k for k in range(11))  # 1 .. 1,048,576
-GRID_STAGES = ("emitter_upload_ms", "emitter_grid_ms", "emitter_light_ms")
+SIZES = {"gpu": (1920, 1080), "llvmpipe": (320, 240)}
+"""The frame of the emitter counts: the issue's 1920 × 1080 on a GPU; on llvmpipe, where
+brute force at that size takes minutes an emitter set, a smaller one."""
 
 
-def _median_stages(pipeline, scene, settings, repeats):
-    """Median ms of the emitters' upload, the grid's build and the shading over `repeats`
-    frames that redo them (the pipeline forgets its stages before each; a first frame
-    compiles the shaders), the direct image of the last."""
+def emitter_bench_size():
+    return SIZES["llvmpipe" if GLContext.shared().is_software else "gpu"]
+GRID_STAGES = ("emitter_upload_ms", "emitter_grid_ms", "emitter_light_ms", "total_ms")
+
+
+def _median_stages(pipeline, scenes, settings):
+    """Median ms of the emitters' upload, the grid's build and the shading over frames of
+    `scenes` (the particles moving from frame to frame: each frame uploads and builds
+    again, as an animation does), after a first frame that compiles the shaders; and the
+    direct image of the first scene."""
+    frame = pipeline.render(scenes[0], settings, passes=("direct",))
+    direct = frame.passes["direct"]
     times = []
-    pipeline.render(scene, settings, passes=())
-    for _ in range(repeats):
-        pipeline.invalidate()
-        frame = pipeline.render(scene, settings, passes=("direct",))
-        times.append({key: frame.stats.get(key, 0.0) for key in (*GRID_STAGES, "total_ms")})
-    median = {key: float(np.median([t[key] for t in times])) for key in times[0]}
-    return median, frame.passes["direct"]
+    for scene in scenes[1:]:
+        frame = pipeline.render(scene, settings, passes=())
+        times.append({key: frame.stats.get(key, 0.0) for key in GRID_STAGES})
+    return {key: float(np.median([t[key] for t in times])) for key in GRID_STAGES}, direct
 
 
 def measure_emitter_counts(counts=COUNTS, width=1920, height=1080, resolution=64, repeats=3, brute_limit=1 << 20,
                            log=print):
     """For each count: the particle room's frame with the grid (each interpolation) and
     by brute force (up to `brute_limit` emitters), the grid's PSNR against brute force,
-    and the grid's GPU memory."""
+    and the grid's GPU memory; times are medians over `repeats` frames of moving particles."""
     glc = GLContext.shared()
     rows = []
     base = Settings(width=width, height=height, emitter_grid_resolution=resolution, indirect_method="light_grid",
                     emitter_bounce_samples=256)
     for count in counts:
-        scene = particle_room(count)
+        scenes = [particle_room(count, seed=seed) for seed in range(repeats + 1)]
         pipeline = Pipeline(base, glc)
         try:
             row = {"emitters": count}
             reference = None
             if count <= brute_limit:
-                timed, reference = _median_stages(pipeline, scene, base.with_changes(emitter_light="brute_force"), 1)
+                timed, reference = _median_stages(pipeline, scenes[:2], base.with_changes(emitter_light="brute_force"))
                 row["brute_force_ms"] = timed["emitter_light_ms"]
             for interpolation in EMITTER_INTERPOLATIONS:
-                settings = base.with_changes(emitter_interpolation=interpolation)
-                timed, direct = _median_stages(pipeline, scene, settings, repeats)
+                timed, direct = _median_stages(pipeline, scenes, base.with_changes(emitter_interpolation=interpolation))
                 row[interpolation] = {"upload_ms": timed["emitter_upload_ms"], "build_ms": timed["emitter_grid_ms"],
-                                      "shade_ms": timed["emitter_light_ms"],
+                                      "shade_ms": timed["emitter_light_ms"], "frame_ms": timed["total_ms"],
                                       "grid_ms": timed["emitter_grid_ms"] + timed["emitter_light_ms"]}
                 if reference is not None:
                     row[interpolation]["psnr_vs_brute_db"] = float(psnr(direct, reference))
-            row["grid_bytes"] = resource_bytes(*pipeline._emitter_grid.resources())
+            row["grid_bytes"] = resource_bytes(*pipeline.last_emitter_grid.resources())
         finally:
             pipeline.release()
         log(json.dumps(row))
@@ -117,7 +123,7 @@ def measure_against_cycles(cases, width, height, log=print):
             pipeline.release()
         log(json.dumps(row))
         rows.append(row)
-    return {"width": width, "height": height, "rows": rows}
+    return {"renderer": GLContext.shared().renderer, "width": width, "height": height, "rows": rows}
 
 
 def write_emitter_report(report, out):
@@ -125,15 +131,22 @@ def write_emitter_report(report, out):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "emitters.json").write_text(json.dumps(report, indent=1))
+    (out / "emitters.md").write_text(emitter_report_markdown(report))
+    return {"out": str(out), "rows": sum(len(counts["rows"]) for counts in report["counts"])}
+
+
+def emitter_report_markdown(report):
+    """The report's tables: per grid resolution, per emitter count; against Cycles; many lights."""
+    lights = report["lights"]
     lines = []
     for counts in report["counts"]:
-        lines += [f"# Many emitters: emitter grid {counts['grid_resolution']}³ ({counts['renderer']})", "",
+        lines += [f"### Emitter grid {counts['grid_resolution']}³ ({counts['renderer']})", "",
                   f"Particle room at {counts['width']}×{counts['height']}: grid build + shading (ms) and the grid "
-                  f"against brute force (PSNR, dB) per interpolation, brute force (ms), the upload of the emitters (ms, "
-                  f"with the trilinear grid), grid memory.", "",
+                  f"against brute force (PSNR, dB) per interpolation, brute force (ms), the upload of the emitters and "
+                  f"the whole frame, CPU included (ms, with the trilinear grid), grid memory.", "",
                   "| emitters | " + " | ".join(f"{i} ms | {i} dB" for i in EMITTER_INTERPOLATIONS) +
-                  " | brute force ms | upload ms | grid MiB |",
-                  "|---:|" + "---:|" * (2 * len(EMITTER_INTERPOLATIONS) + 3)]
+                  " | brute force ms | upload ms | frame ms | grid MiB |",
+                  "|---:|" + "---:|" * (2 * len(EMITTER_INTERPOLATIONS) + 4)]
         for row in counts["rows"]:
             cells = []
             for interpolation in EMITTER_INTERPOLATIONS:
@@ -142,14 +155,14 @@ def write_emitter_report(report, out):
                           f"{entry['psnr_vs_brute_db']:.1f}" if "psnr_vs_brute_db" in entry else "–"]
             brute = f"{row['brute_force_ms']:.1f}" if "brute_force_ms" in row else "–"
             lines.append(f"| {row['emitters']:,} | " + " | ".join(cells) + f" | {brute} | "
-                         f"{row['trilinear']['upload_ms']:.2f} | {row['grid_bytes'] / 2**20:.1f} |")
+                         f"{row['trilinear']['upload_ms']:.2f} | {row['trilinear']['frame_ms']:.1f} | "
+                         f"{row['grid_bytes'] / 2**20:.1f} |")
         lines.append("")
-    lights = report["lights"]
     cycles = report.get("cycles")
     if cycles:
         names = ("brute_force", *EMITTER_INTERPOLATIONS)
-        lines += [f"## Against Cycles (the particles demo scene, {cycles['width']}×{cycles['height']}, "
-                  f"{cycles['samples']} samples, light tree)", "",
+        lines += [f"### Against Cycles (the particles demo scene, {cycles['width']}×{cycles['height']}, "
+                  f"{cycles['samples']} samples, light tree; ours on {cycles['renderer']})", "",
                   "Direct light: PSNR (dB) / relMSE / our mean over Cycles'.", "",
                   "| emitters | " + " | ".join(names) + " |", "|---:|" + "---|" * len(names)]
         for row in cycles["rows"]:
@@ -162,5 +175,4 @@ def write_emitter_report(report, out):
               f"{lights['one_light']['frame_ms']:.1f} ms: {lights['ratio']:.2f}×; every light with maps "
               f"{lights['many_lights_all_mapped']['frame_ms']:.1f} ms ({lights['ratio_all_mapped']:.2f}×).", "",
               f"Command: `{report['command']}`"]
-    (out / "emitters.md").write_text("\n".join(lines) + "\n")
-    return {"out": str(out), "rows": sum(len(counts["rows"]) for counts in report["counts"])}
+    return "\n".join(lines) + "\n"

@@ -6,6 +6,7 @@ import os
 from pathlib import Path
 
 from ..gpu.errors import LPVError
+from .emitters import emitter_report_markdown
 from .sweep_report import (choose_presets, error_cell, machine_line, markdown_report, presets_table, read_report,
                            scene_label, write_sweep_outputs)
 from .table1 import markdown_table
@@ -74,6 +75,12 @@ def _presets_summary(reports):
     return lines
 
 
+def _emitters_section(path, report, page_dir):
+    relative = os.path.relpath(path, page_dir)
+    return [f"## Many emitters (`bench --emitters`) on the {machine_label(report['counts'][0]['renderer'])}", "",
+            f"Report [{relative}]({relative}).", "", emitter_report_markdown(report)]
+
+
 def read_reports(page_path):
     """(path, report) of every JSON report in the folder `bench` beside the page."""
     return [(path, read_report(path)) for path in sorted((Path(page_path).parent / "bench").rglob("*.json"))]
@@ -86,6 +93,7 @@ def benchmarks_page(page_path, reports=None):
     reports = read_reports(page_path) if reports is None else reports
     sweeps = [(path, report) for path, report in reports if "sweep" in report]
     tables = [(path, report) for path, report in reports if "results" in report]
+    emitters = [(path, report) for path, report in reports if "counts" in report]
     rank = lambda item: (SWEEP_ORDER.index(item[1]["sweep"]) if item[1]["sweep"] in SWEEP_ORDER else len(SWEEP_ORDER),
                          str(item[0]))
     sweeps.sort(key=rank)
@@ -95,12 +103,15 @@ def benchmarks_page(page_path, reports=None):
              "that measured it. GPU figures are timings; llvmpipe figures only compare settings with each other on "
              "the CPU. Analysis, and timings measured by scripts: docs/performance.md.", "",
              "Contents: presets; " + "; ".join(f"sweep `{r['sweep']}` ({machine_label(r['machine']['renderer'])})"
-                                               for _, r in sweeps) + "; Table 1.", "",
+                                               for _, r in sweeps) + "; Table 1" +
+             ("; many emitters." if emitters else "."), "",
              "## Presets", "", *_presets_summary(sweeps)]
     for path, report in sweeps:
         lines += _sweep_section(path, report, page_dir) + [""]
     for path, report in tables:
         lines += _table1_section(path, report, page_dir) + [""]
+    for path, report in emitters:
+        lines += _emitters_section(path, report, page_dir) + [""]
     return "\n".join(lines).rstrip() + "\n"
 
 

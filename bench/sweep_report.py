@@ -163,7 +163,8 @@ def markdown_report(report, command=None):
     for scene, group in points_by_scene(points).items():
         front = {id(p) for p in pareto_front(group)}
         sources = [source for source in ERROR_SOURCES if any(source in p for p in group)][::-1]
-        head = ["method", *varied, "frame ms (spread)", *STAGES.values(), "GPU MB",
+        stages = [stage for stage in STAGES if any(stage in p["timings_ms"] for p in group)]  # what ran
+        head = ["method", *varied, "frame ms (spread)", *(STAGES[stage] for stage in stages), "GPU MB",
                 *(f"{metric} vs {ERROR_SOURCES[source]}" for source in sources for metric in ("PSNR dB", "relMSE", "FLIP")),
                 "Pareto"]
         sizes = {tuple(p.get("error_size", (p["settings"]["width"], p["settings"]["height"]))) for p in group}
@@ -179,7 +180,7 @@ def markdown_report(report, command=None):
             low, high = t["total_ms_spread"]
             errors = [error_cell(p.get(source, {}), k, f)
                       for source in sources for k, f in (("psnr", ".2f"), (ERROR_METRIC, ".3g"), ("flip", ".3f"))]
-            cells += [f"{t['total_ms']:.2f} ({low:.2f}-{high:.2f})", *(f"{t.get(s, 0.0):.2f}" for s in STAGES),
+            cells += [f"{t['total_ms']:.2f} ({low:.2f}-{high:.2f})", *(f"{t.get(s, 0.0):.2f}" for s in stages),
                       f"{p['gpu_bytes'] / 2**20:.0f}", *errors, "yes" if id(p) in front else ""]
             lines.append("| " + " | ".join(cells) + " |")
     if report.get("choose_presets"):

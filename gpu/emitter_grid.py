@@ -24,6 +24,7 @@ from .colour import LUMINANCE_WEIGHTS
 from .context import dispatch, set_uniforms, zero_buffer
 from .settings import EMITTER_INTERPOLATIONS
 from .shade import bind_gbuffer
+from .scene import POINT_EMITTER_COLUMNS
 from .vpl import EMITTER_BYTES
 
 CLUSTER_FLOATS = 8  # flux rgb, weight (r + g + b), weighted position xyz, weighted area
@@ -31,35 +32,29 @@ BRUTE_FORCE_BATCH = 32768
 """Emitters one brute-force dispatch adds: llvmpipe ends a loop nest after 65,535 iterations."""
 
 
-def emitter_rows(positions, flux, area):
-    """(M, 3, 4) float32 rows of shaders/emitter.glsl for isotropic point emitters."""
-    rows = np.zeros((len(positions), 3, 4), dtype=np.float32)
-    rows[:, 0, :3], rows[:, 0, 3] = positions, 1.0
-    rows[:, 1, 3] = area
-    rows[:, 2, :3] = flux
-    return rows
-
-
 SKIP_BINS = 256  # logarithmic bins of skip_weak's histogram
 
 
-def skip_weak(positions, intensity, box, min_distance, cutoff):
-    """A mask of the emitters to keep: those dropped, the weakest at the box `box` (low,
-    high), give together at most `cutoff` of the sum of every emitter's bound there
-    (intensity luminance over the squared distance to the box, at least `min_distance`).
-    The threshold comes from a histogram of the bounds weighted by themselves, not a sort:
-    a million emitters take a pass, and a little less than `cutoff` may be dropped."""
-    low, high = (np.asarray(corner, dtype=np.float64) for corner in box)
+def light_bounds(positions, intensity, box, min_distance):
+    """Each emitter's bound on the irradiance it gives the box `box` (low, high): its
+    intensity over the squared distance to the box, at least `min_distance`."""
+    low, high = (np.asarray(corner, dtype=np.float32) for corner in box)
     gap = np.maximum(np.maximum(low - positions, positions - high), 0.0)
-    bound = intensity / np.maximum(np.einsum("ij,ij->i", gap, gap), min_distance ** 2)
-    total = bound.sum()
+    return intensity / np.maximum(np.einsum("ij,ij->i", gap, gap), np.float32(min_distance ** 2))
+
+
+def skip_weak(bound, cutoff):
+    """A mask of the emitters to keep, given their `light_bounds`: those dropped, the
+    weakest, give together at most `cutoff` of the sum of the bounds. The threshold comes from a histogram of the bounds weighted by themselves, not a sort:
+    a million emitters take a pass, and a little less than `cutoff` may be dropped."""
+    total = float(bound.sum(dtype=np.float64))
     keep = np.ones(len(bound), dtype=bool)
     if cutoff <= 0 or not total > 0:
         return keep
-    positive = bound[bound > 0]
+    positive = bound[bound > 0].astype(np.float64)
     edges = np.geomspace(positive.min(), positive.max() * (1 + 1e-9), SKIP_BINS + 1)
     weights, _ = np.histogram(positive, bins=edges, weights=positive)
-    below = np.concatenate([[0.0], np.cumsum(weights)]) + (total - positive.sum())  # the zeros are dropped first
+    below = np.concatenate([[0.0], np.cumsum(weights)])  # the zeros are dropped first: they add nothing
     threshold = edges[np.searchsorted(below, cutoff * total, side="right") - 1]
     keep &= bound >= threshold
     return keep
@@ -92,25 +87,35 @@ class EmitterGrid:
         for texture in self.textures:
             texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
             texture.repeat_x = texture.repeat_y = texture.repeat_z = False
-        self.emitters = None
+        self.emitters = self._packed = None
         self.count = 0
         self.irradiance = None
         self.origin, self.cell_size = np.zeros(3), 1.0
         self._key = self._built = None
 
-    def upload(self, rows, key):
-        """Take the emitter rows ((M, 3, 4) float32) unless `key` says they are the last
-        ones, into the buffer of the last ones when it holds them."""
+    def upload(self, emitters, key):
+        """Take the point emitters ((M, 7) float32 as gpu/scene.py holds them) unless `key`
+        says they are the last ones, into the buffers of the last ones when they hold them,
+        and expand them into emitter rows on the GPU (shaders/emitter_expand.comp)."""
         if key == self._key and self.emitters is not None:
             return False
-        rows = np.ascontiguousarray(rows, dtype=np.float32)
-        if self.emitters is not None and self.emitters.size < max(rows.nbytes, 1):
-            self.emitters.release()
+        emitters = np.ascontiguousarray(emitters, dtype=np.float32)
+        count = len(emitters)
+        if self.emitters is not None and self.emitters.size < max(count, 1) * EMITTER_BYTES:
+            for buffer in (self.emitters, self._packed):
+                buffer.release()
             self.emitters = None
         if self.emitters is None:
-            self.emitters = self.glc.gl.buffer(reserve=max(rows.nbytes, EMITTER_BYTES))
-        self.emitters.write(rows)
-        self.count = len(rows)
+            self.emitters = self.glc.gl.buffer(reserve=max(count, 1) * EMITTER_BYTES)
+            self._packed = self.glc.gl.buffer(reserve=max(count, 1) * POINT_EMITTER_COLUMNS * 4)
+        if count:
+            self._packed.write(emitters)
+            program = self.glc.compute("emitter_expand", POINT_EMITTER_COLUMNS=POINT_EMITTER_COLUMNS)
+            self._packed.bind_to_storage_buffer(0)
+            self.emitters.bind_to_storage_buffer(1)
+            set_uniforms(program, emitter_count=count)
+            dispatch(program, count, local=(64,))
+        self.count = count
         self._key = key
         self._built = None
         return True
@@ -196,7 +201,7 @@ class EmitterGrid:
 
     def resources(self):
         held = (self.clusters, *self.textures)
-        return held + tuple(r for r in (self.emitters, self.irradiance) if r is not None)
+        return held + tuple(r for r in (self.emitters, self._packed, self.irradiance) if r is not None)
 
     def release(self):
         for resource in self.resources():

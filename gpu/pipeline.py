@@ -16,13 +16,14 @@ from .capacity import check_frame_fits
 from .colour import LUMINANCE_WEIGHTS
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
-from .emitter_grid import EmitterGrid, emitter_rows, skip_weak
+from .emitter_grid import EmitterGrid, light_bounds, skip_weak
 from .errors import LPVError
 from .grids import fit_grid, keep_or_move, level_boxes
 from .indirect import IndirectGrids
 from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
+from .scene import POINT_EMITTER_COLUMNS
 from .settings import DisplaySettings, Settings
 from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, render_gbuffer, render_glow, seen_points,
                     shade_direct, shade_indirect)
@@ -173,7 +174,8 @@ def seen_box(levels, bounds):
 @dataclass
 class FrameLights:
     """What lights a frame: the lights that get maps, the point emitters (the scene's and
-    the point lights beyond the budget) as emitter rows with a content key, and counts."""
+    the point lights beyond the budget, (M, 7) float32 as gpu/scene.py holds them) with a
+    content key, and counts."""
 
     mapped: list
     emitters: np.ndarray
@@ -189,30 +191,30 @@ def frame_lights(scene, settings, box, min_distance):
     is); of the point lights left, the `light_map_budget` strongest get maps and the rest
     join the point emitters."""
     lights = scene.lights
-    emitters = scene.point_emitters if scene.point_emitters is not None else np.zeros((0, 7), np.float32)
-    luminance = LUMINANCE_WEIGHTS
-    intensity = np.concatenate([[float(light.peak_intensity @ luminance) for light in lights],
-                                emitters[:, 3:6].astype(np.float64) @ luminance / (4 * np.pi)])
-    positions = np.concatenate([np.array([light.position for light in lights]).reshape(-1, 3),
-                                emitters[:, :3].astype(np.float64)])
-    keep = skip_weak(positions, intensity, box, min_distance, settings.light_cutoff)
-    low, high = box
-    gap = np.maximum(np.maximum(low - positions, positions - high), 0.0)
-    strength = intensity / np.maximum(np.einsum("ij,ij->i", gap, gap), min_distance ** 2)
+    emitters = scene.point_emitters if scene.point_emitters is not None else \
+        np.zeros((0, POINT_EMITTER_COLUMNS), np.float32)
+    luminance = LUMINANCE_WEIGHTS.astype(np.float32)
+    intensity = np.concatenate([np.array([light.peak_intensity @ luminance for light in lights], np.float32),
+                                emitters[:, 3:6] @ luminance / np.float32(4 * np.pi)])
+    positions = np.concatenate([np.array([light.position for light in lights], np.float32).reshape(-1, 3),
+                                emitters[:, :3]])
+    strength = light_bounds(positions, intensity, box, min_distance)
     for index, light in enumerate(lights):
         if light.kind == "SUN":
-            keep[index], strength[index] = True, np.inf
+            strength[index] = np.inf
+    keep = skip_weak(np.where(np.isinf(strength), 0.0, strength), settings.light_cutoff)
+    keep[:len(lights)] |= np.isinf(strength[:len(lights)])
     kept_lights = [i for i in range(len(lights)) if keep[i]]
     points = sorted((i for i in kept_lights if lights[i].kind == "POINT"), key=lambda i: -strength[i])
     as_emitters = set(points[settings.light_map_budget:])
     mapped = [lights[i] for i in kept_lights if i not in as_emitters]
     extra = [lights[i] for i in sorted(as_emitters)]
     kept_emitters = keep[len(lights):]
-    rows = np.concatenate([emitter_rows(emitters[kept_emitters, :3], emitters[kept_emitters, 3:6],
-                                        emitters[kept_emitters, 6]),
-                           emitter_rows(np.array([light.position for light in extra]).reshape(-1, 3),
-                                        np.array([light.rgb_power for light in extra]).reshape(-1, 3),
-                                        np.array([np.pi * light.radius ** 2 for light in extra]))])
+    rows = emitters if kept_emitters.all() else emitters[kept_emitters]
+    if extra:
+        lamps = np.array([[*light.position, *light.rgb_power, np.pi * light.radius ** 2] for light in extra],
+                         dtype=np.float32)
+        rows = np.concatenate([rows, lamps])
     key = (scene.point_emitters_key(), np.packbits(kept_emitters).tobytes(), tuple(light.key() for light in extra))
     return FrameLights(mapped, rows, key, len(lights) - len(kept_lights), int((~kept_emitters).sum()), len(extra))
 
@@ -264,6 +266,11 @@ class Pipeline:
         """What the indirect grids' content depends on: the method, every light's key, the
         grids and the steps."""
         return self._indirect[0] if self._indirect is not None else None
+
+    @property
+    def last_emitter_grid(self):
+        """The EmitterGrid of the last frame's point emitters (gpu/emitter_grid.py), or None."""
+        return self._emitter_grid
 
     @property
     def targets(self):
@@ -419,7 +426,7 @@ class Pipeline:
             with self.glc.timed(stats, "direct_ms"):
                 for m in maps:
                     shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
-            if lit.emitters.size:
+            if len(lit.emitters):
                 with self.glc.timed(stats, "emitter_light_ms"):
                     self._emitter_grid.add_light(targets, gbuffer_uniforms(scene.camera), s)
             if scene.emission is not None:
@@ -516,7 +523,7 @@ class Pipeline:
         the emissive surfaces' emitters; the (buffer, count) sets whose light bounces, and
         a key of what they hold."""
         sources, key = [], ()
-        if lit.emitters.size:
+        if len(lit.emitters):
             if self._emitter_grid is None or self._emitter_grid.resolution < s.emitter_grid_resolution or \
                     self._emitter_grid.resolution >= 2 * s.emitter_grid_resolution:
                 if self._emitter_grid is not None:
@@ -524,8 +531,9 @@ class Pipeline:
                 self._emitter_grid = EmitterGrid(self.glc, s.emitter_grid_resolution)
             with self.glc.timed(stats, "emitter_upload_ms"):
                 self._emitter_grid.upload(lit.emitters, lit.key)
-            with self.glc.timed(stats, "emitter_grid_ms"):
-                self._emitter_grid.build(box, s.singularity_bound)
+            if s.emitter_light == "grid":
+                with self.glc.timed(stats, "emitter_grid_ms"):
+                    self._emitter_grid.build(box, s.singularity_bound)
             sources.append((self._emitter_grid.emitters, self._emitter_grid.count))
             key += lit.key[1:] + (lit.key[0],)
         if scene.emission is not None:

@@ -86,7 +86,7 @@ class Settings(Validated):
                                         "the light-map budget) light the pixels: through the emitter grid's 3D "
                                         "textures (grid) or every pixel summing every emitter (brute_force, the "
                                         "reference)", choices=EMITTER_LIGHTS)
-    emitter_interpolation: str = _param("tricubic", "How the emitter grid is read at a pixel: trilinear, tricubic "
+    emitter_interpolation: str = _param("supersampled", "How the emitter grid is read at a pixel: trilinear, tricubic "
                                                     "(Catmull-Rom) or super-sampled (eight trilinear reads)",
                                         choices=EMITTER_INTERPOLATIONS)
     emitter_grid_resolution: int = _param(64, "Cells along each side of the emitter grid (rounded up to a power of "

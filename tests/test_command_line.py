@@ -157,7 +157,7 @@ def test_bench_scenes_that_are_neither_demo_scenes_nor_files_are_refused_before_
     out = tmp_path / "new" / "bench"
     err = refused_before_any_work(["bench", "--scenes", "cornell,nope", "--methods", "cm", "--out", str(out),
                                    *SMALL], capsys)
-    assert err == ("lpv_preview: The bench scene 'nope' is neither a demo scene (cornell, atrium, city) nor an "
+    assert err == ("lpv_preview: The bench scene 'nope' is neither a demo scene (cornell, atrium, city, particles) nor an "
                    ".npz scene file that exists; check --scenes.")
     assert not (tmp_path / "new").exists()  # the check of --out removed the folders it made
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from lpv_preview.bench.synthetic import lamps_over_floor, particle_room
-from lpv_preview.gpu.emitter_grid import skip_weak
+from lpv_preview.gpu.emitter_grid import light_bounds, skip_weak
 from lpv_preview.gpu.metrics import psnr
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.scene import Scene
@@ -44,7 +44,7 @@ def test_emitters_light_the_room_and_it_bounces(particles):
     pipeline = Pipeline(Settings(**SMALL))
     try:
         frame = pipeline.render(particles, passes=("direct", "indirect"))
-        grid = pipeline._emitter_grid
+        grid = pipeline.last_emitter_grid
         built = grid._built
         again = pipeline.render(particles, passes=("direct",))
         assert grid._built is built and "emitter_grid_ms" in again.stats
@@ -80,9 +80,10 @@ def test_skip_weak_bounds_what_it_drops():
     positions = rng.uniform(-100, 100, (5000, 3))
     intensity = rng.uniform(0, 1, 5000)
     box = (np.array([-1.0, -1, -1]), np.array([1.0, 1, 1]))
-    keep = skip_weak(positions, intensity, box, 0.1, 0.01)
+    bound = light_bounds(positions, intensity, box, 0.1)
     gap = np.maximum(np.maximum(box[0] - positions, positions - box[1]), 0)
-    bound = intensity / np.maximum((gap ** 2).sum(axis=1), 0.01)
+    assert np.allclose(bound, intensity / np.maximum((gap ** 2).sum(axis=1), 0.01), rtol=1e-5)
+    keep = skip_weak(bound, 0.01)
     assert 0 < (~keep).sum() < 5000
     assert bound[~keep].sum() <= 0.01 * bound.sum()
     assert bound[~keep].max() <= bound[keep].min()

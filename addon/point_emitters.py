@@ -1,19 +1,23 @@
 """Emissive particles and instances -> point emitters (gpu/scene.py `point_emitters`).
 
-An instancer (a particle system showing an object, or geometry nodes' instances) that
-places at least BULK_INSTANCES copies of an emissive mesh makes each copy one point
+An instancer (a particle system showing an object, or geometry nodes' instances of an
+object, a geometry or a collection) that places at least BULK_INSTANCES copies of an
+emissive mesh makes each copy one point
 emitter: its position, the mesh's emitted flux scaled by the copy's scale², and the
 area it comes from. Their places are read in bulk (`foreach_get` on the particles or on
 the instances' point cloud), never one instance at a time, and the depsgraph walk leaves
 those copies out of the triangles. Fewer copies stay meshes whose emissive surfaces are
 sampled exactly (gpu/surface_emitters.py).
 """
+import bpy
 import numpy as np
 
 BULK_INSTANCES = 64
 """Copies of one emissive mesh from one instancer from which on they are point emitters."""
 GEOMETRY_TYPES = {"MESH", "CURVES", "POINTCLOUD", "VOLUME", "GREASEPENCIL", "CURVE", "SURFACE", "FONT", "META"}
 """Object types whose evaluated geometry may hold instances."""
+NESTING = 4  # geometry sets within instances read at most this deep
+NESTED_INSTANCES = 256  # instances of one nested geometry set read one by one at most (a collection's objects)
 ALIVE = 2  # Particle.alive_state's index of 'ALIVE' (DEAD, UNBORN, ALIVE, DYING)
 
 
@@ -95,24 +99,22 @@ class PointEmitters:
         cloud.attributes[".reference_index"].data.foreach_get("value", which)
         transforms = None
         for index, reference in enumerate(references):
-            mesh, palette_of = _reference_mesh(reference, surfaces)
-            if mesh is None:
-                continue
             chosen = which == index
             if chosen.sum() < BULK_INSTANCES:
                 continue
-            flux, area = self._emission(mesh, palette_of)
-            if not flux.any():
-                continue
-            if transforms is None:
-                transforms = np.empty(count * 16, dtype=np.float32)
-                cloud.attributes["instance_transform"].data.foreach_get("value", transforms)
-                # the instances' matrices, column-major, placed by the instancer's world matrix
-                local = transforms.reshape(count, 4, 4).transpose(0, 2, 1).astype(np.float64)
-                transforms = np.array(obj.matrix_world, dtype=np.float64) @ local
-            placed = transforms[chosen]
-            scales = np.cbrt(np.abs(np.linalg.det(placed[:, :3, :3])))
-            self._add(obj, mesh, placed[:, :3, 3], scales, flux, area)
+            for mesh, palette_of, local in _reference_meshes(reference, surfaces):
+                flux, area = self._emission(mesh, palette_of)
+                if not flux.any():
+                    continue
+                if transforms is None:
+                    transforms = np.empty(count * 16, dtype=np.float32)
+                    cloud.attributes["instance_transform"].data.foreach_get("value", transforms)
+                    # the instances' matrices, column-major, placed by the instancer's world matrix
+                    transforms = np.array(obj.matrix_world, dtype=np.float64) @ \
+                        transforms.reshape(count, 4, 4).transpose(0, 2, 1).astype(np.float64)
+                placed = transforms[chosen] @ local
+                scales = np.cbrt(np.abs(np.linalg.det(placed[:, :3, :3])))
+                self._add(obj, mesh, placed[:, :3, 3], scales, flux, area)
 
     def stands_for(self, instance):
         """Whether a depsgraph instance is one of the copies made point emitters (its
@@ -131,12 +133,35 @@ class PointEmitters:
         return rows
 
 
-def _reference_mesh(reference, surfaces):
-    """The mesh an instance reference places and a function giving its palette, or
-    (None, None) for a collection or anything without a mesh."""
-    if getattr(reference, "type", None) == "MESH":  # an Object
-        return reference.data, lambda: surfaces.palette(reference, max(1, len(reference.material_slots)))
+def _reference_meshes(reference, surfaces, depth=0):
+    """(mesh, a function giving its palette, its matrix within the instance) of each mesh
+    an instance reference places: an object's, a collection's mesh objects (placed as in
+    the collection, less its instance offset), a geometry set's own mesh and, nested, its
+    instances' (Collection Info gives a geometry set holding the collection)."""
+    if isinstance(reference, bpy.types.Object):
+        return [(reference.data, lambda: surfaces.palette(reference, max(1, len(reference.material_slots))),
+                 np.eye(4))] if reference.type == "MESH" else []
+    if isinstance(reference, bpy.types.Collection):
+        offset = np.eye(4)
+        offset[:3, 3] = -np.array(reference.instance_offset, dtype=np.float64)
+        return [(member.data, lambda member=member: surfaces.palette(member, max(1, len(member.material_slots))),
+                 offset @ np.array(member.matrix_world, dtype=np.float64))
+                for member in reference.all_objects if member.type == "MESH"]
+    parts = []
     mesh = getattr(reference, "mesh", None)  # a GeometrySet
-    if mesh is None:
-        return None, None
-    return mesh, lambda: [surfaces.base_colour(material) for material in mesh.materials] or [surfaces.base_colour(None)]
+    if mesh is not None:
+        parts.append((mesh, lambda: [surfaces.base_colour(material) for material in mesh.materials] or
+                      [surfaces.base_colour(None)], np.eye(4)))
+    cloud = reference.instances_pointcloud() if depth < NESTING and hasattr(reference, "instances_pointcloud") \
+        else None
+    if cloud is not None and len(cloud.points) <= NESTED_INSTANCES:
+        count = len(cloud.points)
+        transforms = np.empty(count * 16, dtype=np.float32)
+        cloud.attributes["instance_transform"].data.foreach_get("value", transforms)
+        which = np.empty(count, dtype=np.int32)
+        cloud.attributes[".reference_index"].data.foreach_get("value", which)
+        nested = reference.instance_references()
+        for transform, index in zip(transforms.reshape(count, 4, 4).transpose(0, 2, 1).astype(np.float64), which):
+            parts += [(inner, palette_of, transform @ local)
+                      for inner, palette_of, local in _reference_meshes(nested[index], surfaces, depth + 1)]
+    return parts

@@ -152,3 +152,48 @@ def test_emissive_instances_and_particles_become_point_emitters():
     assert np.allclose(flux[:100], one, rtol=1e-4) and np.allclose(flux[100:], 4 * one, rtol=1e-4)
     assert scene.triangle_count == 2 + 2 + 20  # floor, particle plane and the sphere itself: no copy drawn
     assert np.allclose(scene.point_emitters[:100, 2], 1.0, atol=1e-5)
+
+
+def test_collection_instances_become_point_emitters():
+    """Geometry nodes placing a collection that holds an emissive sphere and a plain cube:
+    one point emitter per copy of the sphere, where the collection puts it."""
+    bpy = pytest.importorskip("bpy")
+    from lpv_preview.addon.extract import extract_scene
+
+    from .leak_scenes import camera, diffuse, empty_scene, light, quad
+    empty_scene((32, 24))
+    quad("Floor", 3.0, 0.0, diffuse("Grey", (0.8, 0.8, 0.8)))
+    lantern = bpy.data.collections.new("Lantern")
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=0.05, location=(0, 0, 0.5))
+    sphere = bpy.context.object
+    glow = bpy.data.materials.new("Glow")
+    glow.node_tree.nodes["Principled BSDF"].inputs["Emission Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    glow.node_tree.nodes["Principled BSDF"].inputs["Emission Strength"].default_value = 5.0
+    sphere.data.materials.append(glow)
+    bpy.ops.mesh.primitive_cube_add(size=0.1, location=(0, 0, 0))
+    post = bpy.context.object
+    for member in (sphere, post):
+        for owner in member.users_collection:
+            owner.objects.unlink(member)
+        lantern.objects.link(member)
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=8, y_subdivisions=8, size=2, location=(0, 0, 0))
+    instancer = bpy.context.object
+    tree = bpy.data.node_groups.new("Lanterns", "GeometryNodeTree")
+    tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    nodes = tree.nodes
+    given, result = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
+    points, place, info = (nodes.new(kind) for kind in ("GeometryNodeMeshToPoints", "GeometryNodeInstanceOnPoints",
+                                                          "GeometryNodeCollectionInfo"))
+    info.inputs["Collection"].default_value = lantern
+    tree.links.new(given.outputs[0], points.inputs["Mesh"])
+    tree.links.new(points.outputs[0], place.inputs["Points"])
+    tree.links.new(info.outputs[0], place.inputs["Instance"])
+    tree.links.new(place.outputs[0], result.inputs[0])
+    instancer.modifiers.new("Lanterns", "NODES").node_group = tree
+    light("POINT", (0, 0, 3), energy=10.0)
+    camera("Camera", (0, -5, 3), (0, 0, 0))
+    scene = extract_scene(bpy.context.evaluated_depsgraph_get())
+    assert scene.point_emitter_count == 81  # a grid of 8 × 8 quads has 9 × 9 points
+    assert np.allclose(scene.point_emitters[:, 2], 0.5, atol=1e-5)  # the sphere's place in the collection
+    assert scene.triangle_count == 2 + 81 * 12  # the floor and every cube; no sphere

@@ -15,7 +15,7 @@ from .properties import settings_from_properties
 SETTING_GROUPS = {
     "Method": ("method", "rsm_resolution", "vpls_per_light"),
     "Emitters": ("emission_samples", "emitter_light", "emitter_interpolation", "emitter_grid_resolution",
-                 "emitter_bounce_samples", "light_map_budget", "light_cutoff"),
+                 "emitter_shadows", "emitter_bounce_samples", "light_map_budget", "light_cutoff"),
     "Indirect Light": ("indirect_method", "lpv_resolution", "grid_levels", "propagation_iterations", "occlusion",
                        "bounces", "singularity_bound", "indirect_intensity", "shadow_bias", "grid_phases", "grid_shift"),
     "Convergence": ("viewport_vpl_sets", "converge_sets", "converge_seconds"),

@@ -51,3 +51,24 @@ def lamps_over_floor(count, quads_per_side=4, total_power=400.0, seed=0):
                     (0, 1, 0), 0.5 + 0.5 * rng.random(3), total_power / count, radius=0.05, name=f"lamp{i}")
               for i in range(count)]
     return Scene(room.triangles, room.normals, room.albedo, lights, room.camera).sanitize()
+
+
+def box_triangles(low, high):
+    """The 12 triangles of a closed axis-aligned box."""
+    corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+    sides = [(0, 2, 6, 4), (1, 5, 7, 3), (0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6)]
+    return np.array([[corners[a], corners[b], corners[c]] for a, b, c, d in sides] +
+                    [[corners[a], corners[c], corners[d]] for a, b, c, d in sides])
+
+
+def particles_in_a_box(count=2000, seed=0):
+    """The room with its particles (`particle_room`) shut inside a closed 1 m box on the
+    floor: none of their light may reach the room. Sanitized."""
+    room = particle_room(count, seed=seed)
+    rng = np.random.default_rng(seed)
+    emitters = np.array(room.point_emitters, dtype=np.float64)
+    emitters[:, :3] = rng.uniform((-0.4, -0.4, 0.1), (0.4, 0.4, 0.9), (count, 3))
+    walls = box_triangles((-0.5, -0.5, 0.0), (0.5, 0.5, 1.0))
+    triangles = np.concatenate([room.triangles, walls])
+    albedo = np.concatenate([room.albedo, np.full((len(walls), 3), 0.6, np.float32)])
+    return Scene(triangles, np.zeros_like(triangles), albedo, [], room.camera, point_emitters=emitters).sanitize()

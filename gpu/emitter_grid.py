@@ -185,14 +185,18 @@ class EmitterGrid:
             dispatch(program, *targets.size)
         return image
 
-    def add_light(self, targets, uniforms, settings):
+    def add_light(self, targets, uniforms, settings, shadows=None):
         """Add albedo / π times the emitters' irradiance (from the grid, or by brute force
-        as `settings.emitter_light` says) into the direct image."""
+        as `settings.emitter_light` says; shaded by `shadows`, an EmitterShadows, when
+        given) into the direct image."""
         bind_gbuffer(targets)
         if settings.emitter_light == "brute_force":
             image = self.brute_force(targets, uniforms, settings.singularity_bound)
         else:
             image = self.shade(targets, uniforms, settings.emitter_interpolation)
+        if shadows is not None:
+            shadows.apply(targets, uniforms, image)
+            bind_gbuffer(targets)
         program = self.glc.compute("add_irradiance")
         image.use(location=2)
         targets.direct.bind_to_image(0, read=True, write=True)

@@ -6,8 +6,7 @@ import math
 
 import numpy as np
 
-from .grids import fit_grid
-from .light_grid import CLUSTER_CELLS, LightGrid
+from .light_grid import LightGrid, cluster_levels
 from .bounces import Bounces
 from .emitter_bounce import light_receivers
 from .lpv import LightPropagationVolume
@@ -100,9 +99,7 @@ class IndirectGrids:
             self.emitter_sets = emitters
             return
         with timed(stats, first):
-            cluster_grids = [grid.coarser(CLUSTER_CELLS) for grid in self.levels]
-            cluster_grids.append(fit_grid(scene_bounds, cluster_grids[0].size))
-            volume.cluster(emitters, flux_bound, cluster_grids)
+            volume.cluster(emitters, flux_bound, cluster_levels(self.levels, scene_bounds))
         with timed(stats, second):
             volume.gather(bound)
 

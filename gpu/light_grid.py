@@ -15,6 +15,7 @@ import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms
+from .grids import fit_grid
 from .occupancy import VOXELS_PER_CELL, Occupancy, march_batch
 from .vpl import EMITTER_BYTES
 
@@ -33,20 +34,29 @@ def cluster_capacity(emitter_total):
     return min(1 << max(10, math.ceil(math.log2(max(2 * emitter_total, 1)))), 1 << 20)
 
 
+def cluster_levels(levels, scene_bounds):
+    """The grids emitters are clustered over for `levels` (finest first): each level's
+    coarser by CLUSTER_CELLS, and a last one over the scene that holds every emitter."""
+    grids = [grid.coarser(CLUSTER_CELLS) for grid in levels]
+    return grids + [fit_grid(scene_bounds, grids[0].size)]
+
+
 class LightGrid:
     """The irradiance volumes and occupancy of a set of grids (levels x phases) and the
-    emitter clusters they gather from."""
+    emitter clusters they gather from; with `unshadowed`, volumes of the light without
+    occluders beside them."""
 
-    def __init__(self, glc, grids):
+    def __init__(self, glc, grids, unshadowed=False):
         self.glc = glc
         self.grids = tuple(grids)
         gl = glc.gl
         n = self.grids[0].size
-        self.irradiance = []
-        for _ in self.grids:
-            volume = gl.texture3d((n, n, DIRECTIONS * n), 4, dtype="f4")
-            volume.filter = (moderngl.NEAREST, moderngl.NEAREST)
-            self.irradiance.append(volume)
+        self.irradiance, self.unshadowed = [], []
+        for volumes in (self.irradiance, self.unshadowed) if unshadowed else (self.irradiance,):
+            for _ in self.grids:
+                volume = gl.texture3d((n, n, DIRECTIONS * n), 4, dtype="f4")
+                volume.filter = (moderngl.NEAREST, moderngl.NEAREST)
+                volumes.append(volume)
         self.occupancy = Occupancy(glc, self.grids)
         self.count = gl.buffer(reserve=16)
         self.keys = self.sums = self.emitters = self.blocks = None
@@ -97,7 +107,7 @@ class LightGrid:
         """Every grid's cells gather the clustered emitters' light, in batches of emitters
         whose marches stay under llvmpipe's loop limit (shaders/light_grid_gather.comp),
         its 1/r² bounded by `singularity_bound` (shaders/emitter.glsl)."""
-        program = self.glc.compute("light_grid_gather")
+        program = self.glc.compute("light_grid_gather", UNSHADOWED=int(bool(self.unshadowed)))
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
         self.emitter_count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
@@ -106,6 +116,8 @@ class LightGrid:
         self.occupancy.coarse.use(location=1)
         for layer, (grid, irradiance) in enumerate(zip(self.grids, self.irradiance)):
             irradiance.bind_to_image(0, read=True, write=True)
+            if self.unshadowed:
+                self.unshadowed[layer].bind_to_image(1, read=True, write=True)
             set_uniforms(program, occupancy=0, coarse=1, layer=layer, grid_origin=grid.origin,
                          cell_size=grid.cell_size, grid_size=grid.size, voxels_per_cell=VOXELS_PER_CELL, batch=batch,
                          singularity_bound=singularity_bound)
@@ -113,10 +125,11 @@ class LightGrid:
                 set_uniforms(program, first_emitter=first)
                 dispatch(program, grid.size ** 3, local=(1,))  # a workgroup per cell
 
-    def lookup_uniforms(self, first_unit):
-        """Bind the volumes for shaders/light_grid_lookup.glsl from texture unit `first_unit` on."""
+    def lookup_uniforms(self, first_unit, unshadowed=False):
+        """Bind the volumes (the unshadowed ones, when asked) for shaders/
+        light_grid_lookup.glsl from texture unit `first_unit` on."""
         units = len(self.grids)
-        for i, volume in enumerate(self.irradiance):
+        for i, volume in enumerate(self.unshadowed if unshadowed else self.irradiance):
             volume.use(location=first_unit + i)
         self.occupancy.occupancy.use(location=first_unit + units)
         self.occupancy.coarse.use(location=first_unit + units + 1)
@@ -133,10 +146,10 @@ class LightGrid:
 
     def resources(self):
         buffers = [b for b in (self.keys, self.sums, self.emitters, self.blocks) if b is not None]
-        return (*self.irradiance, *self.occupancy.resources(), self.count, *buffers)
+        return (*self.irradiance, *self.unshadowed, *self.occupancy.resources(), self.count, *buffers)
 
     def release(self):
         self.occupancy.release()
-        for resource in (*self.irradiance, self.count, *(b for b in (self.keys, self.sums, self.emitters, self.blocks)
+        for resource in (*self.irradiance, *self.unshadowed, self.count, *(b for b in (self.keys, self.sums, self.emitters, self.blocks)
                                                           if b is not None)):
             resource.release()

@@ -17,6 +17,7 @@ from .colour import LUMINANCE_WEIGHTS
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
 from .emitter_grid import EmitterGrid, light_bounds, skip_weak
+from .emitter_shadows import EmitterShadows
 from .errors import LPVError
 from .grids import fit_grid, keep_or_move, level_boxes
 from .indirect import IndirectGrids
@@ -43,7 +44,7 @@ AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
           "inject_ms": "inject", "bounce_ms": "bounces", "propagate_ms": "propagate", "gather_ms": "gather",
           "emitter_bounce_ms": "emitter bounce", "direct_ms": "direct", "emission_ms": "emission",
-          "emitter_upload_ms": "emitter upload", "emitter_grid_ms": "emitter grid", "emitter_light_ms": "emitter light", "pixel_gather_ms": "pixel gather",
+          "emitter_upload_ms": "emitter upload", "emitter_grid_ms": "emitter grid", "emitter_shadow_ms": "emitter shadows", "emitter_light_ms": "emitter light", "pixel_gather_ms": "pixel gather",
           "indirect_ms": "indirect"}
 """A frame's timed stages (its stats keys) in the order they run, with their names: the
 indirect stage's inject and propagate (LPV), inject, bounces and gather (light grid) or
@@ -180,9 +181,17 @@ class FrameLights:
     mapped: list
     emitters: np.ndarray
     key: tuple
+    flux_bound: float
     skipped_lights: int
     skipped_emitters: int
     lights_as_emitters: int
+
+    def bounds(self, scene_bounds):
+        """The scene's bounds grown to hold the point emitters (which may lie outside it)."""
+        if not len(self.emitters):
+            return scene_bounds
+        positions = self.emitters[:, :3]
+        return (np.minimum(scene_bounds[0], positions.min(axis=0)), np.maximum(scene_bounds[1], positions.max(axis=0)))
 
 
 def frame_lights(scene, settings, box, min_distance):
@@ -216,7 +225,8 @@ def frame_lights(scene, settings, box, min_distance):
                          dtype=np.float32)
         rows = np.concatenate([rows, lamps])
     key = (scene.point_emitters_key(), np.packbits(kept_emitters).tobytes(), tuple(light.key() for light in extra))
-    return FrameLights(mapped, rows, key, len(lights) - len(kept_lights), int((~kept_emitters).sum()), len(extra))
+    flux_bound = float(rows[:, 3:6].sum(axis=0, dtype=np.float64).max()) if len(rows) else 0.0
+    return FrameLights(mapped, rows, key, flux_bound, len(lights) - len(kept_lights), int((~kept_emitters).sum()), len(extra))
 
 
 @dataclass
@@ -242,6 +252,7 @@ class Pipeline:
         self._indirect = None      # (key, IndirectGrids)
         self._emission = None      # SurfaceEmission of the emissive surfaces, over the last frame's levels
         self._emitter_grid = None  # EmitterGrid of the point emitters
+        self._emitter_shadows = None  # EmitterShadows of the point emitters, over the last frame's grids
         self._frame_lights = None  # (what it depends on, the last frame's FrameLights)
         self._targets = None
         self._shown_keys = ()      # the light cache keys of the last frame
@@ -402,7 +413,7 @@ class Pipeline:
             self._frame_lights = (lit_key, frame_lights(scene, s, box, levels[0].cell_size))
         lit = self._frame_lights[1]
         maps, keys = self.light_maps(scene, stats, levels, lit.mapped)
-        sources, sources_key = self._emitter_sources(scene, s, lit, box, stats)
+        sources, sources_key = self._emitter_sources(scene, s, lit, box, grids, stats)
         vpl_count = int(sum(m.vpl_count for m in maps))
         if adding:
             sets, accumulated_vpls = self._accumulated[1] + 1, self._accumulated[2] + vpl_count
@@ -428,7 +439,8 @@ class Pipeline:
                     shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
             if len(lit.emitters):
                 with self.glc.timed(stats, "emitter_light_ms"):
-                    self._emitter_grid.add_light(targets, gbuffer_uniforms(scene.camera), s)
+                    self._emitter_grid.add_light(targets, gbuffer_uniforms(scene.camera), s,
+                                                 self._emitter_shadows if s.emitter_shadows else None)
             if scene.emission is not None:
                 with self.glc.timed(stats, "emission_ms"):
                     self._emitted_light(scene, s, targets, levels, indirect)
@@ -518,10 +530,10 @@ class Pipeline:
         render_debug_passes(self.glc, self._targets, scene.camera, self.last_light_maps,
                             (display_settings or DisplaySettings()).vpl_point_size)
 
-    def _emitter_sources(self, scene, s, lit, box, stats):
-        """Build the emitter grid of the frame's point emitters (when it has any) and sample
-        the emissive surfaces' emitters; the (buffer, count) sets whose light bounces, and
-        a key of what they hold."""
+    def _emitter_sources(self, scene, s, lit, box, grids, stats):
+        """Build the emitter grid of the frame's point emitters (when it has any) and their
+        shadows' light grid over `grids`, and sample the emissive surfaces' emitters; the
+        (buffer, count) sets whose light bounces, and a key of what they hold."""
         sources, key = [], ()
         if len(lit.emitters):
             if self._emitter_grid is None or self._emitter_grid.resolution < s.emitter_grid_resolution or \
@@ -534,6 +546,15 @@ class Pipeline:
             if s.emitter_light == "grid":
                 with self.glc.timed(stats, "emitter_grid_ms"):
                     self._emitter_grid.build(box, s.singularity_bound)
+            if s.emitter_shadows:
+                if self._emitter_shadows is None or self._emitter_shadows.grids != grids:
+                    if self._emitter_shadows is not None:
+                        self._emitter_shadows.release()
+                    self._emitter_shadows = EmitterShadows(self.glc, grids, s.grid_phases)
+                with self.glc.timed(stats, "emitter_shadow_ms"):
+                    self._emitter_shadows.build(
+                        self._mesh[1], [(self._emitter_grid.emitters, self._emitter_grid.count)], lit.flux_bound,
+                        lit.bounds(scene.bounds()), s.singularity_bound, (lit.key, self._mesh[0], s.singularity_bound))
             sources.append((self._emitter_grid.emitters, self._emitter_grid.count))
             key += lit.key[1:] + (lit.key[0],)
         if scene.emission is not None:
@@ -560,6 +581,7 @@ class Pipeline:
         held += self._indirect[1].resources() if self._indirect is not None else ()
         held += self._emission.resources() if self._emission is not None else ()
         held += self._emitter_grid.resources() if self._emitter_grid is not None else ()
+        held += self._emitter_shadows.resources() if self._emitter_shadows is not None else ()
         for maps in self._lights.values():
             held += maps.resources()
         held += self._targets.resources() if self._targets is not None else ()
@@ -573,7 +595,7 @@ class Pipeline:
         self._placement = None
         self._accumulated = None
         self._frame_lights = None
-        for cached in ("_emission", "_emitter_grid"):
+        for cached in ("_emission", "_emitter_grid", "_emitter_shadows"):
             if getattr(self, cached) is not None:
                 getattr(self, cached).release()
                 setattr(self, cached, None)

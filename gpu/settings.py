@@ -89,6 +89,8 @@ class Settings(Validated):
     emitter_interpolation: str = _param("supersampled", "How the emitter grid is read at a pixel: trilinear, tricubic "
                                                     "(Catmull-Rom) or super-sampled (eight trilinear reads)",
                                         choices=EMITTER_INTERPOLATIONS)
+    emitter_shadows: bool = _param(True, "Shade the point emitters' light by what stands between: the ratio of a "
+                                         "light grid's irradiance with visibility to without, at every pixel")
     emitter_grid_resolution: int = _param(64, "Cells along each side of the emitter grid (rounded up to a power of "
                                               "two)", 8, 256)
     emitter_bounce_samples: int = _param(2048, "Points on the surfaces that the emitters light (and their light "

@@ -5,7 +5,9 @@
 // A workgroup is one cell, its lanes share the emitters and add up their sums at the end:
 // cells alone are too few to fill a GPU. One dispatch adds the emitters [first_emitter,
 // first_emitter + batch) to what the ones before left: llvmpipe ends a loop nest after
-// 65,535 iterations in all, marches included.
+// 65,535 iterations in all, marches included. With UNSHADOWED, the light every emitter
+// would give without occluders goes beside it into `unshadowed` (gpu/emitter_shadows.py
+// takes their ratio).
 #include "common.glsl"
 #include "emitter.glsl"
 #include "occupancy.glsl"
@@ -14,6 +16,12 @@ layout(local_size_x = LANES) in;
 layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
 layout(std430, binding = 1) readonly buffer Count { int emitter_count; };
 layout(rgba32f, binding = 0) uniform image3D irradiance;
+#if UNSHADOWED
+layout(rgba32f, binding = 1) uniform image3D unshadowed;
+#define SUMS 12
+#else
+#define SUMS 6
+#endif
 uniform usampler3D occupancy;
 uniform usampler3D coarse;
 uniform vec3 grid_origin;
@@ -24,7 +32,7 @@ uniform int layer;  // this grid's part of the occupancy
 uniform int first_emitter;
 uniform int batch;
 
-shared vec3 sums[6][LANES];  // +x, -x, +y, -y, +z, -z
+shared vec3 sums[SUMS][LANES];  // +x, -x, +y, -y, +z, -z (then the same unshadowed)
 
 void main() {
     int index = int(gl_WorkGroupID.x);
@@ -33,7 +41,8 @@ void main() {
     vec3 centre = grid_origin + (vec3(cell) + 0.5) * cell_size;
     float voxel = cell_size / float(voxels_per_cell);
     vec3 centre_voxels = (centre - grid_origin) / voxel;
-    vec3 facing[6] = vec3[6](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+    vec3 facing[SUMS];
+    for (int k = 0; k < SUMS; ++k) facing[k] = vec3(0.0);
     int last = min(first_emitter + batch, emitter_count);
     for (int j = first_emitter + lane; j < last; j += LANES) {
         Emitter e = emitters[j];
@@ -41,18 +50,24 @@ void main() {
         vec3 light = emitter_light(e, d);
         if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
         vec3 from = (e.position.xyz - grid_origin) / voxel;
-        if (segment_blocked(occupancy, coarse, voxels_per_cell, layer, from + 0.75 * e.normal.xyz, centre_voxels, from, 1.0, true)) continue;
         vec3 w = normalize(d);
+#if UNSHADOWED
+        for (int axis = 0; axis < 3; ++axis) {
+            facing[6 + 2 * axis] += light * max(0.0, -w[axis]);
+            facing[6 + 2 * axis + 1] += light * max(0.0, w[axis]);
+        }
+#endif
+        if (segment_blocked(occupancy, coarse, voxels_per_cell, layer, from + 0.75 * e.normal.xyz, centre_voxels, from, 1.0, true)) continue;
         for (int axis = 0; axis < 3; ++axis) {
             facing[2 * axis] += light * max(0.0, -w[axis]);
             facing[2 * axis + 1] += light * max(0.0, w[axis]);
         }
     }
-    for (int k = 0; k < 6; ++k) sums[k][lane] = facing[k];
+    for (int k = 0; k < SUMS; ++k) sums[k][lane] = facing[k];
     barrier();
     for (int stride = LANES / 2; stride > 0; stride /= 2) {
         if (lane < stride)
-            for (int k = 0; k < 6; ++k) sums[k][lane] += sums[k][lane + stride];
+            for (int k = 0; k < SUMS; ++k) sums[k][lane] += sums[k][lane + stride];
         barrier();
     }
     if (lane < 6) {
@@ -60,4 +75,11 @@ void main() {
         vec4 before = first_emitter == 0 ? vec4(0.0) : imageLoad(irradiance, at);
         imageStore(irradiance, at, before + vec4(sums[lane][0], 0.0));
     }
+#if UNSHADOWED
+    else if (lane < 12) {
+        ivec3 at = ivec3(cell.xy, cell.z + (lane - 6) * grid_size);
+        vec4 before = first_emitter == 0 ? vec4(0.0) : imageLoad(unshadowed, at);
+        imageStore(unshadowed, at, before + vec4(sums[lane][0], 0.0));
+    }
+#endif
 }

@@ -2,8 +2,7 @@
 // Indirect light and the composite; when asked, the composite also as RGBA rows, bottom row
 // first, in a buffer (a viewport reads a buffer back several times faster than a texture).
 // The indirect light comes from LEVELS nested grids (gpu/grids.py), each PHASES grids
-// offset by a fraction of a cell whose answers are averaged; a pixel takes the finest
-// level that holds it, blended into the next over the last cells of its box. The grids
+// offset by a fraction of a cell (light_grid_levels.glsl). The grids
 // hold an LPV (INDIRECT 0) or a light grid (INDIRECT 1); with VPL gathering (INDIRECT 2)
 // the irradiance is the pixel's own, gathered before. A still image averages VPL sets: the
 // indirect image holds the mean of the `accumulated` sets before this one.
@@ -21,6 +20,9 @@ uniform int grid_size;
 #else
 #include "vpl_gather_lookup.glsl"
 #endif
+#if INDIRECT != 2
+#include "light_grid_levels.glsl"
+#endif
 layout(rgba32f, binding = 0) uniform readonly image2D direct;
 layout(rgba32f, binding = 1) uniform image2D indirect;
 layout(rgba32f, binding = 2) uniform writeonly image2D combined;
@@ -30,13 +32,6 @@ uniform float intensity;
 uniform int accumulated;
 uniform bool add_glow;   // the emissive surfaces' own radiance (shade.py render_glow)
 layout(rgba32f, binding = 3) uniform readonly image2D glow;
-
-// How much a level answers at q: all of it from two cells inside its box, none within one.
-float level_share(int grid, vec3 q) {
-    vec3 g = (q - grid_origins[grid]) / cell_sizes[grid];
-    vec3 inside = min(g, float(grid_size) - g);
-    return clamp(min(inside.x, min(inside.y, inside.z)) - 1.0, 0.0, 1.0);
-}
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -49,15 +44,7 @@ void main() {
 #if INDIRECT == 2
         irradiance = texelFetch(gathered, pixel, 0).rgb;
 #else
-        float remaining = 1.0;
-        for (int level = 0; level < LEVELS && remaining > 0.0; ++level) {
-            float share = level == LEVELS - 1 ? 1.0 : level_share(level * PHASES, p);
-            if (share <= 0.0) continue;
-            vec3 level_light = vec3(0.0);
-            for (int phase = 0; phase < PHASES; ++phase) level_light += grid_irradiance(level * PHASES + phase, p, n);
-            irradiance += remaining * share * level_light / float(PHASES);
-            remaining *= 1.0 - share;
-        }
+        irradiance = levels_irradiance(p, n);
 #endif
         light = albedo / PI * irradiance * intensity;
     }

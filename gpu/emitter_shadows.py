@@ -1,0 +1,59 @@
+"""The point emitters' shadows: the emitter grid heeds no occluders, so a light grid
+(gpu/light_grid.py, the indirect stage's: one grid, a second feed) gathers the emitters
+at its cell centres both through the occupancy and without it, and every pixel's emitter
+light is scaled by the ratio of the two looked up there (shaders/emitter_visibility.comp):
+particles in a closed box light nothing outside it, and a wall shades the room behind.
+The ratio is smooth at the cells' scale: shadows sharper than a cell are lost."""
+import numpy as np
+
+from .colour import LUMINANCE_WEIGHTS
+from .context import dispatch, set_uniforms
+from .light_grid import LightGrid, cluster_levels
+
+
+class EmitterShadows:
+    """The light grid of the emitters over the frame's indirect grids, and a per-pixel image."""
+
+    def __init__(self, glc, grids, phases):
+        self.glc = glc
+        self.grids = tuple(grids)
+        self.phases = phases
+        self.light_grid = LightGrid(glc, self.grids, unshadowed=True)
+        self.shadowed = None
+        self._built = None
+
+    def build(self, mesh, emitter_sets, flux_bound, scene_bounds, singularity_bound, key):
+        """Gather the emitters (buffers with counts) into the grids, once per `key`."""
+        if self._built == key:
+            return
+        self.light_grid.occupancy.voxelise(mesh)
+        self.light_grid.cluster(emitter_sets, flux_bound, cluster_levels(self.grids[::self.phases], scene_bounds))
+        self.light_grid.gather(singularity_bound)
+        self._built = key
+
+    def apply(self, targets, uniforms, irradiance):
+        """Scale the emitters' `irradiance` image by the share that reaches each pixel.
+        `uniforms` are the G-buffer's, its textures bound."""
+        if self.shadowed is None or self.shadowed.size != targets.size:
+            if self.shadowed is not None:
+                self.shadowed.release()
+            self.shadowed = self.glc.gl.texture(targets.size, 4, dtype="f4")
+        grids = {"grid_origins": np.array([grid.origin for grid in self.grids]),
+                 "cell_sizes": np.array([grid.cell_size for grid in self.grids]), "grid_size": self.grids[0].size,
+                 "luminance_weights": tuple(LUMINANCE_WEIGHTS)}
+        irradiance.bind_to_image(0, read=True, write=True)
+        self.shadowed.bind_to_image(1, read=True, write=True)
+        for stage in range(2):
+            program = self.glc.compute("emitter_visibility", LEVELS=len(self.grids) // self.phases,
+                                       PHASES=self.phases, STAGE=stage)
+            units = self.light_grid.lookup_uniforms(first_unit=2, unshadowed=stage == 1)
+            set_uniforms(program, **uniforms, **units, **grids)
+            dispatch(program, *targets.size)
+
+    def resources(self):
+        return (*self.light_grid.resources(), *((self.shadowed,) if self.shadowed is not None else ()))
+
+    def release(self):
+        self.light_grid.release()
+        if self.shadowed is not None:
+            self.shadowed.release()

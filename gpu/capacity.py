@@ -8,12 +8,14 @@ so there the GPU bytes count against it too.
 """
 import os
 
+from .emitter_grid import CLUSTER_FLOATS
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .light_grid import CLUSTER_INTS, DIRECTIONS, cluster_capacity
 from .occupancy import GATHER_VOXELS_PER_CELL, VOXELS_PER_CELL
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import face_atlas_size, map_face_count
+from .scene import POINT_EMITTER_COLUMNS
 from .surface_images import BYTES_PER_TEXEL, layer_size
 from .vpl import EMITTER_BYTES
 
@@ -71,6 +73,30 @@ def pixel_gather_bytes(s, scene, pixels):
             + pixels * GATHER_BYTES_PER_PIXEL + scene.triangle_count * LARGE_TRIANGLE_BYTES)
 
 
+def mapped_lights(s, scene):
+    """The lights that may get maps: all but the point lights beyond the light-map budget
+    (gpu/pipeline.py frame_lights; skipping may leave fewer)."""
+    points = [light for light in scene.lights if light.kind == "POINT"]
+    return [light for light in scene.lights if light.kind != "POINT"] + points[:s.light_map_budget]
+
+
+def emitter_bytes(s, scene, pixels, lamps):
+    """The emitter grid (gpu/emitter_grid.py: clusters of every level, three textures,
+    the emitters twice, an irradiance image), the emitters' shadows (a light grid with
+    unshadowed volumes, its occupancy and clusters, an image) and the receivers of their
+    bounce, for the scene's point emitters and `lamps` point lights beyond the budget."""
+    count = scene.point_emitter_count + lamps
+    if not count:
+        return 0
+    side = 1 << max(3, (s.emitter_grid_resolution - 1).bit_length())
+    grid = side ** 3 * (CLUSTER_FLOATS * 4 * 8 // 7 + 3 * 16) + count * (EMITTER_BYTES + POINT_EMITTER_COLUMNS * 4)
+    n = s.lpv_resolution
+    shadows = (2 * s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
+               + scene.triangle_count * LARGE_TRIANGLE_BYTES + cluster_capacity(count) * CLUSTER_BYTES) \
+        if s.emitter_shadows else 0
+    return grid + shadows + 2 * pixels * 16 + s.emitter_bounce_samples * (2 * EMITTER_BYTES + 32)
+
+
 def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     """(GPU bytes, host bytes) that a frame of `scene` with `settings` needs at its peak:
     the camera's images (with `display`, the viewport's rows too), every light's maps and
@@ -80,8 +106,8 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     warped = s.method in WARPED_METHODS
     camera = pixels * (CAMERA_BYTES_PER_PIXEL + DISPLAY_BYTES_PER_PIXEL * display
                        + DEBUG_BYTES_PER_PIXEL * any(name in DEBUG_PASS_NAMES for name in passes))
-    atlases = [face_atlas_size(map_face_count(light, map_method(s.method)), s.rsm_resolution)
-               for light in scene.lights]
+    mapped = mapped_lights(s, scene)
+    atlases = [face_atlas_size(map_face_count(light, map_method(s.method)), s.rsm_resolution) for light in mapped]
     per_light = MAP_BYTES_PER_TEXEL + WARP_STATUS_BYTES_PER_TEXEL * warped
     maps = sum(width * height * per_light + s.vpls_per_light * EMITTER_BYTES for width, height in atlases)
     per_layout = SHARED_BYTES_PER_TEXEL + MAP_BYTES_PER_TEXEL * warped
@@ -95,9 +121,10 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     else:
         indirect = grids * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
         indirect += scene.triangle_count * LARGE_TRIANGLE_BYTES
-        indirect += cluster_capacity(s.vpls_per_light * len(scene.lights)) * CLUSTER_BYTES
+        indirect += cluster_capacity(s.vpls_per_light * len(mapped)) * CLUSTER_BYTES
     if s.bounces > 1 and s.indirect_method != "lpv":  # each light's summed generations, and one light's scratch
-        indirect += s.vpls_per_light * (len(scene.lights) * EMITTER_BYTES + BOUNCE_SCRATCH_BYTES_PER_VPL)
+        indirect += s.vpls_per_light * (len(mapped) * EMITTER_BYTES + BOUNCE_SCRATCH_BYTES_PER_VPL)
+    indirect += emitter_bytes(s, scene, pixels, len(scene.lights) - len(mapped))
     if scene.emission is not None:  # emitters and their gather, the glow and the triangles' radiances
         indirect += 2 * s.emission_samples * EMITTER_BYTES + pixel_gather_bytes(s, scene, pixels)
         indirect += pixels * 16 + scene.triangle_count * 16

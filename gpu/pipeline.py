@@ -186,12 +186,13 @@ class FrameLights:
     skipped_emitters: int
     lights_as_emitters: int
 
+    emitter_box: tuple = None  # (low, high) of the point emitters' positions
+
     def bounds(self, scene_bounds):
         """The scene's bounds grown to hold the point emitters (which may lie outside it)."""
-        if not len(self.emitters):
+        if self.emitter_box is None:
             return scene_bounds
-        positions = self.emitters[:, :3]
-        return (np.minimum(scene_bounds[0], positions.min(axis=0)), np.maximum(scene_bounds[1], positions.max(axis=0)))
+        return np.minimum(scene_bounds[0], self.emitter_box[0]), np.maximum(scene_bounds[1], self.emitter_box[1])
 
 
 def frame_lights(scene, settings, box, min_distance):
@@ -219,14 +220,18 @@ def frame_lights(scene, settings, box, min_distance):
     mapped = [lights[i] for i in kept_lights if i not in as_emitters]
     extra = [lights[i] for i in sorted(as_emitters)]
     kept_emitters = keep[len(lights):]
-    rows = emitters if kept_emitters.all() else emitters[kept_emitters]
+    rows, placed = emitters, positions[len(lights):]
+    if not kept_emitters.all():
+        rows, placed = emitters[kept_emitters], placed[kept_emitters]
     if extra:
         lamps = np.array([[*light.position, *light.rgb_power, np.pi * light.radius ** 2] for light in extra],
                          dtype=np.float32)
-        rows = np.concatenate([rows, lamps])
+        rows, placed = np.concatenate([rows, lamps]), np.concatenate([placed, lamps[:, :3]])
     key = (scene.point_emitters_key(), np.packbits(kept_emitters).tobytes(), tuple(light.key() for light in extra))
     flux_bound = float(rows[:, 3:6].sum(axis=0, dtype=np.float64).max()) if len(rows) else 0.0
-    return FrameLights(mapped, rows, key, flux_bound, len(lights) - len(kept_lights), int((~kept_emitters).sum()), len(extra))
+    emitter_box = (placed.min(axis=0), placed.max(axis=0)) if len(placed) else None
+    return FrameLights(mapped, rows, key, flux_bound, len(lights) - len(kept_lights), int((~kept_emitters).sum()),
+                       len(extra), emitter_box)
 
 
 @dataclass

@@ -91,7 +91,7 @@ class Settings(Validated):
                                         choices=EMITTER_INTERPOLATIONS)
     emitter_shadows: bool = _param(True, "Shade the point emitters' light by what stands between: the ratio of a "
                                          "light grid's irradiance with visibility to without, at every pixel")
-    emitter_grid_resolution: int = _param(64, "Cells along each side of the emitter grid (rounded up to a power of "
+    emitter_grid_resolution: int = _param(32, "Cells along each side of the emitter grid (rounded up to a power of "
                                               "two)", 8, 256)
     emitter_bounce_samples: int = _param(2048, "Points on the surfaces that the emitters light (and their light "
                                                "bounces from) for the indirect light", 16, 65536)

@@ -27,18 +27,20 @@ def room_scene(quads_per_side, scale=1.0, light_position=(0.4, -0.3, 2.0), offse
     return Scene(triangles, np.zeros_like(triangles), np.full((len(triangles), 3), 0.6), [light], camera).sanitize()
 
 
-def particle_room(count, quads_per_side=4, total_flux=200.0, seed=0):
+def particle_room(count, quads_per_side=4, total_flux=200.0, seed=0, scale=1.0):
     """The room lit only by `count` emissive particles (together `total_flux` W, warm
-    white, each 1 cm across) in a swirl over the floor, denser near its axis. Sanitized."""
+    white, each 1 cm across) in a swirl over the floor, times `scale` (the flux by scale²:
+    the same irradiance). Sanitized."""
     rng = np.random.default_rng(seed)
-    room = room_scene(quads_per_side)
+    room = room_scene(quads_per_side, scale)
     turn = rng.random(count) * 6 * np.pi
     radius = 1.6 * np.sqrt(rng.random(count))
     height = 0.2 + 2.4 * rng.random(count)
     emitters = np.zeros((count, 7), dtype=np.float64)
     emitters[:, 0], emitters[:, 1], emitters[:, 2] = radius * np.cos(turn), radius * np.sin(turn), height
-    emitters[:, 3:6] = np.array([1.0, 0.8, 0.6]) * total_flux / count
-    emitters[:, 6] = np.pi * 0.005 ** 2
+    emitters[:, :3] *= scale
+    emitters[:, 3:6] = np.array([1.0, 0.8, 0.6]) * total_flux / count * scale ** 2
+    emitters[:, 6] = np.pi * (0.005 * scale) ** 2
     return Scene(room.triangles, room.normals, room.albedo, [], room.camera, point_emitters=emitters).sanitize()
 
 

@@ -197,3 +197,25 @@ def test_collection_instances_become_point_emitters():
     assert scene.point_emitter_count == 81  # a grid of 8 × 8 quads has 9 × 9 points
     assert np.allclose(scene.point_emitters[:, 2], 0.5, atol=1e-5)  # the sphere's place in the collection
     assert scene.triangle_count == 2 + 81 * 12  # the floor and every cube; no sphere
+
+
+@pytest.mark.parametrize("scale", [1e-3, 1e4])
+def test_the_emitters_light_the_same_at_any_scale(scale):
+    """The particle room a thousand times smaller or ten thousand times larger (flux by
+    scale², the same irradiance): brute force gives the same image, and the grid stays as
+    close to it as at 1 m (where its cells, and the shadows' cells, fall against the scene
+    moves with the scale)."""
+    pipeline = Pipeline(Settings(**SMALL))
+    try:
+        images = {(s, light): pipeline.render(particle_room(500, scale=s),
+                                              Settings(**SMALL, emitter_light=light, emitter_shadows=False),
+                                              passes=("direct",)).passes["direct"]
+                  for s in (1.0, scale) for light in ("grid", "brute_force")}
+        shaded = [pipeline.render(particle_room(500, scale=s), Settings(**SMALL), passes=("direct",)).passes["direct"]
+                  for s in (1.0, scale)]
+    finally:
+        pipeline.release()
+    assert psnr(images[scale, "brute_force"], images[1.0, "brute_force"]) > 60.0
+    assert psnr(images[scale, "grid"], images[scale, "brute_force"]) > 25.0
+    assert abs(images[scale, "grid"].mean() / images[1.0, "grid"].mean() - 1) < 0.02
+    assert abs(shaded[1].mean() / shaded[0].mean() - 1) < 0.02

@@ -37,7 +37,7 @@ def build(particles=4096, total_flux=200.0, radius=0.002, seed=0, resolution=(32
     mesh.vertices.foreach_set("co", points.ravel())
     swirl = bpy.data.objects.new("Swirl", mesh)
     collection.objects.link(swirl)
-    swirl.modifiers.new("Particles", "NODES").node_group = _instance_on_points(sphere)
+    swirl.modifiers.new("Particles", "NODES").node_group = instance_on_points(sphere)
     add_camera(scene, (0.0, -1.9, 1.5), (0.0, 0.0, 1.0), lens=18.0, resolution=resolution, clip_end=20.0)
     scene.world = None
     return scene
@@ -61,17 +61,24 @@ def _glowing_sphere(radius, flux, collection):
     return sphere
 
 
-def _instance_on_points(sphere):
-    tree = bpy.data.node_groups.new("Particles", "GeometryNodeTree")
+def instance_on_points(source):
+    """A geometry-nodes tree that places a copy of `source` (an object or a collection) on
+    every point of the mesh it modifies."""
+    tree = bpy.data.node_groups.new("Instance on points", "GeometryNodeTree")
     tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
     tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
     nodes = tree.nodes
     given, result = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
-    points, place, info = (nodes.new(kind) for kind in ("GeometryNodeMeshToPoints", "GeometryNodeInstanceOnPoints",
-                                                          "GeometryNodeObjectInfo"))
-    info.inputs["Object"].default_value = sphere
+    points, place = nodes.new("GeometryNodeMeshToPoints"), nodes.new("GeometryNodeInstanceOnPoints")
+    if isinstance(source, bpy.types.Collection):
+        info = nodes.new("GeometryNodeCollectionInfo")
+        info.inputs["Collection"].default_value = source
+    else:
+        info = nodes.new("GeometryNodeObjectInfo")
+        info.inputs["Object"].default_value = source
     tree.links.new(given.outputs[0], points.inputs["Mesh"])
     tree.links.new(points.outputs[0], place.inputs["Points"])
-    tree.links.new(info.outputs["Geometry"], place.inputs["Instance"])
+    tree.links.new(info.outputs[0] if isinstance(source, bpy.types.Collection) else info.outputs["Geometry"],
+                   place.inputs["Instance"])
     tree.links.new(place.outputs[0], result.inputs[0])
     return tree

@@ -108,6 +108,7 @@ def test_emissive_instances_and_particles_become_point_emitters():
     bpy = pytest.importorskip("bpy")
     from lpv_preview.addon.extract import extract_scene
     from lpv_preview.addon.point_emitters import BULK_INSTANCES
+    from lpv_preview.demo.particles import instance_on_points
 
     from .leak_scenes import camera, diffuse, empty_scene, light, quad
     empty_scene((32, 24))
@@ -120,20 +121,7 @@ def test_emissive_instances_and_particles_become_point_emitters():
     principled.inputs["Emission Strength"].default_value = 10.0
     sphere.data.materials.append(glow)
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=9, y_subdivisions=9, size=2, location=(0, 0, 1))
-    instancer = bpy.context.object
-    tree = bpy.data.node_groups.new("Scatter", "GeometryNodeTree")
-    tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    nodes = tree.nodes
-    given, result = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
-    points, place, info = (nodes.new(kind) for kind in ("GeometryNodeMeshToPoints", "GeometryNodeInstanceOnPoints",
-                                                          "GeometryNodeObjectInfo"))
-    info.inputs["Object"].default_value = sphere
-    tree.links.new(given.outputs[0], points.inputs["Mesh"])
-    tree.links.new(points.outputs[0], place.inputs["Points"])
-    tree.links.new(info.outputs["Geometry"], place.inputs["Instance"])
-    tree.links.new(place.outputs[0], result.inputs[0])
-    instancer.modifiers.new("Scatter", "NODES").node_group = tree
+    bpy.context.object.modifiers.new("Scatter", "NODES").node_group = instance_on_points(sphere)
     bpy.ops.mesh.primitive_plane_add(size=2, location=(0, 0, 0.5))
     emitter = bpy.context.object
     emitter.modifiers.new("Sparks", "PARTICLE_SYSTEM")
@@ -159,6 +147,7 @@ def test_collection_instances_become_point_emitters():
     one point emitter per copy of the sphere, where the collection puts it."""
     bpy = pytest.importorskip("bpy")
     from lpv_preview.addon.extract import extract_scene
+    from lpv_preview.demo.particles import instance_on_points
 
     from .leak_scenes import camera, diffuse, empty_scene, light, quad
     empty_scene((32, 24))
@@ -177,20 +166,7 @@ def test_collection_instances_become_point_emitters():
             owner.objects.unlink(member)
         lantern.objects.link(member)
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=8, y_subdivisions=8, size=2, location=(0, 0, 0))
-    instancer = bpy.context.object
-    tree = bpy.data.node_groups.new("Lanterns", "GeometryNodeTree")
-    tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    nodes = tree.nodes
-    given, result = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
-    points, place, info = (nodes.new(kind) for kind in ("GeometryNodeMeshToPoints", "GeometryNodeInstanceOnPoints",
-                                                          "GeometryNodeCollectionInfo"))
-    info.inputs["Collection"].default_value = lantern
-    tree.links.new(given.outputs[0], points.inputs["Mesh"])
-    tree.links.new(points.outputs[0], place.inputs["Points"])
-    tree.links.new(info.outputs[0], place.inputs["Instance"])
-    tree.links.new(place.outputs[0], result.inputs[0])
-    instancer.modifiers.new("Lanterns", "NODES").node_group = tree
+    bpy.context.object.modifiers.new("Lanterns", "NODES").node_group = instance_on_points(lantern)
     light("POINT", (0, 0, 3), energy=10.0)
     camera("Camera", (0, -5, 3), (0, 0, 0))
     scene = extract_scene(bpy.context.evaluated_depsgraph_get())

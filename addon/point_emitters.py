@@ -72,7 +72,8 @@ class PointEmitters:
             source = settings.instance_object if settings.render_type == "OBJECT" else None
             if source is None or source.type != "MESH" or len(system.particles) < BULK_INSTANCES:
                 continue
-            flux, area = self._emission(source.data, lambda: surfaces.palette(source, max(1, len(source.material_slots))))
+            flux, area = self._emission(source.data,
+                                        lambda: surfaces.palette(source, max(1, len(source.material_slots))))
             if not flux.any():
                 continue
             count = len(system.particles)

@@ -114,10 +114,13 @@ def measure_against_cycles(cases, width, height, log=print):
         pipeline = Pipeline(base)
         try:
             row = {"emitters": count}
-            for name, changes in [("brute_force", {"emitter_light": "brute_force"})] + \
-                    [(interpolation, {"emitter_interpolation": interpolation}) for interpolation in EMITTER_INTERPOLATIONS]:
+            variants = [("brute_force", {"emitter_light": "brute_force"})]
+            variants += [(interpolation, {"emitter_interpolation": interpolation})
+                         for interpolation in EMITTER_INTERPOLATIONS]
+            for name, changes in variants:
                 direct = pipeline.render(scene, base.with_changes(**changes), passes=("direct",)).passes["direct"]
-                row[name] = {"psnr_db": float(psnr(direct, reference)), "rel_mse": float(relative_mse(direct, reference)),
+                row[name] = {"psnr_db": float(psnr(direct, reference)),
+                             "rel_mse": float(relative_mse(direct, reference)),
                              "mean_ratio": float(direct.mean() / reference.mean())}
         finally:
             pipeline.release()
@@ -167,7 +170,8 @@ def emitter_report_markdown(report):
                   "| emitters | " + " | ".join(names) + " |", "|---:|" + "---|" * len(names)]
         for row in cycles["rows"]:
             lines.append(f"| {row['emitters']:,} | " + " | ".join(
-                f"{row[n]['psnr_db']:.1f} / {row[n]['rel_mse']:.4f} / {row[n]['mean_ratio']:.3f}" for n in names) + " |")
+                f"{row[n]['psnr_db']:.1f} / {row[n]['rel_mse']:.4f} / {row[n]['mean_ratio']:.3f}"
+                for n in names) + " |")
         lines.append("")
     lines += [f"{lights['lights']} point lights at {lights['width']}×{lights['height']}: a frame "
               f"{lights['many_lights']['frame_ms']:.1f} ms ({lights['many_lights']['mapped_lights']} with maps, "

@@ -14,9 +14,9 @@ GLOW = (1.0, 0.8, 0.6)
 
 def build(particles=4096, total_flux=200.0, radius=0.002, seed=0, resolution=(320, 240)):
     """Build the room with `particles` icospheres of `radius` m that together send
-    `total_flux` W, and return the scene. Spheres of 1 cm would shade one another and
-    the room (4,096 of them cut 15 % of the light): 2 mm ones leave the light to the
-    emitters' model."""
+    `total_flux` W, and return the scene. Spheres of a centimetre would shade one another
+    and the room in Cycles, which point emitters do not: small ones compare the light
+    alone (docs/method.md)."""
     scene = bpy.context.scene
     collection = scene.collection
     grey = principled_material("Room grey", GREY)

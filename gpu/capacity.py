@@ -8,7 +8,7 @@ so there the GPU bytes count against it too.
 """
 import os
 
-from .emitter_grid import CLUSTER_FLOATS
+from .emitter_grid import CLUSTER_FLOATS, grid_resolution
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .light_grid import CLUSTER_INTS, DIRECTIONS, cluster_capacity
@@ -88,7 +88,7 @@ def emitter_bytes(s, scene, pixels, lamps):
     count = scene.point_emitter_count + lamps
     if not count:
         return 0
-    side = 1 << max(3, (s.emitter_grid_resolution - 1).bit_length())
+    side = grid_resolution(s.emitter_grid_resolution)
     grid = side ** 3 * (CLUSTER_FLOATS * 4 * 8 // 7 + 3 * 16) + count * (EMITTER_BYTES + POINT_EMITTER_COLUMNS * 4)
     n = s.lpv_resolution
     shadows = (2 * s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2

@@ -4,8 +4,7 @@ colour-sum and a direction-sum 3D texture, read at every pixel with trilinear, t
 or super-sampled interpolation; and the brute-force loop over every emitter that it is
 measured against. The direction sum is kept as its positive and negative halves along
 each axis (two textures): the irradiance of surfaces facing the axes, exact for them,
-where the sum alone, one vector, misses light that comes from both sides (6 % too bright,
-9 % RMS on the particle room's walls and floor).
+where the sum alone, one vector, misses light that comes from both sides.
 
 The seed adds each emitter's light to the cells within a range cut where its light falls
 below a threshold. Over a cloud of many weak emitters, cutting each one's range drops
@@ -14,11 +13,10 @@ emitter here reaches every cell, through a hierarchy of clusters (shaders/
 emitter_grid_build.comp): near cells see the finest clusters, far ones coarser clusters
 (flux, flux-weighted position), about a thousand clusters a cell whatever the emitter
 count. Emitters whose light at the view is negligible are dropped before (`skip_weak`).
-Visibility is not heeded: emitters light through walls (docs/method.md).
+The grid heeds no occluders; gpu/emitter_shadows.py shades its light (docs/method.md).
 """
-import numpy as np
-
 import moderngl
+import numpy as np
 
 from .colour import LUMINANCE_WEIGHTS
 from .context import dispatch, set_uniforms, zero_buffer
@@ -30,8 +28,6 @@ from .vpl import EMITTER_BYTES
 CLUSTER_FLOATS = 8  # flux rgb, weight (r + g + b), weighted position xyz, weighted area
 BRUTE_FORCE_BATCH = 32768
 """Emitters one brute-force dispatch adds: llvmpipe ends a loop nest after 65,535 iterations."""
-
-
 SKIP_BINS = 256  # logarithmic bins of skip_weak's histogram
 
 
@@ -45,8 +41,9 @@ def light_bounds(positions, intensity, box, min_distance):
 
 def skip_weak(bound, cutoff):
     """A mask of the emitters to keep, given their `light_bounds`: those dropped, the
-    weakest, give together at most `cutoff` of the sum of the bounds. The threshold comes from a histogram of the bounds weighted by themselves, not a sort:
-    a million emitters take a pass, and a little less than `cutoff` may be dropped."""
+    weakest, give together at most `cutoff` of the sum of the bounds. The threshold comes
+    from a histogram of the bounds weighted by themselves, not a sort: a million emitters
+    take a pass, and a little less than `cutoff` may be dropped."""
     total = float(bound.sum(dtype=np.float64))
     keep = np.ones(len(bound), dtype=bool)
     if cutoff <= 0 or not total > 0:
@@ -58,6 +55,12 @@ def skip_weak(bound, cutoff):
     threshold = edges[np.searchsorted(below, cutoff * total, side="right") - 1]
     keep &= bound >= threshold
     return keep
+
+
+def grid_resolution(setting):
+    """The cells along a side for the setting `emitter_grid_resolution`: the power of two
+    at or above it, at least 8 (the cluster levels halve it down to 2)."""
+    return 1 << max(3, int(setting - 1).bit_length())
 
 
 def grid_box(box, resolution):
@@ -77,7 +80,7 @@ class EmitterGrid:
 
     def __init__(self, glc, resolution):
         self.glc = glc
-        self.resolution = resolution = 1 << max(3, int(resolution - 1).bit_length())
+        self.resolution = resolution = grid_resolution(resolution)
         self.levels = int(np.log2(resolution))  # sizes resolution, resolution / 2, ..., 2
         sizes = [resolution >> level for level in range(self.levels)]
         self.offsets = np.concatenate([[0], np.cumsum([size ** 3 for size in sizes])[:-1]]).astype(np.int32)
@@ -121,8 +124,8 @@ class EmitterGrid:
         return True
 
     def build(self, box, singularity_bound):
-        """Cluster the emitters over the cube around `box` and fill both textures (once per
-        emitters, box and bound)."""
+        """Cluster the emitters over the cube around `box` and fill the three textures (once
+        per emitters, box and bound)."""
         built = (self._key, tuple(map(tuple, box)), singularity_bound)
         if self._built == built:
             return

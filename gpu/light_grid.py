@@ -150,6 +150,6 @@ class LightGrid:
 
     def release(self):
         self.occupancy.release()
-        for resource in (*self.irradiance, *self.unshadowed, self.count, *(b for b in (self.keys, self.sums, self.emitters, self.blocks)
-                                                          if b is not None)):
+        clusters = (b for b in (self.keys, self.sums, self.emitters, self.blocks) if b is not None)
+        for resource in (*self.irradiance, *self.unshadowed, self.count, *clusters):
             resource.release()

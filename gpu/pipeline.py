@@ -16,7 +16,7 @@ from .capacity import check_frame_fits
 from .colour import LUMINANCE_WEIGHTS
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
-from .emitter_grid import EmitterGrid, light_bounds, skip_weak
+from .emitter_grid import EmitterGrid, grid_resolution, light_bounds, skip_weak
 from .emitter_shadows import EmitterShadows
 from .errors import LPVError
 from .grids import fit_grid, keep_or_move, level_boxes
@@ -42,10 +42,11 @@ AUTO_TESSELLATION_SHARE = 0.10
 AUTO_METHODS = ("cm", "wdpm", "twdpm")  # what `auto` may choose for a light
 
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
-          "inject_ms": "inject", "bounce_ms": "bounces", "propagate_ms": "propagate", "gather_ms": "gather",
-          "emitter_bounce_ms": "emitter bounce", "direct_ms": "direct", "emission_ms": "emission",
-          "emitter_upload_ms": "emitter upload", "emitter_grid_ms": "emitter grid", "emitter_shadow_ms": "emitter shadows", "emitter_light_ms": "emitter light", "pixel_gather_ms": "pixel gather",
-          "indirect_ms": "indirect"}
+          "emitter_upload_ms": "emitter upload", "emitter_grid_ms": "emitter grid",
+          "emitter_shadow_ms": "emitter shadows", "inject_ms": "inject", "bounce_ms": "bounces",
+          "emitter_bounce_ms": "emitter bounce", "propagate_ms": "propagate", "gather_ms": "gather",
+          "direct_ms": "direct", "emitter_light_ms": "emitter light", "emission_ms": "emission",
+          "pixel_gather_ms": "pixel gather", "indirect_ms": "indirect"}
 """A frame's timed stages (its stats keys) in the order they run, with their names: the
 indirect stage's inject and propagate (LPV), inject, bounces and gather (light grid) or
 inject and bounces (VPL gathering, whose pixel gather follows the G-buffer)."""
@@ -426,7 +427,8 @@ class Pipeline:
             sets, accumulated_vpls = 1, vpl_count
         self._accumulated = None  # until this set is in the image
         indirect_key = (s.indirect_method, tuple(keys), self.vpl_pattern, grids, s.propagation_iterations,
-                        s.occlusion, sources_key) + ((s.singularity_bound, s.bounces) if s.indirect_method != "lpv" else ())
+                        s.occlusion, sources_key)
+        indirect_key += (s.singularity_bound, s.bounces) if s.indirect_method != "lpv" else ()
         if self._indirect is None or self._indirect[0] != indirect_key:
             indirect = self._indirect[1] if self._indirect is not None else None
             if indirect is not None and (indirect.method, indirect.grids) != (s.indirect_method, grids):
@@ -541,8 +543,8 @@ class Pipeline:
         (buffer, count) sets whose light bounces, and a key of what they hold."""
         sources, key = [], ()
         if len(lit.emitters):
-            if self._emitter_grid is None or self._emitter_grid.resolution < s.emitter_grid_resolution or \
-                    self._emitter_grid.resolution >= 2 * s.emitter_grid_resolution:
+            resolution = grid_resolution(s.emitter_grid_resolution)
+            if self._emitter_grid is None or self._emitter_grid.resolution != resolution:
                 if self._emitter_grid is not None:
                     self._emitter_grid.release()
                 self._emitter_grid = EmitterGrid(self.glc, s.emitter_grid_resolution)

@@ -440,6 +440,8 @@ class Pipeline:
                            lambda: sample_receivers(scene, s.emitter_bounce_samples, self.vpl_pattern))
             self._indirect = (indirect_key, indirect)
         indirect = self._indirect[1]
+        drawn = len(lit.emitters) - lit.lights_as_emitters  # the scene's point emitters, not the lamps
+        glowing = scene.emission is not None or drawn > 0
         if not adding:
             with self.glc.timed(stats, "direct_ms"):
                 for m in maps:
@@ -448,10 +450,12 @@ class Pipeline:
                 with self.glc.timed(stats, "emitter_light_ms"):
                     self._emitter_grid.add_light(targets, gbuffer_uniforms(scene.camera), s,
                                                  self._emitter_shadows if s.emitter_shadows else None)
-            if scene.emission is not None:
+            if glowing:
                 with self.glc.timed(stats, "emission_ms"):
-                    self._emitted_light(scene, s, targets, levels, indirect)
-                    render_glow(self.glc, self._mesh[1], scene.camera, targets)
+                    if scene.emission is not None:
+                        self._emitted_light(scene, s, targets, levels, indirect)
+                    render_glow(self.glc, self._mesh[1], scene.camera, targets,
+                                (self._emitter_grid.emitters, drawn) if drawn else None)
         if s.indirect_method == "vpl_gather":
             with self.glc.timed(stats, "pixel_gather_ms"):
                 bind_gbuffer(targets)
@@ -460,7 +464,7 @@ class Pipeline:
                                            indirect.emitter_sets, s.singularity_bound / sets, self.vpl_pattern)
         with self.glc.timed(stats, "indirect_ms"):
             shade_indirect(self.glc, targets, scene.camera, indirect, len(levels), s.grid_phases, s.indirect_intensity,
-                           display_into is not None, sets - 1, glow=scene.emission is not None)
+                           display_into is not None, sets - 1, glow=glowing)
         self._accumulated = (view, sets, accumulated_vpls)
         self._shown_keys = tuple(keys)
         self.last_origin = scene.world_origin

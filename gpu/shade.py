@@ -121,21 +121,37 @@ def render_gbuffer(glc, mesh, camera, targets):
     targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
 
 
-def render_glow(glc, mesh, camera, targets):
-    """Draw the radiance of the emissive surfaces the camera sees into the glow image."""
+def render_glow(glc, mesh, camera, targets, point_emitters=None):
+    """Draw the radiance the camera sees of the emissive surfaces (when the mesh has
+    them) and of the point emitters (a buffer of emitter rows with a count, drawn as
+    discs behind the G-buffer's depth) into the glow image."""
     gl = glc.gl
-    program = glc.program("raster", "glow")
     _, framebuffer = targets.glow_images()
     framebuffer.use()
     framebuffer.viewport = (0, 0, *targets.size)
     framebuffer.clear(0.0, 0.0, 0.0, 0.0)
     gl.enable(moderngl.DEPTH_TEST)
-    gl.depth_func = "<="
-    mesh.emission.bind_to_storage_buffer(0)
-    first, _ = mesh.camera_triangles
-    set_uniforms(program, view_projection=camera.projection @ camera.view, first_triangle=first)
-    mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles)
-    gl.depth_func = "<"
+    view_projection = camera.projection @ camera.view
+    if mesh.emission is not None:
+        program = glc.program("raster", "glow")
+        gl.depth_func = "<="
+        mesh.emission.bind_to_storage_buffer(0)
+        first, _ = mesh.camera_triangles
+        set_uniforms(program, view_projection=view_projection, first_triangle=first)
+        mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles)
+        gl.depth_func = "<"
+    if point_emitters is not None:
+        buffer, count = point_emitters
+        program = glc.program("emitter_glow", "emitter_glow")
+        set_uniforms(program, view_projection=view_projection, camera_position=tuple(map(float, camera.position)),
+                     pixel_angle=2.0 / (abs(float(camera.projection[1, 1])) * targets.size[1]))
+        gl.enable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
+        gl.blend_func = moderngl.ONE, moderngl.ONE
+        buffer.bind_to_storage_buffer(0)
+        points = gl.vertex_array(program, [])
+        points.render(moderngl.POINTS, vertices=count)
+        points.release()
+        gl.disable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
 
 
 def shade_direct(glc, targets, camera, rsm, shadow_bias):

@@ -195,3 +195,26 @@ def test_the_emitters_light_the_same_at_any_scale(scale):
     assert psnr(images[scale, "grid"], images[scale, "brute_force"]) > 25.0
     assert abs(images[scale, "grid"].mean() / images[1.0, "grid"].mean() - 1) < 0.02
     assert abs(shaded[1].mean() / shaded[0].mean() - 1) < 0.02
+
+
+def test_a_particle_glows_with_its_own_light():
+    """The camera sees a particle as a disc of its radiance: its image, summed over the
+    pixels' solid angles, is the irradiance it gives the camera, Φ / (4π d²)."""
+    room = particle_room(1)
+    camera = room.camera
+    forward = -np.linalg.inv(camera.view)[:3, 2]
+    place = camera.position + 1.5 * forward
+    flux = np.array([3.0, 2.0, 1.0])
+    for area in (1e-6, 4e-4):  # a speck, and a disc some pixels wide
+        emitters = np.array([[*place, *flux, area]])
+        scene = Scene(room.triangles, room.normals, room.albedo, [], camera, point_emitters=emitters).sanitize()
+        settings = Settings(**SMALL)
+        pipeline = Pipeline(settings)
+        try:
+            frame = pipeline.render(scene, passes=("combined", "direct", "indirect"))
+        finally:
+            pipeline.release()
+        glow = frame.passes["combined"] - frame.passes["direct"] - frame.passes["indirect"]
+        pixel_angle = 2.0 / (camera.projection[1, 1] * settings.height)
+        seen = glow.reshape(-1, 3).sum(axis=0) * pixel_angle ** 2
+        assert np.allclose(seen, flux / (4 * np.pi * 1.5 ** 2), rtol=0.1), area

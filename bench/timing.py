@@ -31,7 +31,7 @@ def timed_frames(pipeline, scene, repeats, passes=None):
         pipeline.invalidate()
         stats = pipeline.render_converged(scene, **kwargs).stats
         samples.append({**stats, "total_ms": stats["converge_ms"]})
-    keys = (*STAGES, "total_ms")
+    keys = (*(key for key in STAGES if any(key in s for s in samples)), "total_ms")  # the stages that ran
     keys += tuple("gpu_" + key for key in keys[:-1] if any("gpu_" + key in s for s in samples))
     result = {key: statistics.median(s.get(key, 0.0) for s in samples) for key in keys}
     result["total_ms_spread"] = [min(s["total_ms"] for s in samples), max(s["total_ms"] for s in samples)]

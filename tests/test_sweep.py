@@ -50,7 +50,7 @@ def test_the_tiny_sweep_writes_a_json_a_plot_and_a_table(tmp_path, capsys, monke
     table = (out / "sweep_tiny.md").read_text()
     header = next(line for line in table.splitlines() if line.startswith("| method |"))
     assert header.startswith("| method | rsm_resolution | frame ms (spread) | RSM | warp | VPLs | G-buffer |")
-    assert "| inject |" in header and "| propagate |" in header and "| emitter grid |" not in header  # what ran
+    assert "| inject |" in header and "| gather |" in header and "| emitter grid |" not in header  # what ran
     assert "| PSNR dB vs Cycles one bounce | relMSE vs Cycles one bounce |" in table
     assert table.count("| CM | ") == 2 and table.count("| WDPM | ") == 2 and "| yes |" in table
     # The outputs again from the JSON alone (how a GPU machine's run is reported here).

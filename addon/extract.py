@@ -64,7 +64,7 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
             if lights:
                 found_lights.append(_light(obj, np.array(instance.matrix_world, dtype=np.float64)))
         elif geometry and obj.type in MESH_LIKE_TYPES:
-            if emitters.names and emitters.stands_for(instance):
+            if emitters.names and emitters.stands_for(instance, obj):
                 continue
             seen = _ray_visibility(instance)
             if not seen:

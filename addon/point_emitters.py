@@ -117,13 +117,14 @@ class PointEmitters:
                 scales = np.cbrt(np.abs(np.linalg.det(placed[:, :3, :3])))
                 self._add(obj, mesh, placed[:, :3, 3], scales, flux, area)
 
-    def stands_for(self, instance):
-        """Whether a depsgraph instance is one of the copies made point emitters (its
-        mesh's name first: the cheapest test of the million)."""
-        data = instance.object.data
-        if data is None or data.name not in self.names or not instance.is_instance or instance.parent is None:
+    def stands_for(self, instance, obj):
+        """Whether a depsgraph instance (whose object is `obj`) is one of the copies made
+        point emitters (its mesh's name first: the cheapest test of the million)."""
+        data = obj.data
+        if data is None or data.name not in self.names or not instance.is_instance:
             return False
-        return data.name in self.instancers.get(instance.parent.original.as_pointer(), ())
+        parent = instance.parent
+        return parent is not None and data.name in self.instancers.get(parent.original.as_pointer(), ())
 
     def array(self, origin):
         """The (M, 7) rows relative to `origin`, or None without emitters."""

@@ -6,7 +6,10 @@
 // first + batch) into `irradiance`, each side of the surface's apart (a triangle's
 // winding says nothing of where its room is); with `finish`, the receiver becomes a VPL
 // facing its brighter side: its flux its albedo (which its flux held) times that side's
-// irradiance times the area it stands for.
+// irradiance times the area it stands for. An emissive surface's emitter nearer a
+// receiver than GAP_VOXELS finest voxels lights it not: the occupancy cannot tell what
+// lies between (a ceiling over a panel hung just under it would send the panel's back
+// light past the panel, which holds it in); a point emitter's near light is kept.
 #include "common.glsl"
 #include "emitter.glsl"
 #include "levels_march.glsl"
@@ -25,6 +28,7 @@ uniform bool accumulate;
 uniform bool finish;
 
 shared vec3 sums[2][LANES];
+const float GAP_VOXELS = 3.0;  // finest voxels within which an emissive surface lights no receiver
 
 void main() {
     int index = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);
@@ -34,12 +38,14 @@ void main() {
     vec3 offset_along = EMITTER_OFFSET * level_voxels[0] * r.normal.xyz;
     int offset = (index * 7919 + pattern) % stride;
     int last = min(first_sender + batch, sender_count);
+    float gap = GAP_VOXELS * level_voxels[0];
     int start = first_sender + (offset - first_sender % stride + stride) % stride;
     vec3 sum[2] = vec3[2](vec3(0.0), vec3(0.0));
     for (int j = start + lane * stride; j < last; j += LANES * stride) {
         Emitter e = senders[j];
         if (e.position.w <= 0.0) continue;
         vec3 d = r.position.xyz - e.position.xyz;
+        if (dot(d, d) < gap * gap && dot(e.normal.xyz, e.normal.xyz) > 0.5) continue;
         float facing = -dot(r.normal.xyz, d) * inversesqrt(max(dot(d, d), 1e-30));
         int side = facing > 0.0 ? 0 : 1;
         vec3 light = emitter_light(e, d) * abs(facing);

@@ -2,11 +2,11 @@
 
 An instancer (a particle system showing an object, or geometry nodes' instances of an
 object, a geometry or a collection) that places at least BULK_INSTANCES copies of an
-emissive mesh makes each copy one point
-emitter: its position, the mesh's emitted flux scaled by the copy's scale², and the
-area it comes from. Their places are read in bulk (`foreach_get` on the particles or on
-the instances' point cloud), never one instance at a time, and the depsgraph walk leaves
-those copies out of the triangles. Fewer copies stay meshes whose emissive surfaces are
+emissive mesh makes each copy one point emitter: its position, the mesh's emitted flux
+scaled by the copy's scale², and the area it comes from. Their places are read in bulk
+from the instancer's evaluated instances (`foreach_get` on their point cloud, which holds
+a particle system's shown particles too, at their size), never one instance at a time,
+and the depsgraph walk leaves those copies out of the triangles. Fewer copies stay meshes whose emissive surfaces are
 sampled exactly (gpu/surface_emitters.py).
 """
 import bpy
@@ -18,7 +18,6 @@ GEOMETRY_TYPES = {"MESH", "CURVES", "POINTCLOUD", "VOLUME", "GREASEPENCIL", "CUR
 """Object types whose evaluated geometry may hold instances."""
 NESTING = 4  # geometry sets within instances read at most this deep
 NESTED_INSTANCES = 256  # instances of one nested geometry set read one by one at most (a collection's objects)
-ALIVE = 2  # Particle.alive_state's index of 'ALIVE' (DEAD, UNBORN, ALIVE, DYING)
 
 
 def mesh_emission(mesh, palette):
@@ -48,7 +47,6 @@ class PointEmitters:
         for obj in depsgraph.objects:
             if not visible(obj):
                 continue
-            self._particles(obj, surfaces)
             self._geometry_instances(obj, surfaces)
 
     def _emission(self, mesh, palette_of):
@@ -65,27 +63,6 @@ class PointEmitters:
         self.rows.append(rows)
         self.instancers.setdefault(instancer.original.as_pointer(), set()).add(mesh.name)
         self.names.add(mesh.name)
-
-    def _particles(self, obj, surfaces):
-        for system in getattr(obj, "particle_systems", ()):
-            settings = system.settings
-            source = settings.instance_object if settings.render_type == "OBJECT" else None
-            if source is None or source.type != "MESH" or len(system.particles) < BULK_INSTANCES:
-                continue
-            flux, area = self._emission(source.data,
-                                        lambda: surfaces.palette(source, max(1, len(source.material_slots))))
-            if not flux.any():
-                continue
-            count = len(system.particles)
-            positions = np.empty(count * 3, dtype=np.float64)
-            system.particles.foreach_get("location", positions)
-            sizes = np.empty(count, dtype=np.float64)
-            system.particles.foreach_get("size", sizes)
-            state = np.empty(count, dtype=np.int32)
-            system.particles.foreach_get("alive_state", state)
-            shown = state == ALIVE
-            scale = sizes * float(np.cbrt(abs(np.linalg.det(np.array(source.matrix_world)[:3, :3]))))
-            self._add(obj, source.data, positions.reshape(-1, 3)[shown], scale[shown], flux, area)
 
     def _geometry_instances(self, obj, surfaces):
         if obj.type not in GEOMETRY_TYPES:

@@ -1,7 +1,7 @@
 """A closed 4 × 4 × 3 m grey room lit only by emissive particles: geometry nodes place
 copies of a small glowing icosphere on the vertices of a point mesh, a swirl over the
-floor (the room of bench/synthetic.py `particle_room`, made in Blender), so Cycles' light
-tree and the emitter grid light the same scene.
+floor (as in bench/synthetic.py `particle_room`, the flux given as luminance here), so
+Cycles' light tree and the emitter grid light the same scene.
 """
 import bpy
 import numpy as np
@@ -44,9 +44,9 @@ def build(particles=4096, total_flux=200.0, radius=0.002, seed=0, resolution=(32
 
 
 def _glowing_sphere(radius, flux, collection):
-    """An icosphere far below the room, hidden from renders, whose emission sends `flux`
-    W from its surface."""
-    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=radius, location=(0.0, 0.0, -100.0))
+    """An icosphere just under the floor (inside the scene's bounds, out of the room's
+    light), hidden from renders, whose emission sends `flux` W from its surface."""
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=radius, location=(0.0, 0.0, -0.05))
     sphere = bpy.context.object
     sphere.name = "Particle"
     areas = np.empty(len(sphere.data.polygons))

@@ -34,6 +34,8 @@ def sample_receivers(scene, count, pattern):
     proportion to area (stratified): position, face normal and the area each stands
     for, and the triangle's albedo in the flux row."""
     first, total = scene.light_triangles
+    if total == 0:  # every surface hidden from the lights: nothing to bounce from
+        return np.zeros((0, 3, 4), dtype=np.float32)
     corners = scene.triangles[first:first + total].astype(np.float64)
     cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     doubled = np.linalg.norm(cross, axis=1)
@@ -55,7 +57,9 @@ def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity
     """The receivers (rows of `sample_receivers`) lit by the emitter sets ((buffer,
     count) pairs), marching `occupancy`'s grids `layers`: an EmitterVPLs."""
     gl = glc.gl
-    count = len(receivers)
+    count = max(len(receivers), 1)
+    if not len(receivers):
+        receivers = np.zeros((1, 3, 4), dtype=np.float32)
     receiver_buffer = gl.buffer(receivers.tobytes())
     irradiance = gl.buffer(reserve=count * 32)
     lit = gl.buffer(reserve=count * EMITTER_BYTES)

@@ -28,6 +28,7 @@ from .vpl import EMITTER_BYTES
 CLUSTER_FLOATS = 8  # flux rgb, weight (r + g + b), weighted position xyz, weighted area
 BRUTE_FORCE_BATCH = 32768
 """Emitters one brute-force dispatch adds: llvmpipe ends a loop nest after 65,535 iterations."""
+EMITTERS_PER_DISPATCH = 64 * 65535  # GL promises 65,535 workgroups along x
 SKIP_BINS = 256  # logarithmic bins of skip_weak's histogram
 
 
@@ -55,6 +56,13 @@ def skip_weak(bound, cutoff):
     threshold = edges[np.searchsorted(below, cutoff * total, side="right") - 1]
     keep &= bound >= threshold
     return keep
+
+
+def dispatch_emitters(program, count, **uniforms):
+    """Run a shader with one invocation per emitter, EMITTERS_PER_DISPATCH at a time."""
+    for first in range(0, count, EMITTERS_PER_DISPATCH):
+        set_uniforms(program, first_emitter=first, **uniforms)
+        dispatch(program, min(EMITTERS_PER_DISPATCH, count - first), local=(64,))
 
 
 def grid_resolution(setting):
@@ -116,8 +124,7 @@ class EmitterGrid:
             program = self.glc.compute("emitter_expand", POINT_EMITTER_COLUMNS=POINT_EMITTER_COLUMNS)
             self._packed.bind_to_storage_buffer(0)
             self.emitters.bind_to_storage_buffer(1)
-            set_uniforms(program, emitter_count=count)
-            dispatch(program, count, local=(64,))
+            dispatch_emitters(program, count, emitter_count=count)
         self.count = count
         self._key = key
         self._built = None
@@ -137,8 +144,8 @@ class EmitterGrid:
             program = self.glc.compute("emitter_bin", CLUSTER_FLOATS=CLUSTER_FLOATS)
             self.emitters.bind_to_storage_buffer(0)
             self.clusters.bind_to_storage_buffer(1)
-            set_uniforms(program, emitter_count=self.count, **grid)
-            dispatch(program, self.count, local=(64,))
+            set_uniforms(program, **grid)
+            dispatch_emitters(program, self.count, emitter_count=self.count)
             program = self.glc.compute("emitter_reduce", CLUSTER_FLOATS=CLUSTER_FLOATS)
             for level in range(1, self.levels):
                 size = self.resolution >> level
@@ -151,7 +158,7 @@ class EmitterGrid:
             texture.bind_to_image(unit, read=False, write=True)
         set_uniforms(program, level_offsets=self.offsets, singularity_bound=singularity_bound,
                      luminance_weights=tuple(LUMINANCE_WEIGHTS), **grid)
-        dispatch(program, self.resolution ** 3, local=(64,))
+        dispatch(program, self.resolution, self.resolution, self.resolution, local=(4, 4, 4))
         self._built = built
 
     def _image(self, size):

@@ -1,6 +1,7 @@
 """The point emitters' shadows: the emitter grid heeds no occluders, so a light grid
-(gpu/light_grid.py, the indirect stage's: one grid, a second feed) gathers the emitters
-at its cell centres both through the occupancy and without it, and every pixel's emitter
+(gpu/light_grid.py, the indirect stage's machinery fed the emitters instead of VPLs,
+over the same grids, with an occupancy of its own) gathers the emitters at its cell
+centres both through the occupancy and without it, and every pixel's emitter
 light is scaled by the ratio of the two looked up there (shaders/emitter_visibility.comp):
 particles in a closed box light nothing outside it, and a wall shades the room behind.
 The ratio is smooth at the cells' scale: shadows sharper than a cell are lost."""

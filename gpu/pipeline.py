@@ -546,6 +546,13 @@ class Pipeline:
         shadows' light grid over `grids`, and sample the emissive surfaces' emitters; the
         (buffer, count) sets whose light bounces, and a key of what they hold."""
         sources, key = [], ()
+        if not len(lit.emitters) or not s.emitter_shadows:
+            if self._emitter_shadows is not None:
+                self._emitter_shadows.release()
+                self._emitter_shadows = None
+        if not len(lit.emitters) and self._emitter_grid is not None:
+            self._emitter_grid.release()
+            self._emitter_grid = None
         if len(lit.emitters):
             resolution = grid_resolution(s.emitter_grid_resolution)
             if self._emitter_grid is None or self._emitter_grid.resolution != resolution:
@@ -567,14 +574,15 @@ class Pipeline:
                         self._mesh[1], [(self._emitter_grid.emitters, self._emitter_grid.count)], lit.flux_bound,
                         lit.bounds(scene.bounds()), s.singularity_bound, (lit.key, self._mesh[0], s.singularity_bound))
             sources.append((self._emitter_grid.emitters, self._emitter_grid.count))
-            key += lit.key[1:] + (lit.key[0],)
+            key += lit.key
         if scene.emission is not None:
             if self._emission is None:
                 self._emission = SurfaceEmission(self.glc)
             self._emission.sample(scene, s.emission_samples, self.vpl_pattern)
             sources.append((self._emission.emitters, self._emission.count))
             key += (scene.geometry_key(), s.emission_samples)
-        return sources, key + ((s.emitter_bounce_samples,) if sources else ())
+        # what the bounce marches through and bounds, whichever method gathers it
+        return sources, key + ((self._mesh[0], s.emitter_bounce_samples, s.singularity_bound) if sources else ())
 
     def _emitted_light(self, scene, s, targets, levels, indirect):
         """Add the direct light of the scene's emissive surfaces into the direct image,

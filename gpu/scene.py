@@ -182,7 +182,11 @@ def _sane_point_emitters(emitters, dropped):
     the rest."""
     if emitters is None:
         return None
-    rows = np.asarray(emitters, dtype=np.float64).reshape(-1, POINT_EMITTER_COLUMNS)
+    rows = np.asarray(emitters)
+    if rows.ndim != 2 or rows.shape[1] != POINT_EMITTER_COLUMNS or not np.issubdtype(rows.dtype, np.number):
+        raise LPVError(f"The point emitters are an array of shape {rows.shape}; give one row of "
+                       f"{POINT_EMITTER_COLUMNS} numbers per emitter: position xyz, flux rgb, area.")
+    rows = rows.astype(np.float32)
     with np.errstate(invalid="ignore"):
         good = np.isfinite(rows).all(axis=1) & (rows[:, 3:].min(axis=1) >= 0) & (rows[:, 3:6].max(axis=1) > 0)
     if not good.all():
@@ -281,8 +285,9 @@ class Scene:
         self.origin = self.world_origin + shift
         self.lights = [replace(light, position=light.position - shift) for light in self.lights]
         self.camera = None if self.camera is None else self.camera.moved_by(shift)
-        if self.point_emitters is not None:
-            emitters = np.array(self.point_emitters, dtype=np.float64).reshape(-1, POINT_EMITTER_COLUMNS)
+        if self.point_emitters is not None and np.ndim(self.point_emitters) == 2 and \
+                np.shape(self.point_emitters)[1] == POINT_EMITTER_COLUMNS:
+            emitters = np.array(self.point_emitters, dtype=np.float64)
             emitters[:, :3] -= shift
             self.point_emitters = emitters
         return np.asarray(triangles, dtype=np.float64) - shift

@@ -96,7 +96,8 @@ class Settings(Validated):
     emitter_bounce_samples: int = _param(2048, "Points on the surfaces that the emitters light (and their light "
                                                "bounces from) for the indirect light", 16, 65536)
     light_map_budget: int = _param(3, "Point lights that get light maps (the strongest at the view): the others "
-                                      "light through the emitter grid, without shadows", 0, 4096)
+                                      "light through the emitter grid, shadowed only as coarsely as emitter_shadows "
+                                      "shades it", 0, 4096)
     light_cutoff: float = _param(0.001, "Share of the light at the view that the weakest lights and emitters may "
                                         "give together and be skipped (bounded by intensity over distance²)",
                                  0.0, 0.5)

@@ -10,17 +10,18 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
 layout(std430, binding = 1) buffer Clusters { float clusters[]; };  // CLUSTER_FLOATS per cell
 uniform int emitter_count;
+uniform int first_emitter;  // this dispatch's first (a dispatch reaches 65,535 workgroups)
 uniform vec3 grid_origin;
 uniform float cell_size;
 uniform int grid_size;
 
 void main() {
-    int index = int(gl_GlobalInvocationID.x);
+    int index = first_emitter + int(gl_GlobalInvocationID.x);
     if (index >= emitter_count) return;
     Emitter e = emitters[index];
     float weight = e.flux.r + e.flux.g + e.flux.b;
     if (e.position.w <= 0.0 || !(weight > 0.0)) return;
-    ivec3 cell = clamp(ivec3(floor((e.position.xyz - grid_origin) / cell_size)), ivec3(0), ivec3(grid_size - 1));
+    ivec3 cell = ivec3(clamp(floor((e.position.xyz - grid_origin) / cell_size), vec3(0.0), vec3(grid_size - 1)));
     int at = CLUSTER_FLOATS * (cell.x + grid_size * (cell.y + grid_size * cell.z));
     for (int c = 0; c < 3; ++c) atomicAdd(clusters[at + c], e.flux[c]);
     atomicAdd(clusters[at + 3], weight);

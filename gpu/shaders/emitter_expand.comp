@@ -8,9 +8,10 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Packed { float columns[]; };
 layout(std430, binding = 1) writeonly buffer Emitters { Emitter emitters[]; };
 uniform int emitter_count;
+uniform int first_emitter;  // this dispatch's first (a dispatch reaches 65,535 workgroups)
 
 void main() {
-    int index = int(gl_GlobalInvocationID.x);
+    int index = first_emitter + int(gl_GlobalInvocationID.x);
     if (index >= emitter_count) return;
     int at = POINT_EMITTER_COLUMNS * index;
     Emitter e;

@@ -1,14 +1,10 @@
 #version 450 core
-// A point emitter's disc (emitter_glow.vert); overlapping ones add up.
+// A point emitter's disc, or its one pixel (emitter_glow.vert); overlapping ones add up.
 in vec3 glow_radiance;
 in float glow_radius;
 layout(location = 0) out vec4 out_glow;
 
 void main() {
-    if (glow_radius < 0.5) {
-        out_glow = vec4(glow_radiance * 3.14159265358979 * glow_radius * glow_radius, 1.0);
-        return;
-    }
-    if (length(gl_PointCoord - 0.5) * ceil(2.0 * glow_radius + 1.0) > glow_radius) discard;
+    if (glow_radius >= 0.5 && length(gl_PointCoord - 0.5) * ceil(2.0 * glow_radius + 1.0) > glow_radius) discard;
     out_glow = vec4(glow_radiance, 1.0);
 }

@@ -1,7 +1,7 @@
 #version 450 core
 // The emitter grid's textures (gpu/emitter_grid.py, seed 002): at every cell centre of
 // the finest level, the colour sum (the irradiance each emitter gives a surface facing
-// it, summed; its luminance in .a) and the direction sum (each one's luminance times its
+// it, summed) and the direction sum (each one's luminance times its
 // unit direction toward the emitter) kept as its positive and negative halves along each
 // axis, which are the irradiance of the six surfaces facing the axes. Every emitter counts once, through its cluster at
 // the coarsest level whose cell is still apart from the centre's: the 27 finest cells
@@ -11,7 +11,7 @@
 // its 1/r² bounded as its emitters' flux-weighted mean area says (their sum would dim
 // a cluster of many).
 #include "common.glsl"
-layout(local_size_x = 64) in;
+layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = 1) readonly buffer Clusters { float clusters[]; };
 layout(rgba32f, binding = 0) uniform writeonly image3D colour_sum;
 layout(rgba32f, binding = 1) uniform writeonly image3D direction_positive;
@@ -39,9 +39,8 @@ void add_cluster(int at, vec3 centre, inout vec3 colour, inout vec3 positive, in
 }
 
 void main() {
-    int index = int(gl_GlobalInvocationID.x);
-    if (index >= grid_size * grid_size * grid_size) return;
-    ivec3 cell = ivec3(index % grid_size, (index / grid_size) % grid_size, index / (grid_size * grid_size));
+    ivec3 cell = ivec3(gl_GlobalInvocationID);
+    if (any(greaterThanEqual(cell, ivec3(grid_size)))) return;
     vec3 centre = grid_origin + (vec3(cell) + 0.5) * cell_size;
     vec3 colour = vec3(0.0), positive = vec3(0.0), negative = vec3(0.0);
     for (int z = -1; z <= 1; ++z)
@@ -66,7 +65,7 @@ void main() {
                                 colour, positive, negative);
                 }
     }
-    imageStore(colour_sum, cell, vec4(colour, dot(colour, luminance_weights)));
+    imageStore(colour_sum, cell, vec4(colour, 0.0));
     imageStore(direction_positive, cell, vec4(positive, 0.0));
     imageStore(direction_negative, cell, vec4(negative, 0.0));
 }

@@ -86,15 +86,18 @@ def emitter_bytes(s, scene, pixels, lamps):
     unshadowed volumes, its occupancy and clusters, an image) and the receivers of their
     bounce, for the scene's point emitters and `lamps` point lights beyond the budget."""
     count = scene.point_emitter_count + lamps
+    bounce = s.emitter_bounce_samples * (2 * EMITTER_BYTES + 32) if count or scene.emission is not None else 0
+    if bounce and s.indirect_method == "lpv":  # the bounce's own occupancy
+        bounce += s.grid_levels * s.lpv_resolution ** 3 * (VOXELS_PER_CELL ** 3 + 1) + (VOXELS_PER_CELL * s.lpv_resolution) ** 2
     if not count:
-        return 0
+        return bounce
     side = grid_resolution(s.emitter_grid_resolution)
     grid = side ** 3 * (CLUSTER_FLOATS * 4 * 8 // 7 + 3 * 16) + count * (EMITTER_BYTES + POINT_EMITTER_COLUMNS * 4)
     n = s.lpv_resolution
     shadows = (2 * s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
                + scene.triangle_count * LARGE_TRIANGLE_BYTES + cluster_capacity(count) * CLUSTER_BYTES) \
         if s.emitter_shadows else 0
-    return grid + shadows + 2 * pixels * 16 + s.emitter_bounce_samples * (2 * EMITTER_BYTES + 32)
+    return grid + shadows + 2 * pixels * 16 + bounce
 
 
 def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
@@ -175,11 +178,24 @@ def check_limits(limits, renderer, settings, scene):
                        f"({limits['GL_MAX_3D_TEXTURE_SIZE']}); lower the LPV resolution.")
 
 
+FLOAT_ATOMICS = "GL_NV_shader_atomic_float"
+"""The extension the emitter grid's clustering adds floats with (shaders/emitter_bin.comp)."""
+
+
+def check_emitter_grid(extensions, renderer, settings, scene):
+    """Refuse a frame that needs the emitter grid on a driver without float atomics."""
+    lamps = len(scene.lights) - len(mapped_lights(settings, scene))
+    if settings.emitter_light == "grid" and (scene.point_emitter_count or lamps) and FLOAT_ATOMICS not in extensions:
+        raise LPVError(f"{renderer} lacks {FLOAT_ATOMICS}, which the emitter grid needs for the scene's point "
+                       f"emitters; set emitter_light to brute_force.")
+
+
 def check_frame_fits(glc, settings, scene, passes=PASS_NAMES, display=False, held_bytes=0):
     """Refuse, before anything is allocated, a frame the driver's limits or the memory
     free cannot hold; `held_bytes` of GPU memory are already allocated for it (a
     pipeline's earlier frame) and are used again."""
     check_limits(glc.gl.info, glc.renderer, settings, scene)
+    check_emitter_grid(glc.gl.extensions, glc.renderer, settings, scene)
     available = available_host_bytes()
     if available is None:
         return

@@ -24,7 +24,10 @@ brute force at that size takes minutes an emitter set, a smaller one."""
 
 
 def emitter_bench_size():
+    """The frame size of the emitter counts on this machine (SIZES)."""
     return SIZES["llvmpipe" if GLContext.shared().is_software else "gpu"]
+
+
 GRID_STAGES = ("emitter_upload_ms", "emitter_grid_ms", "emitter_light_ms", "total_ms")
 
 

@@ -12,7 +12,7 @@ most of the light (each shell of a uniform cloud gives as much as the last), so 
 emitter here reaches every cell, through a hierarchy of clusters (shaders/
 emitter_grid_build.comp): near cells see the finest clusters, far ones coarser clusters
 (flux, flux-weighted position), about a thousand clusters a cell whatever the emitter
-count. Emitters whose light at the view is negligible are dropped before (`skip_weak`).
+count. Emitters whose light at the view is negligible are dropped before (gpu/frame_lights.py).
 The grid heeds no occluders; gpu/emitter_shadows.py shades its light (docs/method.md).
 """
 import moderngl
@@ -21,41 +21,14 @@ import numpy as np
 from .colour import LUMINANCE_WEIGHTS
 from .context import dispatch, set_uniforms, zero_buffer
 from .settings import EMITTER_INTERPOLATIONS
-from .shade import bind_gbuffer
 from .scene import POINT_EMITTER_COLUMNS
+from .shade import bind_gbuffer
 from .vpl import EMITTER_BYTES
 
 CLUSTER_FLOATS = 8  # flux rgb, weight (r + g + b), weighted position xyz, weighted area
 BRUTE_FORCE_BATCH = 32768
 """Emitters one brute-force dispatch adds: llvmpipe ends a loop nest after 65,535 iterations."""
 EMITTERS_PER_DISPATCH = 64 * 65535  # GL promises 65,535 workgroups along x
-SKIP_BINS = 256  # logarithmic bins of skip_weak's histogram
-
-
-def light_bounds(positions, intensity, box, min_distance):
-    """Each emitter's bound on the irradiance it gives the box `box` (low, high): its
-    intensity over the squared distance to the box, at least `min_distance`."""
-    low, high = (np.asarray(corner, dtype=np.float32) for corner in box)
-    gap = np.maximum(np.maximum(low - positions, positions - high), 0.0)
-    return intensity / np.maximum(np.einsum("ij,ij->i", gap, gap), np.float32(min_distance ** 2))
-
-
-def skip_weak(bound, cutoff):
-    """A mask of the emitters to keep, given their `light_bounds`: those dropped, the
-    weakest, give together at most `cutoff` of the sum of the bounds. The threshold comes
-    from a histogram of the bounds weighted by themselves, not a sort: a million emitters
-    take a pass, and a little less than `cutoff` may be dropped."""
-    total = float(bound.sum(dtype=np.float64))
-    keep = np.ones(len(bound), dtype=bool)
-    if cutoff <= 0 or not total > 0:
-        return keep
-    positive = bound[bound > 0].astype(np.float64)
-    edges = np.geomspace(positive.min(), positive.max() * (1 + 1e-9), SKIP_BINS + 1)
-    weights, _ = np.histogram(positive, bins=edges, weights=positive)
-    below = np.concatenate([[0.0], np.cumsum(weights)])  # the zeros are dropped first: they add nothing
-    threshold = edges[np.searchsorted(below, cutoff * total, side="right") - 1]
-    keep &= bound >= threshold
-    return keep
 
 
 def dispatch_emitters(program, count, **uniforms):
@@ -109,7 +82,7 @@ class EmitterGrid:
         says they are the last ones, into the buffers of the last ones when they hold them,
         and expand them into emitter rows on the GPU (shaders/emitter_expand.comp)."""
         if key == self._key and self.emitters is not None:
-            return False
+            return
         emitters = np.ascontiguousarray(emitters, dtype=np.float32)
         count = len(emitters)
         if self.emitters is not None and self.emitters.size < max(count, 1) * EMITTER_BYTES:
@@ -128,7 +101,6 @@ class EmitterGrid:
         self.count = count
         self._key = key
         self._built = None
-        return True
 
     def build(self, box, singularity_bound):
         """Cluster the emitters over the cube around `box` and fill the three textures (once

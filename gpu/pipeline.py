@@ -13,22 +13,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from .capacity import check_frame_fits
-from .colour import LUMINANCE_WEIGHTS
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
-from .emitter_grid import EmitterGrid, grid_resolution, light_bounds, skip_weak
+from .emitter_bounce import sample_receivers
+from .emitter_grid import EmitterGrid, grid_resolution
 from .emitter_shadows import EmitterShadows
 from .errors import LPVError
+from .frame_lights import frame_lights, seen_box
 from .grids import fit_grid, keep_or_move, level_boxes
 from .indirect import IndirectGrids
 from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
-from .scene import POINT_EMITTER_COLUMNS
 from .settings import DisplaySettings, Settings
 from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, render_gbuffer, render_glow, seen_points,
                     shade_direct, shade_indirect)
-from .emitter_bounce import sample_receivers
 from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES, warp_paraboloid_map
@@ -163,76 +162,6 @@ def sun_region(levels, bounds):
     if np.any(high <= low) or np.max(high - low) >= SUN_REGION_SHARE * np.max(bounds[1] - bounds[0]):
         return None
     return tuple(map(float, low)), tuple(map(float, high))
-
-
-def seen_box(levels, bounds):
-    """The coarsest grid level's box within the scene's bounds: where the camera looks."""
-    coarsest = levels[-1]
-    low = np.maximum(np.asarray(coarsest.origin), bounds[0])
-    high = np.maximum(np.minimum(np.asarray(coarsest.origin) + coarsest.cell_size * coarsest.size, bounds[1]), low)
-    return low, high
-
-
-@dataclass
-class FrameLights:
-    """What lights a frame: the lights that get maps, the point emitters (the scene's and
-    the point lights beyond the budget, (M, 7) float32 as gpu/scene.py holds them) with a
-    content key, and counts."""
-
-    mapped: list
-    emitters: np.ndarray
-    key: tuple
-    flux_bound: float
-    skipped_lights: int
-    skipped_emitters: int
-    lights_as_emitters: int
-
-    emitter_box: tuple = None  # (low, high) of the point emitters' positions
-
-    def bounds(self, scene_bounds):
-        """The scene's bounds grown to hold the point emitters (which may lie outside it)."""
-        if self.emitter_box is None:
-            return scene_bounds
-        return np.minimum(scene_bounds[0], self.emitter_box[0]), np.maximum(scene_bounds[1], self.emitter_box[1])
-
-
-def frame_lights(scene, settings, box, min_distance):
-    """Split the scene's lights and point emitters for a frame looking at `box`: the
-    weakest there, together under `light_cutoff` of the light, are skipped (a sun never
-    is); of the point lights left, the `light_map_budget` strongest get maps and the rest
-    join the point emitters."""
-    lights = scene.lights
-    emitters = scene.point_emitters if scene.point_emitters is not None else \
-        np.zeros((0, POINT_EMITTER_COLUMNS), np.float32)
-    luminance = LUMINANCE_WEIGHTS.astype(np.float32)
-    intensity = np.concatenate([np.array([light.peak_intensity @ luminance for light in lights], np.float32),
-                                emitters[:, 3:6] @ luminance / np.float32(4 * np.pi)])
-    positions = np.concatenate([np.array([light.position for light in lights], np.float32).reshape(-1, 3),
-                                emitters[:, :3]])
-    strength = light_bounds(positions, intensity, box, min_distance)
-    for index, light in enumerate(lights):
-        if light.kind == "SUN":
-            strength[index] = np.inf
-    keep = skip_weak(np.where(np.isinf(strength), 0.0, strength), settings.light_cutoff)
-    keep[:len(lights)] |= np.isinf(strength[:len(lights)])
-    kept_lights = [i for i in range(len(lights)) if keep[i]]
-    points = sorted((i for i in kept_lights if lights[i].kind == "POINT"), key=lambda i: -strength[i])
-    as_emitters = set(points[settings.light_map_budget:])
-    mapped = [lights[i] for i in kept_lights if i not in as_emitters]
-    extra = [lights[i] for i in sorted(as_emitters)]
-    kept_emitters = keep[len(lights):]
-    rows, placed = emitters, positions[len(lights):]
-    if not kept_emitters.all():
-        rows, placed = emitters[kept_emitters], placed[kept_emitters]
-    if extra:
-        lamps = np.array([[*light.position, *light.rgb_power, np.pi * light.radius ** 2] for light in extra],
-                         dtype=np.float32)
-        rows, placed = np.concatenate([rows, lamps]), np.concatenate([placed, lamps[:, :3]])
-    key = (scene.point_emitters_key(), np.packbits(kept_emitters).tobytes(), tuple(light.key() for light in extra))
-    flux_bound = float(rows[:, 3:6].sum(axis=0, dtype=np.float64).max()) if len(rows) else 0.0
-    emitter_box = (placed.min(axis=0), placed.max(axis=0)) if len(placed) else None
-    return FrameLights(mapped, rows, key, flux_bound, len(lights) - len(kept_lights), int((~kept_emitters).sum()),
-                       len(extra), emitter_box)
 
 
 @dataclass

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from lpv_preview.bench.synthetic import lamps_over_floor, particle_room
-from lpv_preview.gpu.emitter_grid import light_bounds, skip_weak
+from lpv_preview.gpu.frame_lights import light_bounds, skip_weak
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.metrics import psnr
 from lpv_preview.gpu.pipeline import Pipeline

@@ -29,8 +29,8 @@ def room_scene(quads_per_side, scale=1.0, light_position=(0.4, -0.3, 2.0), offse
 
 def particle_room(count, quads_per_side=4, total_flux=200.0, seed=0, scale=1.0):
     """The room lit only by `count` emissive particles (together `total_flux` W, warm
-    white, each 1 cm across) in a swirl over the floor, times `scale` (the flux by scale²:
-    the same irradiance). Sanitized."""
+    white, each of 79 mm² surface: a sphere 5 mm across) in a swirl over the floor, times
+    `scale` (the flux by scale²: the same irradiance). Sanitized."""
     rng = np.random.default_rng(seed)
     room = room_scene(quads_per_side, scale)
     turn = rng.random(count) * 6 * np.pi

@@ -207,7 +207,9 @@ class Scene:
     `emission` (T, 3) float32 is the radiance each triangle emits from both sides (None:
     none). `point_emitters` (M, 7) float32 are emitters too small to be surfaces
     (emissive particles and instances): position xyz, flux rgb (W, sent alike in every
-    direction) and the area it comes from (m², bounding 1/r² next to it; None: none).
+    direction) and the area of the surface it comes from (m²: the camera sees a sphere of
+    that surface, and 1/r² next to it is bounded as a disc of that area bounds it; None:
+    none).
     `approximated_materials` names the materials whose colour the extraction could only
     approximate. Positions, lights and camera are relative to the world point `origin`
     (float64; None: the world origin), which `sanitize` moves to the scene when it is far

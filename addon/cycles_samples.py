@@ -1,0 +1,83 @@
+"""Cycles samples of a view, for corrective texturing (issue 18, seed 001): a renderer
+loads a .blend once and renders border regions of a camera on request, Cycles keeping its
+scene between requests (persistent data), so a request costs little beyond its samples.
+A worker process holds one (addon/sample_workers.py)."""
+import os
+import shutil
+import tempfile
+import time
+from dataclasses import dataclass, field
+
+import bpy
+import numpy as np
+
+from ..gpu.errors import LPVError
+from .cycles_reference import (_PASS_BY_NAME, _apply_reference_settings, _enable_cycles, read_exr_passes,
+                               render_to_file)
+from .render_scene import view_layer_to_render
+
+SAMPLE_PASSES = ("DiffDir", "DiffInd", "DiffCol", "Combined")
+"""What a request returns: diffuse direct and indirect light, the diffuse colour they are
+divided by, and Cycles' Combined."""
+SAMPLE_BOUNCES = 12
+"""Bounces of every type in the samples: full global illumination, as the corrections aim at."""
+
+
+@dataclass
+class SampleResult:
+    """The request's passes (name -> (y1 - y0, x1 - x0, 3) float32, top row first) and
+    the seconds its render took."""
+
+    request: object  # the SampleRequest (sample_tasks.py)
+    passes: dict = field(repr=False)
+    seconds: float = 0.0
+
+
+class SampleRenderer:
+    """A .blend opened once, rendering requests with Cycles on the CPU."""
+
+    def __init__(self, blend_path):
+        if not os.path.isfile(blend_path):
+            raise LPVError(f"There is no .blend file '{blend_path}' for the Cycles sample workers; give a path "
+                           f"every worker can read.")
+        bpy.ops.wm.open_mainfile(filepath=blend_path, load_ui=False)
+        _enable_cycles()
+        self.scene = bpy.context.scene
+        self.view_layer = view_layer_to_render(self.scene)
+        self.scene.render.use_persistent_data = True
+        self._camera = None if self.scene.camera is None else tuple(map(tuple, self.scene.camera.matrix_world))
+        self._folder = tempfile.mkdtemp(prefix="lpv_cycles_samples_")  # one for every request: no setup each
+
+    def close(self):
+        shutil.rmtree(self._folder, ignore_errors=True)
+
+    def render(self, request):
+        """The SampleResult of `request`."""
+        scene, render = self.scene, self.scene.render
+        if scene.camera is None:
+            raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
+        exr_path = os.path.join(self._folder, "samples.exr")
+        _apply_reference_settings(scene, self.view_layer, exr_path, SAMPLE_PASSES, request.samples,
+                                  (0, request.samples), request.resolution, request.seed, SAMPLE_BOUNCES,
+                                  0.0, None, False)
+        render.image_settings.exr_codec = "NONE"  # written and read at once: compression only costs
+        x0, y0, x1, y1 = request.region
+        width, height = request.resolution
+        render.use_border, render.use_crop_to_border = True, True
+        render.border_min_x, render.border_max_x = x0 / width, x1 / width
+        render.border_min_y, render.border_max_y = 1 - y1 / height, 1 - y0 / height
+        camera = request.camera if request.camera is not None else self._camera
+        if camera is not None and tuple(map(tuple, scene.camera.matrix_world)) != camera:
+            scene.camera.matrix_world = [list(row) for row in camera]
+        started = time.perf_counter()
+        render_to_file(scene, exr_path)
+        passes = read_exr_passes(exr_path, self.view_layer.name,
+                                 {name: _PASS_BY_NAME[name].exr_layer for name in SAMPLE_PASSES})
+        size = (y1 - y0, x1 - x0)
+        for name, image in passes.items():
+            if image.shape[:2] != size:
+                raise LPVError(f"Cycles rendered a {image.shape[1]} x {image.shape[0]} region for a request of "
+                               f"{size[1]} x {size[0]} pixels.")
+        return SampleResult(request, {name: np.ascontiguousarray(image, np.float32) for name, image in passes.items()},
+                            time.perf_counter() - started)
+

@@ -1,0 +1,52 @@
+"""Cycles sample workers on Dask distributed (issue 18): each worker process keeps one
+SampleRenderer (addon/cycles_samples.py) per .blend, so the scene is loaded once a
+process; requests go out as Dask tasks, and a worker that dies mid-request loses nothing,
+the scheduler hands its tasks to another.
+
+`SampleWorkers(blend, workers=N)` starts a local cluster listening on the loopback
+address only; `SampleWorkers(blend, scheduler="tls://HOST:PORT", security=...)` joins a
+studio's cluster, over TLS only: a Dask scheduler runs whatever code it is sent, so it is
+never reached in the clear (README, "Cycles sample workers").
+"""
+from ..gpu.errors import LPVError
+from ..sample_tasks import render_request
+
+WORKER_DEATHS_ALLOWED = 3
+"""Worker deaths a request may see before it is given up (Dask's allowed-failures)."""
+
+
+class SampleWorkers:
+    """A Dask client and, for `workers`, the local cluster it owns."""
+
+    def __init__(self, blend_path, workers=None, scheduler=None, security=None):
+        import dask
+        from distributed import Client, LocalCluster
+        self.blend_path = blend_path
+        self.cluster = None
+        with dask.config.set({"distributed.scheduler.allowed-failures": WORKER_DEATHS_ALLOWED}):
+            if scheduler is not None:
+                if not scheduler.startswith("tls://"):
+                    raise LPVError(f"The Dask scheduler '{scheduler}' is not a tls:// address; a scheduler runs "
+                                   f"whatever code it is sent, so reach it over TLS only (see the README).")
+                self.client = Client(scheduler, security=security, timeout="20s")
+            else:
+                if workers is None or workers < 1:
+                    raise LPVError(f"Start 1 or more Cycles sample workers, not {workers}.")
+                self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                            host="127.0.0.1", dashboard_address=None)
+                self.client = Client(self.cluster)
+
+    def submit(self, request):
+        """A Dask future of the SampleResult of `request`."""
+        return self.client.submit(render_request, self.blend_path, request, pure=False)
+
+    def close(self):
+        self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *_):
+        self.close()

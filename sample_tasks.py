@@ -1,0 +1,50 @@
+"""The task a Cycles sample worker runs (addon/sample_workers.py) and its request and
+result, importable without bpy:
+a Dask worker process unpickles it before anything else, and `lpv_preview.addon` imports
+bpy, which must first find the module, not Blender's own scripts' package of that name
+(a worker process starts with its parent's sys.path, where `import bpy` put them)."""
+import re
+import sys
+from dataclasses import dataclass
+
+from .gpu.errors import LPVError
+
+BLENDER_SCRIPTS = re.compile(r"[/\\]bpy[/\\][0-9.]+[/\\]scripts")
+"""The folders of Blender's own scripts, which `import bpy` puts on sys.path."""
+_RENDERERS = {}  # in a worker process: .blend path -> SampleRenderer
+
+
+@dataclass(frozen=True)
+class SampleRequest:
+    """Samples of the pixels `region` (x0, y0, x1, y1: columns x0..x1-1 and rows y0..y1-1
+    of a `resolution` (width, height) image, row 0 at the top) seen by a camera whose
+    world matrix is `camera` (4 × 4 nested tuples; None: the scene's own), `samples` a
+    pixel with the sampling pattern of `seed`."""
+
+    region: tuple
+    resolution: tuple
+    samples: int
+    seed: int = 0
+    camera: tuple = None
+
+    def __post_init__(self):
+        x0, y0, x1, y1 = self.region
+        width, height = self.resolution
+        if not (0 <= x0 < x1 <= width and 0 <= y0 < y1 <= height) or self.samples < 1:
+            raise LPVError(f"A Cycles sample request of region {self.region} in a {width} x {height} image with "
+                           f"{self.samples} samples is out of range; ask for pixels inside the image, 1 sample or "
+                           f"more.")
+
+
+def render_request(blend_path, request):
+    """In a worker: the SampleResult of `request` on the .blend at `blend_path`, the .blend
+    opened once a process."""
+    if "bpy" not in sys.modules:
+        sys.path.sort(key=lambda folder: bool(BLENDER_SCRIPTS.search(folder)))  # the module's folder first
+    from .addon.cycles_samples import SampleRenderer
+    if blend_path not in _RENDERERS:
+        for renderer in _RENDERERS.values():
+            renderer.close()
+        _RENDERERS.clear()
+        _RENDERERS[blend_path] = SampleRenderer(blend_path)
+    return _RENDERERS[blend_path].render(request)

@@ -284,6 +284,36 @@ def particle_cases(counts, width, height, samples):
         yield count, scene_to_render(bpy_scene, (width, height)), reference.direct
 
 
+SAMPLE_BENCH_SIZE = (128, 128)
+
+
+def bench_sample_workers(args, log):
+    """Cycles sample requests' fixed and per-sample cost, and the workers' scaling, on the
+    Cornell box (bench/sample_rates.py), into sample_workers.json and .md."""
+    import platform
+
+    import bpy
+
+    from .addon.cycles_samples import SampleRenderer
+    from .addon.sample_workers import SampleRequest, SampleWorkers
+    from .bench.sample_rates import request_costs, worker_scaling, write_sample_report
+    with tempfile.TemporaryDirectory(prefix="lpv_samples_") as folder:
+        blend = os.path.join(folder, "cornell.blend")
+        demo.build("cornell", resolution=SAMPLE_BENCH_SIZE)
+        bpy.ops.wm.save_as_mainfile(filepath=blend)
+        renderer = SampleRenderer(blend)
+        try:
+            costs = request_costs(renderer.render, SampleRequest, SAMPLE_BENCH_SIZE, log=log)
+        finally:
+            renderer.close()
+        scaling = worker_scaling(lambda count: SampleWorkers(blend, workers=count), SampleRequest, SAMPLE_BENCH_SIZE,
+                                 log=log)
+    report = {"machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} CPU cores",
+              "scene": "Cornell box", "resolution": list(SAMPLE_BENCH_SIZE), "costs": costs, "scaling": scaling,
+              "command": command_line(args)}
+    return write_sample_report(report, args.out)
+
+
 def command_bench(args):
     """Table 1 on demo scenes (built with bpy) or .npz scene files (no Blender needed),
     a declared sweep (--sweep), the outputs of a sweep report again (--report), or the
@@ -302,6 +332,9 @@ def command_bench(args):
         from .bench.invariance import measure_invariances, write_invariances
         check_writable(args.out)
         return write_invariances(measure_invariances(log=log), args.out, command_line(args))
+    if args.sample_workers:
+        check_writable(args.out)
+        return bench_sample_workers(args, log)
     if args.emitters:
         from .bench.emitters import (emitter_bench_size, measure_against_cycles, measure_emitter_counts,
                                      measure_many_lights, write_emitter_report)
@@ -419,6 +452,9 @@ def build_parser():
     command.add_argument("--invariance", action="store_true",
                          help="measure the invariances (translation, grid shift, light frame, scale) per method "
                               "on the closed room (invariance.json and invariance.md in --out)")
+    command.add_argument("--sample-workers", action="store_true",
+                         help="measure Cycles sample requests (fixed cost, cost a sample) and samples a second with "
+                              "1, 2 and 4 Dask workers (sample_workers.json, sample_workers.md)")
     command.add_argument("--emitters", action="store_true",
                          help="measure the emitter grid against the emitter count (1 to 4^N, --emitters-up-to) and "
                               "64 point lights against one (emitters.json, emitters.md)")

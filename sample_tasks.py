@@ -36,15 +36,25 @@ class SampleRequest:
                            f"more.")
 
 
-def render_request(blend_path, request):
-    """In a worker: the SampleResult of `request` on the .blend at `blend_path`, the .blend
-    opened once a process."""
+def renderer(blend_path):
+    """In a worker: its SampleRenderer of the .blend at `blend_path`, opened once a process."""
     if "bpy" not in sys.modules:
         sys.path.sort(key=lambda folder: bool(BLENDER_SCRIPTS.search(folder)))  # the module's folder first
     from .addon.cycles_samples import SampleRenderer
     if blend_path not in _RENDERERS:
-        for renderer in _RENDERERS.values():
-            renderer.close()
+        for opened in _RENDERERS.values():
+            opened.close()
         _RENDERERS.clear()
         _RENDERERS[blend_path] = SampleRenderer(blend_path)
-    return _RENDERERS[blend_path].render(request)
+    return _RENDERERS[blend_path]
+
+
+def open_blend(blend_path):
+    """In a worker: open the .blend now (before requests come)."""
+    renderer(blend_path)
+
+
+def render_request(blend_path, request, threads=None):
+    """In a worker: the SampleResult of `request` on the .blend at `blend_path`, Cycles on
+    `threads` threads (None: all the machine's)."""
+    return renderer(blend_path).render(request, threads)

@@ -51,8 +51,8 @@ class SampleRenderer:
     def close(self):
         shutil.rmtree(self._folder, ignore_errors=True)
 
-    def render(self, request):
-        """The SampleResult of `request`."""
+    def render(self, request, threads=None):
+        """The SampleResult of `request`, Cycles on `threads` threads (None: all)."""
         scene, render = self.scene, self.scene.render
         if scene.camera is None:
             raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
@@ -61,6 +61,9 @@ class SampleRenderer:
                                   (0, request.samples), request.resolution, request.seed, SAMPLE_BOUNCES,
                                   0.0, None, False)
         render.image_settings.exr_codec = "NONE"  # written and read at once: compression only costs
+        render.threads_mode = "AUTO" if threads is None else "FIXED"
+        if threads is not None:
+            render.threads = threads
         x0, y0, x1, y1 = request.region
         width, height = request.resolution
         render.use_border, render.use_crop_to_border = True, True

@@ -1,0 +1,84 @@
+"""Cycles sample workers (issue 18): the fixed cost of one request and the cost of a
+sample, and samples a second with 1, 2 and 4 workers. bpy lives with the caller, who
+hands in a renderer, the request type (sample_tasks.py SampleRequest) and a way to start
+workers (`python -m lpv_preview bench --sample-workers`)."""
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+REGIONS = (1, 8, 32)  # square regions' sides, pixels
+SAMPLES = (1, 4, 16, 64)
+WORKER_COUNTS = (1, 2, 4)
+
+
+def request_costs(render, request_of, resolution, repeats=3, log=print):
+    """Seconds of requests of every region in REGIONS and sample count in SAMPLES (the
+    median of `repeats`, after one unmeasured request), and the least-squares fit
+    seconds = fixed + per_sample × pixels × samples."""
+    render(request_of((0, 0, 1, 1), resolution, 1))
+    rows = []
+    for side in REGIONS:
+        for samples in SAMPLES:
+            request = request_of((0, 0, side, side), resolution, samples)
+            times = []
+            for _ in range(repeats):
+                start = time.perf_counter()
+                render(request)
+                times.append(time.perf_counter() - start)
+            rows.append({"pixels": side * side, "samples": samples, "seconds": float(np.median(times))})
+            log(json.dumps(rows[-1]))
+    work = np.array([row["pixels"] * row["samples"] for row in rows], dtype=np.float64)
+    seconds = np.array([row["seconds"] for row in rows])
+    per_sample, fixed = np.polyfit(work, seconds, 1)
+    return {"rows": rows, "fixed_ms": float(fixed * 1e3), "samples_per_second": float(1.0 / per_sample)}
+
+
+def worker_scaling(start_workers, request_of, resolution, region=32, samples=16, requests_per_worker=16,
+                   log=print):
+    """Samples a second of `requests_per_worker` requests a worker of `region`² pixels at
+    `samples` each, for each count in WORKER_COUNTS; `start_workers(n)` gives a context
+    manager with `open_everywhere()`, `submit(request)` and `client.gather(futures)`
+    (addon/sample_workers.py). Every worker opens the .blend and renders one request
+    first (Cycles warm)."""
+    rows = []
+    width, height = resolution
+    for count in WORKER_COUNTS:
+        with start_workers(count) as workers:
+            workers.open_everywhere()
+            warm = [workers.submit(request_of((0, 0, region, region), resolution, 1, seed=-1 - i))
+                    for i in range(count)]
+            workers.client.gather(warm)
+            requests = [request_of(((i * region) % (width - region + 1), 0,
+                                       (i * region) % (width - region + 1) + region, region),
+                                      resolution, samples, seed=i) for i in range(count * requests_per_worker)]
+            start = time.perf_counter()
+            workers.client.gather([workers.submit(request) for request in requests])
+            seconds = time.perf_counter() - start
+        rows.append({"workers": count, "seconds": seconds,
+                     "samples_per_second": len(requests) * region * region * samples / seconds})
+        log(json.dumps(rows[-1]))
+    for row in rows:
+        row["speed_up"] = row["samples_per_second"] / rows[0]["samples_per_second"]
+    return rows
+
+
+def write_sample_report(report, out):
+    """sample_workers.json and sample_workers.md in the folder `out`."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "sample_workers.json").write_text(json.dumps(report, indent=1))
+    costs = report["costs"]
+    lines = [f"### Cycles sample requests ({report['machine']})", "",
+             f"One renderer, the {report['scene']} at {report['resolution'][0]}×{report['resolution'][1]}: a request "
+             f"costs {costs['fixed_ms']:.1f} ms beyond its samples, and Cycles traces "
+             f"{costs['samples_per_second']:,.0f} samples a second (least squares over the table).", "",
+             "| pixels | samples | ms |", "|---:|---:|---:|"]
+    lines += [f"| {row['pixels']} | {row['samples']} | {row['seconds'] * 1e3:.1f} |" for row in costs["rows"]]
+    lines += ["", "### Workers on Dask (local processes)", "", "| workers | samples / s | speed-up |", "|---:|---:|---:|"]
+    lines += [f"| {row['workers']} | {row['samples_per_second']:,.0f} | {row['speed_up']:.2f}× |"
+              for row in report["scaling"]]
+    lines += ["", f"Command: `{report['command']}`"]
+    (out / "sample_workers.md").write_text("\n".join(lines) + "\n")
+    return {"out": str(out)}

@@ -9,8 +9,6 @@ studio's cluster, over TLS only: a Dask scheduler runs whatever code it is sent,
 never reached in the clear (README, "Cycles sample workers").
 """
 from ..gpu.errors import LPVError
-import os
-
 from ..sample_tasks import SampleRequest, open_blend, render_request  # noqa: F401 (the request type, for callers)
 
 WORKER_DEATHS_ALLOWED = 3
@@ -37,9 +35,9 @@ class SampleWorkers:
                 self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                             host="127.0.0.1", dashboard_address=None)
                 self.client = Client(self.cluster)
-        # Cycles' threads a request: the machine's cores shared among the local workers
-        # (Cycles alone would take them all in each); a remote worker's machine decides
-        self.threads = max(1, (os.cpu_count() or 1) // workers) if self.cluster is not None else None
+        # a local worker is one core: Cycles alone would take them all in each (start as many
+        # workers as cores); a remote worker's own machine decides
+        self.threads = 1 if self.cluster is not None else None
 
     def open_everywhere(self):
         """Have every worker open the .blend now, so the first requests wait for none."""

@@ -9,6 +9,7 @@ import numpy as np
 
 from .context import set_uniforms
 from .occupancy import march_batch
+from .surface_emitters import points_on_triangles
 from .vpl import EMITTER_BYTES, GATHER_ROW
 
 RECEIVER_SENDERS = 256
@@ -36,17 +37,10 @@ def sample_receivers(scene, count, pattern):
     first, total = scene.light_triangles
     if total == 0:  # every surface hidden from the lights: nothing to bounce from
         return np.zeros((0, 3, 4), dtype=np.float32)
-    corners = scene.triangles[first:first + total].astype(np.float64)
-    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    doubled = np.linalg.norm(cross, axis=1)
-    cumulative = np.cumsum(doubled) / doubled.sum()
-    rng = np.random.default_rng(pattern)
-    picked = np.minimum(np.searchsorted(cumulative, (np.arange(count) + rng.random(count)) / count), total - 1)
-    root, v = np.sqrt(rng.random(count)), rng.random(count)
-    a, b, c = (corners[picked, k] for k in range(3))
+    picked, positions, cross, doubled = points_on_triangles(
+        scene.triangles[first:first + total].astype(np.float64), lambda doubled: doubled, count, pattern)
     rows = np.zeros((count, 3, 4), dtype=np.float32)
-    rows[:, 0, :3] = (1 - root)[:, None] * a + (root * (1 - v))[:, None] * b + (root * v)[:, None] * c
-    rows[:, 0, 3] = 1.0
+    rows[:, 0, :3], rows[:, 0, 3] = positions, 1.0
     rows[:, 1, :3] = cross[picked] / doubled[picked, None]
     rows[:, 1, 3] = doubled.sum() / 2 / count
     rows[:, 2, :3] = scene.albedo[first:first + total][picked]

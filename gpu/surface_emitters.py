@@ -13,23 +13,34 @@ from .shade import bind_gbuffer
 from .vpl_gather import VPLGather
 
 
+def points_on_triangles(corners, weight_of, count, pattern):
+    """`count` points on the triangles `corners` ((T, 3, 3) float64), drawn by stratified
+    sampling of the weights `weight_of(twice each triangle's area)` and uniformly within
+    each triangle, with the random numbers of `pattern` (the emitters' and the receivers'
+    sampling): (the triangles picked, the points, every triangle's corner cross product,
+    its length)."""
+    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    doubled_area = np.linalg.norm(cross, axis=1)
+    weights = weight_of(doubled_area)
+    cumulative = np.cumsum(weights) / weights.sum()
+    rng = np.random.default_rng(pattern)
+    picked = np.minimum(np.searchsorted(cumulative, (np.arange(count) + rng.random(count)) / count), len(weights) - 1)
+    root, v = np.sqrt(rng.random(count)), rng.random(count)
+    a, b, c = (corners[picked, k] for k in range(3))
+    positions = (1 - root)[:, None] * a + (root * (1 - v))[:, None] * b + (root * v)[:, None] * c
+    return picked, positions, cross, doubled_area
+
+
 def sample_surface_emitters(triangles, emission, count, pattern):
     """(2 count, 3, 4) float32 rows of shaders/emitter.glsl: `count` points on the
     triangles with non-zero `emission`, drawn by stratified sampling of their power (the
     luminance of their radiance times their area) with the random numbers of `pattern`."""
     emissive = np.flatnonzero(np.max(emission, axis=1) > 0)
-    corners = triangles[emissive].astype(np.float64)
-    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    doubled_area = np.linalg.norm(cross, axis=1)
     radiance = emission[emissive].astype(np.float64)
-    power = np.maximum(radiance @ LUMINANCE_WEIGHTS, 1e-30) * doubled_area / 2
-    cumulative = np.cumsum(power) / power.sum()
-    rng = np.random.default_rng(pattern)
-    picked = np.minimum(np.searchsorted(cumulative, (np.arange(count) + rng.random(count)) / count), len(power) - 1)
-    u, v = rng.random(count), rng.random(count)
-    root = np.sqrt(u)
-    a, b, c = (corners[picked, k] for k in range(3))
-    positions = (1 - root)[:, None] * a + (root * (1 - v))[:, None] * b + (root * v)[:, None] * c
+    luminance = np.maximum(radiance @ LUMINANCE_WEIGHTS, 1e-30)
+    picked, positions, cross, doubled_area = points_on_triangles(
+        triangles[emissive].astype(np.float64), lambda doubled: luminance * doubled / 2, count, pattern)
+    power = luminance * doubled_area / 2
     normals = cross[picked] / doubled_area[picked, None]
     # each sample stands for area A_t / (count p_t), p_t = power_t / total power
     area = (doubled_area[picked] / 2) * (power.sum() / power[picked]) / count

@@ -215,17 +215,24 @@ def set_uniforms(program, **values):
             member.value = value
 
 
-ZERO_DISPATCH_WORDS = 64 * 65535  # the most words one dispatch of zero_buffer.comp reaches
+ROW_INVOCATIONS = 64 * 65535
+"""Invocations one dispatch of a row of 64-wide workgroups reaches: GL promises 65,535
+workgroups along x."""
+
+
+def dispatch_row(program, count, first, **uniforms):
+    """Run a shader of 64-wide workgroups over `count` invocations, ROW_INVOCATIONS a
+    dispatch, the uniform named `first` telling each dispatch where it starts."""
+    for start in range(0, count, ROW_INVOCATIONS):
+        set_uniforms(program, **uniforms, **{first: start})
+        dispatch(program, min(ROW_INVOCATIONS, count - start), local=(64,))
 
 
 def zero_buffer(glc, buffer):
     """Zero `buffer` on the GPU (shaders/zero_buffer.comp)."""
-    program = glc.compute("zero_buffer")
     buffer.bind_to_storage_buffer(0)
     words = buffer.size // 4
-    for first in range(0, words, ZERO_DISPATCH_WORDS):
-        set_uniforms(program, word_count=words, first_word=first)
-        dispatch(program, min(ZERO_DISPATCH_WORDS, words - first), local=(64,))
+    dispatch_row(glc.compute("zero_buffer"), words, "first_word", word_count=words)
 
 
 def dispatch(program, *counts, local=(8, 8, 1)):

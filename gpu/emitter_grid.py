@@ -19,7 +19,7 @@ import moderngl
 import numpy as np
 
 from .colour import LUMINANCE_WEIGHTS
-from .context import dispatch, set_uniforms, zero_buffer
+from .context import dispatch, dispatch_row, set_uniforms, zero_buffer
 from .settings import EMITTER_INTERPOLATIONS
 from .scene import POINT_EMITTER_COLUMNS
 from .shade import bind_gbuffer
@@ -28,14 +28,6 @@ from .vpl import EMITTER_BYTES
 CLUSTER_FLOATS = 8  # flux rgb, weight (r + g + b), weighted position xyz, weighted area
 BRUTE_FORCE_BATCH = 32768
 """Emitters one brute-force dispatch adds: llvmpipe ends a loop nest after 65,535 iterations."""
-EMITTERS_PER_DISPATCH = 64 * 65535  # GL promises 65,535 workgroups along x
-
-
-def dispatch_emitters(program, count, **uniforms):
-    """Run a shader with one invocation per emitter, EMITTERS_PER_DISPATCH at a time."""
-    for first in range(0, count, EMITTERS_PER_DISPATCH):
-        set_uniforms(program, first_emitter=first, **uniforms)
-        dispatch(program, min(EMITTERS_PER_DISPATCH, count - first), local=(64,))
 
 
 def grid_resolution(setting):
@@ -97,7 +89,7 @@ class EmitterGrid:
             program = self.glc.compute("emitter_expand", POINT_EMITTER_COLUMNS=POINT_EMITTER_COLUMNS)
             self._packed.bind_to_storage_buffer(0)
             self.emitters.bind_to_storage_buffer(1)
-            dispatch_emitters(program, count, emitter_count=count)
+            dispatch_row(program, count, "first_emitter", emitter_count=count)
         self.count = count
         self._key = key
         self._built = None
@@ -117,7 +109,7 @@ class EmitterGrid:
             self.emitters.bind_to_storage_buffer(0)
             self.clusters.bind_to_storage_buffer(1)
             set_uniforms(program, **grid)
-            dispatch_emitters(program, self.count, emitter_count=self.count)
+            dispatch_row(program, self.count, "first_emitter", emitter_count=self.count)
             program = self.glc.compute("emitter_reduce", CLUSTER_FLOATS=CLUSTER_FLOATS)
             for level in range(1, self.levels):
                 size = self.resolution >> level

@@ -156,9 +156,7 @@ def sun_region(levels, bounds):
     otherwise."""
     if not levels:
         return None
-    coarsest = levels[-1]
-    low = np.maximum(np.asarray(coarsest.origin), bounds[0])
-    high = np.minimum(np.asarray(coarsest.origin) + coarsest.cell_size * coarsest.size, bounds[1])
+    low, high = seen_box(levels, bounds)
     if np.any(high <= low) or np.max(high - low) >= SUN_REGION_SHARE * np.max(bounds[1] - bounds[0]):
         return None
     return tuple(map(float, low)), tuple(map(float, high))
@@ -308,12 +306,12 @@ class Pipeline:
             raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
         if not scene.sanitized:
             scene.sanitize()
-        fits = (s, scene.geometry_key(), tuple(light.key() for light in scene.lights), tuple(passes),
-                display_into is not None)
+        fits = (s, scene.geometry_key(), tuple(light.key() for light in scene.lights), scene.point_emitters_key(),
+                tuple(passes), display_into is not None)
         if fits != self._fits:  # a viewport redraw of the same frame size and scene asks nothing again
             check_frame_fits(self.glc, s, scene, passes, display_into is not None, held_bytes=self.gpu_bytes())
             self._fits = fits
-        view = (scene.camera.key(), *fits[:3])
+        view = (scene.camera.key(), *fits[:4])
         adding = accumulate and self._accumulated is not None and self._accumulated[0] == view
         start = time.perf_counter()
         stats = {}
@@ -342,8 +340,7 @@ class Pipeline:
         if vpl_set is not None:
             self.vpl_pattern = vpl_set
         box = seen_box(levels, scene.bounds())
-        lit_key = (scene.point_emitters_key(), tuple(light.key() for light in scene.lights), tuple(map(tuple, box)),
-                   levels[0].cell_size, s.light_cutoff, s.light_map_budget)
+        lit_key = (fits[3], fits[2], tuple(map(tuple, box)), levels[0].cell_size, s.light_cutoff, s.light_map_budget)
         if self._frame_lights is None or self._frame_lights[0] != lit_key:
             self._frame_lights = (lit_key, frame_lights(scene, s, box, levels[0].cell_size))
         lit = self._frame_lights[1]

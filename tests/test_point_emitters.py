@@ -294,3 +294,19 @@ def test_a_malformed_emitter_array_is_refused_in_one_sentence(particles):
     with pytest.raises(LPVError, match=r"point emitters are an array of shape \(10, 6\); give one row of 7 numbers"):
         Scene(particles.triangles, particles.normals, particles.albedo, [], particles.camera,
               point_emitters=np.ones((10, 6))).sanitize()
+
+
+def test_particles_that_move_start_a_still_frame_again(particles):
+    """A converging frame averages VPL sets while nothing changes; particles that move
+    are a change."""
+    moved = np.array(particles.point_emitters)
+    moved[:, 2] += 0.1
+    shifted = Scene(particles.triangles, particles.normals, particles.albedo, [], particles.camera,
+                    point_emitters=moved).sanitize()
+    pipeline = Pipeline(Settings(**SMALL))
+    try:
+        pipeline.render(particles, passes=(), vpl_set=0, accumulate=True)
+        assert pipeline.render(particles, passes=(), vpl_set=1, accumulate=True).stats["vpl_sets"] == 2
+        assert pipeline.render(shifted, passes=(), vpl_set=2, accumulate=True).stats["vpl_sets"] == 1
+    finally:
+        pipeline.release()

@@ -120,7 +120,7 @@ def render_debug_passes(glc, targets, camera, light_maps, point_size):
     program = glc.program("vpl_splat", "vpl_splat")
     set_uniforms(program, view_projection=camera.projection @ camera.view,
                  camera_position=tuple(float(v) for v in camera.position), point_size=float(point_size),
-                 pixel_angle=2.0 / (abs(float(camera.projection[1, 1])) * targets.size[1]))
+                 pixel_angle=camera.pixel_angle(targets.size[1]))
     gl.enable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
     gl.blend_func = moderngl.ONE, moderngl.ONE
     points = gl.vertex_array(program, [])

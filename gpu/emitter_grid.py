@@ -22,7 +22,7 @@ from .colour import LUMINANCE_WEIGHTS
 from .context import dispatch, dispatch_row, set_uniforms, zero_buffer
 from .settings import EMITTER_INTERPOLATIONS
 from .scene import POINT_EMITTER_COLUMNS
-from .shade import bind_gbuffer
+from .shade import add_irradiance, bind_gbuffer
 from .vpl import EMITTER_BYTES
 
 CLUSTER_FLOATS = 8  # flux rgb, weight (r + g + b), weighted position xyz, weighted area
@@ -170,12 +170,7 @@ class EmitterGrid:
             image = self.shade(targets, uniforms, settings.emitter_interpolation)
         if shadows is not None:
             shadows.apply(targets, uniforms, image)
-            bind_gbuffer(targets)
-        program = self.glc.compute("add_irradiance")
-        image.use(location=2)
-        targets.direct.bind_to_image(0, read=True, write=True)
-        set_uniforms(program, **uniforms, gathered=2)
-        dispatch(program, *targets.size)
+        add_irradiance(self.glc, targets, uniforms, image)
 
     def resources(self):
         held = (self.clusters, *self.textures)

@@ -119,6 +119,11 @@ class Camera:
     def position(self):
         return np.linalg.inv(self.view)[:3, 3]
 
+    def pixel_angle(self, height):
+        """A pixel's width per unit distance in front of the camera, in an image `height`
+        pixels tall."""
+        return 2.0 / (abs(float(self.projection[1, 1])) * height)
+
     def moved_by(self, offset):
         """This camera with the world moved by -offset under it: for positions relative to
         a local origin `offset` (computed in float64)."""

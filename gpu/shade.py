@@ -144,7 +144,7 @@ def render_glow(glc, mesh, camera, targets, point_emitters=None):
         buffer, count = point_emitters
         program = glc.program("emitter_glow", "emitter_glow")
         set_uniforms(program, view_projection=view_projection, camera_position=tuple(map(float, camera.position)),
-                     pixel_angle=2.0 / (abs(float(camera.projection[1, 1])) * targets.size[1]))
+                     pixel_angle=camera.pixel_angle(targets.size[1]))
         gl.enable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
         gl.blend_func = moderngl.ONE, moderngl.ONE
         buffer.bind_to_storage_buffer(0)
@@ -152,6 +152,17 @@ def render_glow(glc, mesh, camera, targets, point_emitters=None):
         points.render(moderngl.POINTS, vertices=count)
         points.release()
         gl.disable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
+
+
+def add_irradiance(glc, targets, uniforms, irradiance):
+    """Add albedo / π times the `irradiance` image (a texture) into the direct image: the
+    light of emitters gathered or looked up at every pixel. `uniforms` are the G-buffer's."""
+    program = glc.compute("add_irradiance")
+    bind_gbuffer(targets)
+    irradiance.use(location=2)
+    targets.direct.bind_to_image(0, read=True, write=True)
+    set_uniforms(program, **uniforms, gathered=2)
+    dispatch(program, *targets.size)
 
 
 def shade_direct(glc, targets, camera, rsm, shadow_bias):

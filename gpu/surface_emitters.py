@@ -8,8 +8,7 @@ two cosine emitters facing either way, each of flux π L A, A the area it stands
 import numpy as np
 
 from .colour import LUMINANCE_WEIGHTS
-from .context import dispatch, set_uniforms
-from .shade import bind_gbuffer
+from .shade import add_irradiance
 from .vpl_gather import VPLGather
 
 
@@ -88,12 +87,7 @@ class SurfaceEmission:
         image. `uniforms` are the G-buffer's, its textures bound."""
         gather.occupancy.voxelise(mesh)
         gather.gather(targets, uniforms, camera_position, [(self.emitters, self.count)], singularity_bound, pattern)
-        program = self.glc.compute("add_irradiance")
-        bind_gbuffer(targets)
-        gather.filtered.use(location=2)
-        targets.direct.bind_to_image(0, read=True, write=True)
-        set_uniforms(program, **uniforms, gathered=2)
-        dispatch(program, *targets.size)
+        add_irradiance(self.glc, targets, uniforms, gather.filtered)
 
     def resources(self):
         held = self._own.resources() if self._own is not None else ()

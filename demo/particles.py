@@ -6,6 +6,7 @@ Cycles' light tree and the emitter grid light the same scene.
 import bpy
 import numpy as np
 
+from ..gpu.colour import LUMINANCE_WEIGHTS
 from .builder import MeshBuilder, add_camera, principled_material
 
 GREY = (0.6, 0.6, 0.6)
@@ -54,8 +55,7 @@ def _glowing_sphere(radius, flux, collection):
     glow = principled_material("Particle glow", (0.0, 0.0, 0.0))
     principled = glow.node_tree.nodes["Principled BSDF"]
     principled.inputs["Emission Color"].default_value = (*GLOW, 1.0)
-    principled.inputs["Emission Strength"].default_value = flux / (np.pi * areas.sum() * np.dot(GLOW, (0.2126, 0.7152,
-                                                                                                         0.0722)))
+    principled.inputs["Emission Strength"].default_value = flux / (np.pi * areas.sum() * np.dot(GLOW, LUMINANCE_WEIGHTS))
     sphere.data.materials.append(glow)
     sphere.hide_render = True  # the copies render, not the original
     return sphere

@@ -78,9 +78,10 @@ class IndirectGrids:
         with timed(stats, first):
             volume.occupancy.voxelise(mesh)
         emitters = [emitter for m in maps for emitter in m.emitter_sets()]
+        # the occupancy's grid of each level: a light grid's holds every phase, VPL gathering's the levels
+        layers = range(0, len(self.grids), len(self.grids) // len(self.levels)) if self.method == "light_grid" \
+            else range(len(self.levels))
         if settings.bounces > 1 and maps:
-            layers = range(0, len(self.grids), len(self.grids) // len(self.levels)) if self.method == "light_grid" \
-                else range(len(self.levels))
             with timed(stats, "bounce_ms"):
                 emitters = self.bounces.build(maps, settings.bounces, volume.occupancy, layers, bound, pattern)
             emitters += [(m.far_vpls.buffer, m.far_vpls.count) for m in maps if m.far_vpls is not None]
@@ -88,8 +89,6 @@ class IndirectGrids:
         else:
             self.bounces.release()
         if sources:
-            layers = range(0, len(self.grids), len(self.grids) // len(self.levels)) if self.method == "light_grid" \
-                else range(len(self.levels))
             with timed(stats, "emitter_bounce_ms"):
                 self.emitter_vpls = light_receivers(self.glc, receivers(), sources, volume.occupancy, layers, bound,
                                                     pattern)

@@ -10,9 +10,9 @@ surface a light does not see passes none of that light's on.
 """
 import math
 
-from .context import set_uniforms
+from .context import run_workgroups, set_uniforms
 from .occupancy import march_batch
-from .vpl import EMITTER_BYTES, GATHER_ROW
+from .vpl import EMITTER_BYTES
 
 RECEIVER_SENDERS = 256
 """Senders each VPL gathers from per bounce: a random subset (scaled up), so the cost is
@@ -59,8 +59,7 @@ class Bounces:
                 firsts = range(0, count, batch)
                 for first in firsts:
                     set_uniforms(program, first_sender=first, accumulate=first > 0, finish=first == firsts[-1])
-                    program.run(min(count, GATHER_ROW), -(-count // GATHER_ROW), 1)
-                    gl.memory_barrier()
+                    run_workgroups(program, count)
                 senders = made
             for buffer in (irradiance, *generations):
                 buffer.release()

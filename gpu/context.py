@@ -228,6 +228,17 @@ def dispatch_row(program, count, first, **uniforms):
         dispatch(program, min(ROW_INVOCATIONS, count - start), local=(64,))
 
 
+WORKGROUP_ROW = 32768
+"""Workgroups along x in `run_workgroups`: GL guarantees 65,535."""
+
+
+def run_workgroups(program, count):
+    """Run `count` workgroups of a shader that numbers them gl_WorkGroupID.y * rows +
+    gl_WorkGroupID.x (rows of WORKGROUP_ROW), its writes made visible."""
+    program.run(min(count, WORKGROUP_ROW), -(-count // WORKGROUP_ROW), 1)
+    program.ctx.memory_barrier()
+
+
 def zero_buffer(glc, buffer):
     """Zero `buffer` on the GPU (shaders/zero_buffer.comp)."""
     buffer.bind_to_storage_buffer(0)

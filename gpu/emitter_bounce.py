@@ -7,10 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .context import set_uniforms
+from .context import run_workgroups, set_uniforms
 from .occupancy import march_batch
 from .surface_emitters import points_on_triangles
-from .vpl import EMITTER_BYTES, GATHER_ROW
+from .vpl import EMITTER_BYTES
 
 RECEIVER_SENDERS = 256
 """Emitters of each set a receiver gathers from: a strided subset scaled up."""
@@ -72,8 +72,7 @@ def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity
         buffer.bind_to_storage_buffer(0)
         set_uniforms(program, sender_count=senders, first_sender=first, stride=stride, batch=batch,
                      accumulate=number > 0, finish=number == len(passes) - 1)
-        program.run(min(count, GATHER_ROW), -(-count // GATHER_ROW), 1)
-        gl.memory_barrier()
+        run_workgroups(program, count)
     for buffer in (receiver_buffer, irradiance):
         buffer.release()
     if not passes:

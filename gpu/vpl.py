@@ -13,10 +13,9 @@ from functools import lru_cache
 import moderngl
 import numpy as np
 
-from .context import dispatch, set_uniforms
+from .context import dispatch, run_workgroups, set_uniforms
 from .rsm import PROJECTION_PARABOLOID
 
-GATHER_ROW = 32768  # workgroups per row of the gather dispatch (GL guarantees 65535)
 EMITTER_BYTES = 3 * 16
 """A VPL's or any point emitter's bytes (shaders/emitter.glsl): position, normal, flux vec4s."""
 
@@ -200,8 +199,7 @@ class VPLSampler:
         cells.samples.bind_to_storage_buffer(0)
         cells.bounds.bind_to_storage_buffer(1)
         output.bind_to_storage_buffer(2)
-        program.run(min(cells.count, GATHER_ROW), -(-cells.count // GATHER_ROW), 1)
-        self.glc.gl.memory_barrier()
+        run_workgroups(program, cells.count)
         return VPLSet(output, cells.count)
 
     def release(self):

@@ -14,7 +14,7 @@ import math
 import moderngl
 import numpy as np
 
-from .context import dispatch, set_uniforms
+from .context import dispatch, set_uniforms, zero_buffer
 from .grids import fit_grid
 from .occupancy import VOXELS_PER_CELL, Occupancy, march_batch
 from .vpl import EMITTER_BYTES
@@ -76,8 +76,8 @@ class LightGrid:
             self.emitters = gl.buffer(reserve=capacity * EMITTER_BYTES)
             self.capacity = capacity
         self.keys.write(np.full(capacity, -1, dtype=np.int32).tobytes())
-        self.sums.clear()
-        self.count.clear()
+        zero_buffer(self.glc, self.sums)
+        zero_buffer(self.glc, self.count)
 
     def cluster(self, emitter_sets, flux_bound, cluster_grids):
         """Sum the emitters (buffers with counts) into clusters of `cluster_grids` (the

@@ -8,7 +8,7 @@ import math
 import moderngl
 import numpy as np
 
-from .context import dispatch, set_uniforms
+from .context import dispatch, set_uniforms, zero_buffer
 
 SH_C0 = 1 / (2 * math.sqrt(math.pi))
 SH_C1 = math.sqrt(3 / (4 * math.pi))
@@ -79,7 +79,7 @@ class LightPropagationVolume:
         """
         largest = flux_bound / math.pi * LOBE_C1
         self.fixed_point_scale = LPV_FIXED_POINT_RANGE / largest if largest > 0 else 1.0
-        self.accumulator.clear()
+        zero_buffer(self.glc, self.accumulator)
         program = self.glc.compute("lpv_inject")
         self.accumulator.bind_to_storage_buffer(1)
         for vpls in vpl_sets:
@@ -94,7 +94,7 @@ class LightPropagationVolume:
     def inject_geometry(self, rsms):
         """Add the RSM surfels' blocking potential into the geometry volume: one texel of
         every block of geometry_stride² stands for it."""
-        self.geometry_accumulator.clear()
+        zero_buffer(self.glc, self.geometry_accumulator)
         program = self.glc.compute("geometry_inject")
         self.geometry_accumulator.bind_to_storage_buffer(0)
         for rsm in rsms:

@@ -72,9 +72,7 @@ class PointEmitters:
         if cloud is None or len(cloud.points) < BULK_INSTANCES:
             return
         references = geometry.instance_references()
-        count = len(cloud.points)
-        which = np.empty(count, dtype=np.int32)
-        cloud.attributes[".reference_index"].data.foreach_get("value", which)
+        which = instance_references(cloud)
         transforms = None
         for index, reference in enumerate(references):
             chosen = which == index
@@ -84,12 +82,8 @@ class PointEmitters:
                 flux, area = self._emission(mesh, palette_of)
                 if not flux.any():
                     continue
-                if transforms is None:
-                    transforms = np.empty(count * 16, dtype=np.float32)
-                    cloud.attributes["instance_transform"].data.foreach_get("value", transforms)
-                    # the instances' matrices, column-major, placed by the instancer's world matrix
-                    transforms = np.array(obj.matrix_world, dtype=np.float64) @ \
-                        transforms.reshape(count, 4, 4).transpose(0, 2, 1).astype(np.float64)
+                if transforms is None:  # placed by the instancer's world matrix
+                    transforms = np.array(obj.matrix_world, dtype=np.float64) @ instance_matrices(cloud)
                 placed = transforms[chosen] @ local
                 scales = np.cbrt(np.abs(np.linalg.det(placed[:, :3, :3])))
                 self._add(obj, mesh, placed[:, :3, 3], scales, flux, area)
@@ -110,6 +104,21 @@ class PointEmitters:
         rows = np.concatenate(self.rows)
         rows[:, :3] -= origin
         return rows
+
+
+def instance_matrices(cloud):
+    """The (N, 4, 4) float64 matrices of the instances of an instances point cloud."""
+    count = len(cloud.points)
+    transforms = np.empty(count * 16, dtype=np.float32)
+    cloud.attributes["instance_transform"].data.foreach_get("value", transforms)
+    return transforms.reshape(count, 4, 4).transpose(0, 2, 1).astype(np.float64)  # stored column-major
+
+
+def instance_references(cloud):
+    """Each instance's index into its geometry's instance_references()."""
+    which = np.empty(len(cloud.points), dtype=np.int32)
+    cloud.attributes[".reference_index"].data.foreach_get("value", which)
+    return which
 
 
 def _reference_meshes(reference, surfaces, depth=0):
@@ -134,13 +143,8 @@ def _reference_meshes(reference, surfaces, depth=0):
     cloud = reference.instances_pointcloud() if depth < NESTING and hasattr(reference, "instances_pointcloud") \
         else None
     if cloud is not None and len(cloud.points) <= NESTED_INSTANCES:
-        count = len(cloud.points)
-        transforms = np.empty(count * 16, dtype=np.float32)
-        cloud.attributes["instance_transform"].data.foreach_get("value", transforms)
-        which = np.empty(count, dtype=np.int32)
-        cloud.attributes[".reference_index"].data.foreach_get("value", which)
         nested = reference.instance_references()
-        for transform, index in zip(transforms.reshape(count, 4, 4).transpose(0, 2, 1).astype(np.float64), which):
+        for transform, index in zip(instance_matrices(cloud), instance_references(cloud)):
             parts += [(inner, palette_of, transform @ local)
                       for inner, palette_of, local in _reference_meshes(nested[index], surfaces, depth + 1)]
     return parts

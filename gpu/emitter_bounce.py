@@ -9,7 +9,7 @@ import numpy as np
 
 from .context import run_workgroups, set_uniforms
 from .occupancy import march_batch
-from .surface_emitters import points_on_triangles
+from .surface_emitters import TrianglePoints
 from .vpl import EMITTER_BYTES
 
 RECEIVER_SENDERS = 256
@@ -30,25 +30,32 @@ class EmitterVPLs:
         self.buffer.release()
 
 
-def sample_receivers(scene, count, pattern):
-    """(count, 3, 4) float32 emitter rows on the triangles the lights see, drawn in
-    proportion to area (stratified): position, face normal and the area each stands
-    for, and the triangle's albedo in the flux row."""
-    first, total = scene.light_triangles
-    if total == 0:  # every surface hidden from the lights: nothing to bounce from
-        return np.zeros((0, 3, 4), dtype=np.float32)
-    picked, positions, cross, doubled = points_on_triangles(
-        scene.triangles[first:first + total].astype(np.float64), lambda doubled: doubled, count, pattern)
-    rows = np.zeros((count, 3, 4), dtype=np.float32)
-    rows[:, 0, :3], rows[:, 0, 3] = positions, 1.0
-    rows[:, 1, :3] = cross[picked] / doubled[picked, None]
-    rows[:, 1, 3] = doubled.sum() / 2 / count
-    rows[:, 2, :3] = scene.albedo[first:first + total][picked]
-    return rows
+class Receivers:
+    """The triangles the lights see, ready to be sampled in proportion to area."""
+
+    def __init__(self, scene):
+        first, total = scene.light_triangles
+        self.albedo = scene.albedo[first:first + total]
+        self.points = None if total == 0 else TrianglePoints(
+            scene.triangles[first:first + total].astype(np.float64), lambda doubled: doubled)
+
+    def rows(self, count, pattern):
+        """(count, 3, 4) float32 emitter rows drawn with the random numbers of `pattern`
+        (none when the lights see no surface): position, face normal and the area each
+        stands for, and the triangle's albedo in the flux row."""
+        if self.points is None:
+            return np.zeros((0, 3, 4), dtype=np.float32)
+        picked, positions = self.points.draw(count, pattern)
+        rows = np.zeros((count, 3, 4), dtype=np.float32)
+        rows[:, 0, :3], rows[:, 0, 3] = positions, 1.0
+        rows[:, 1, :3] = self.points.cross[picked] / self.points.doubled_area[picked, None]
+        rows[:, 1, 3] = self.points.doubled_area.sum() / 2 / count
+        rows[:, 2, :3] = self.albedo[picked]
+        return rows
 
 
 def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity_bound, pattern):
-    """The receivers (rows of `sample_receivers`) lit by the emitter sets ((buffer,
+    """The receivers (rows of `Receivers.rows`) lit by the emitter sets ((buffer,
     count) pairs), marching `occupancy`'s grids `layers`: an EmitterVPLs."""
     gl = glc.gl
     count = max(len(receivers), 1)

@@ -15,7 +15,7 @@ import numpy as np
 from .capacity import check_frame_fits
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
-from .emitter_bounce import sample_receivers
+from .emitter_bounce import Receivers
 from .emitter_grid import EmitterGrid, grid_resolution
 from .emitter_shadows import EmitterShadows
 from .errors import LPVError
@@ -187,6 +187,7 @@ class Pipeline:
         self._emitter_grid = None  # EmitterGrid of the point emitters
         self._emitter_shadows = None  # EmitterShadows of the point emitters, over the last frame's grids
         self._frame_lights = None  # (what it depends on, the last frame's FrameLights)
+        self._receivers = None     # (geometry key, Receivers of the emitters' bounce)
         self._targets = None
         self._shown_keys = ()      # the light cache keys of the last frame
         self._fits = None          # what the last frame that fitted the machine depended on
@@ -363,7 +364,7 @@ class Pipeline:
             if indirect is None:
                 indirect = IndirectGrids(self.glc, s.indirect_method, grids, s.grid_phases)
             indirect.build(maps, self._mesh[1], scene.bounds(), s, stats, self.vpl_pattern, sources,
-                           lambda: sample_receivers(scene, s.emitter_bounce_samples, self.vpl_pattern))
+                           lambda: self._receivers_of(scene).rows(s.emitter_bounce_samples, self.vpl_pattern))
             self._indirect = (indirect_key, indirect)
         indirect = self._indirect[1]
         drawn = len(lit.emitters) - lit.lights_as_emitters  # the scene's point emitters, not the lamps
@@ -510,6 +511,12 @@ class Pipeline:
         # what the bounce marches through and bounds, whichever method gathers it
         return sources, key + ((self._mesh[0], s.emitter_bounce_samples, s.singularity_bound) if sources else ())
 
+    def _receivers_of(self, scene):
+        """The emitters' bounce's Receivers of the scene's geometry, made once a geometry."""
+        if self._receivers is None or self._receivers[0] != scene.geometry_key():
+            self._receivers = (scene.geometry_key(), Receivers(scene))
+        return self._receivers[1]
+
     def _emitted_light(self, scene, s, targets, levels, indirect):
         """Add the direct light of the scene's emissive surfaces into the direct image,
         gathered through VPL gathering's own occupancy and images when that is the
@@ -540,6 +547,7 @@ class Pipeline:
         self._placement = None
         self._accumulated = None
         self._frame_lights = None
+        self._receivers = None
         for cached in ("_emission", "_emitter_grid", "_emitter_shadows"):
             if getattr(self, cached) is not None:
                 getattr(self, cached).release()

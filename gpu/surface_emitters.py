@@ -12,44 +12,61 @@ from .shade import add_irradiance
 from .vpl_gather import VPLGather
 
 
-def points_on_triangles(corners, weight_of, count, pattern):
-    """`count` points on the triangles `corners` ((T, 3, 3) float64), drawn by stratified
+class TrianglePoints:
+    """Points drawn on fixed triangles (`corners`, (T, 3, 3) float64) by stratified
     sampling of the weights `weight_of(twice each triangle's area)` and uniformly within
-    each triangle, with the random numbers of `pattern` (the emitters' and the receivers'
-    sampling): (the triangles picked, the points, every triangle's corner cross product,
-    its length)."""
-    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    doubled_area = np.linalg.norm(cross, axis=1)
-    weights = weight_of(doubled_area)
-    cumulative = np.cumsum(weights) / weights.sum()
-    rng = np.random.default_rng(pattern)
-    picked = np.minimum(np.searchsorted(cumulative, (np.arange(count) + rng.random(count)) / count), len(weights) - 1)
-    root, v = np.sqrt(rng.random(count)), rng.random(count)
-    a, b, c = (corners[picked, k] for k in range(3))
-    positions = (1 - root)[:, None] * a + (root * (1 - v))[:, None] * b + (root * v)[:, None] * c
-    return picked, positions, cross, doubled_area
+    each triangle: the emitters' and the receivers' sampling. The cross products and the
+    weights' cumulative sum are made once; each pattern draws its own points."""
+
+    def __init__(self, corners, weight_of):
+        self.corners = corners
+        self.cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        self.doubled_area = np.linalg.norm(self.cross, axis=1)
+        self.weights = weight_of(self.doubled_area)
+        self.cumulative = np.cumsum(self.weights) / self.weights.sum()
+
+    def draw(self, count, pattern):
+        """(the triangles picked, the points) of `count` points with the random numbers of
+        `pattern`."""
+        rng = np.random.default_rng(pattern)
+        picked = np.minimum(np.searchsorted(self.cumulative, (np.arange(count) + rng.random(count)) / count),
+                            len(self.weights) - 1)
+        root, v = np.sqrt(rng.random(count)), rng.random(count)
+        a, b, c = (self.corners[picked, k] for k in range(3))
+        return picked, (1 - root)[:, None] * a + (root * (1 - v))[:, None] * b + (root * v)[:, None] * c
+
+
+class EmissiveSurfaces:
+    """The triangles with non-zero emission, ready to be sampled in proportion to their
+    power (the luminance of their radiance times their area)."""
+
+    def __init__(self, triangles, emission):
+        emissive = np.flatnonzero(np.max(emission, axis=1) > 0)
+        self.radiance = emission[emissive].astype(np.float64)
+        luminance = np.maximum(self.radiance @ LUMINANCE_WEIGHTS, 1e-30)
+        self.points = TrianglePoints(triangles[emissive].astype(np.float64), lambda doubled: luminance * doubled / 2)
+
+    def rows(self, count, pattern):
+        """(2 count, 3, 4) float32 rows of shaders/emitter.glsl: `count` points drawn with
+        the random numbers of `pattern`, each two cosine emitters facing either side."""
+        points = self.points
+        picked, positions = points.draw(count, pattern)
+        power = points.weights
+        normals = points.cross[picked] / points.doubled_area[picked, None]
+        # each sample stands for area A_t / (count p_t), p_t = power_t / total power
+        area = (points.doubled_area[picked] / 2) * (power.sum() / power[picked]) / count
+        flux = np.pi * self.radiance[picked] * area[:, None]
+        rows = np.zeros((2, count, 3, 4), dtype=np.float32)
+        for side, sign in enumerate((1.0, -1.0)):
+            rows[side, :, 0, :3], rows[side, :, 0, 3] = positions, 1.0
+            rows[side, :, 1, :3], rows[side, :, 1, 3] = sign * normals, area
+            rows[side, :, 2, :3] = flux
+        return rows.reshape(2 * count, 3, 4)
 
 
 def sample_surface_emitters(triangles, emission, count, pattern):
-    """(2 count, 3, 4) float32 rows of shaders/emitter.glsl: `count` points on the
-    triangles with non-zero `emission`, drawn by stratified sampling of their power (the
-    luminance of their radiance times their area) with the random numbers of `pattern`."""
-    emissive = np.flatnonzero(np.max(emission, axis=1) > 0)
-    radiance = emission[emissive].astype(np.float64)
-    luminance = np.maximum(radiance @ LUMINANCE_WEIGHTS, 1e-30)
-    picked, positions, cross, doubled_area = points_on_triangles(
-        triangles[emissive].astype(np.float64), lambda doubled: luminance * doubled / 2, count, pattern)
-    power = luminance * doubled_area / 2
-    normals = cross[picked] / doubled_area[picked, None]
-    # each sample stands for area A_t / (count p_t), p_t = power_t / total power
-    area = (doubled_area[picked] / 2) * (power.sum() / power[picked]) / count
-    flux = np.pi * radiance[picked] * area[:, None]
-    rows = np.zeros((2, count, 3, 4), dtype=np.float32)
-    for side, sign in enumerate((1.0, -1.0)):
-        rows[side, :, 0, :3], rows[side, :, 0, 3] = positions, 1.0
-        rows[side, :, 1, :3], rows[side, :, 1, 3] = sign * normals, area
-        rows[side, :, 2, :3] = flux
-    return rows.reshape(2 * count, 3, 4)
+    """EmissiveSurfaces(triangles, emission).rows(count, pattern)."""
+    return EmissiveSurfaces(triangles, emission).rows(count, pattern)
 
 
 class SurfaceEmission:
@@ -61,13 +78,16 @@ class SurfaceEmission:
         self.emitters = None
         self.count = 0
         self._key = None
+        self._surfaces = None  # (geometry key, EmissiveSurfaces)
         self._own = None  # VPLGather over the last levels asked for
 
     def sample(self, scene, count, pattern):
         """Sample the emitters, once per scene geometry, count and pattern."""
         key = (scene.geometry_key(), count, pattern)
         if key != self._key:
-            rows = sample_surface_emitters(scene.triangles, scene.emission, count, pattern)
+            if self._surfaces is None or self._surfaces[0] != key[0]:
+                self._surfaces = (key[0], EmissiveSurfaces(scene.triangles, scene.emission))
+            rows = self._surfaces[1].rows(count, pattern)
             if self.emitters is not None:
                 self.emitters.release()
             self.emitters, self.count, self._key = self.glc.gl.buffer(rows.tobytes()), len(rows), key
@@ -98,4 +118,4 @@ class SurfaceEmission:
             self._own.release()
         if self.emitters is not None:
             self.emitters.release()
-        self.emitters, self._own, self._key = None, None, None
+        self.emitters, self._own, self._key, self._surfaces = None, None, None, None

@@ -287,7 +287,7 @@ class Pipeline:
         return maps
 
     def render(self, scene, settings=None, passes=PASS_NAMES, display_into=None, display_settings=None,
-               vpl_set=None, accumulate=False):
+               vpl_set=None, accumulate=False, read=True):
         """Render the scene from its camera; returns a Frame with the `passes` asked for
         (read back from the GPU; PASS_NAMES and the debug passes DEBUG_PASS_NAMES, whose
         splat size `display_settings` gives), and with `display_into` (a writable buffer
@@ -296,7 +296,9 @@ class Pipeline:
         the driver's limits or the memory free cannot hold is refused before anything of
         it is allocated (capacity.py).
 
-        `vpl_set` picks the VPLs' Poisson pattern (None: the one the last frame used).
+        `vpl_set` picks the VPLs' Poisson pattern (None: the one the last frame used). With
+        `read` false the passes are made but not read back (the Frame has none): a caller
+        that averages more sets reads them once, at the end.
         With `accumulate`, a frame of the same view, scene and settings as the last one
         averages its indirect light with the last one's, VPL set by VPL set (stats
         `vpl_sets`, `accumulated_vpls`); anything else starts the average again."""
@@ -395,11 +397,11 @@ class Pipeline:
         self._accumulated = (view, sets, accumulated_vpls)
         self._shown_keys = tuple(keys)
         self.last_origin = scene.world_origin
-        if any(name in DEBUG_PASS_NAMES for name in passes):
+        if read and any(name in DEBUG_PASS_NAMES for name in passes):
             with self.glc.timed(stats, "debug_ms"):
                 self.draw_debug_passes(scene, display_settings)
         with self.glc.timed(stats, "readback_ms"):
-            images = {name: targets.read(name) for name in passes}
+            images = {name: targets.read(name) for name in passes} if read else {}
             display = None if display_into is None else targets.read_display_into(display_into)
         stats["total_ms"] = (time.perf_counter() - start) * 1000.0
         warped = [m.warp for m in maps if m.warp is not None]
@@ -442,7 +444,8 @@ class Pipeline:
         after each. Stats: `converge_ms` the time of them all, each stage's ms their sum."""
         s = settings or self.settings
         start = time.perf_counter()
-        frame = self.render(scene, s, passes=passes, display_settings=display_settings, vpl_set=0)
+        single = s.converge_seconds <= 0 and s.converge_sets <= 1  # else the passes are read once, at the end
+        frame = self.render(scene, s, passes=passes, display_settings=display_settings, vpl_set=0, read=single)
         spent = {key: value for key, value in frame.stats.items() if key.endswith("_ms")}
         if s.converge_seconds > 0:
             done = lambda: time.perf_counter() - start >= s.converge_seconds  # noqa: E731
@@ -455,10 +458,12 @@ class Pipeline:
             for key, value in frame.stats.items():
                 if key.endswith("_ms") and key != "total_ms":
                     spent[key] = spent.get(key, 0.0) + value
-        if frame.stats["vpl_sets"] > 1:
+        if not single:
             if any(name in DEBUG_PASS_NAMES for name in passes):
-                self.draw_debug_passes(scene, display_settings)
-            frame.passes = {name: self._targets.read(name) for name in passes}
+                with self.glc.timed(spent, "debug_ms"):
+                    self.draw_debug_passes(scene, display_settings)
+            with self.glc.timed(spent, "readback_ms"):
+                frame.passes = {name: self._targets.read(name) for name in passes}
             frame.stats.update({key: value for key, value in spent.items() if key != "total_ms"})
         frame.stats["converge_ms"] = (time.perf_counter() - start) * 1000.0
         return frame

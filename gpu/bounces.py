@@ -15,9 +15,10 @@ from .occupancy import march_batch
 from .vpl import EMITTER_BYTES
 
 RECEIVER_SENDERS = 256
-"""Senders each VPL gathers from per bounce: a random subset (scaled up), so the cost is
-this many marches a VPL, whatever the VPL count; converging frames change the subset."""
-LANES = 64  # invocations sharing one receiver's senders (shaders/bounce.comp)
+"""Senders each VPL (and each receiver of the emitters' bounce, gpu/emitter_bounce.py)
+gathers from per bounce and set: a strided subset (scaled up), so the cost is this many
+marches a VPL, whatever the VPL count; converging frames change the subset."""
+LANES = 64  # invocations sharing one receiver's senders (shaders/bounce.comp, emitter_bounce.comp)
 
 
 class Bounces:

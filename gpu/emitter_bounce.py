@@ -7,14 +7,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .bounces import LANES, RECEIVER_SENDERS
 from .context import run_workgroups, set_uniforms
 from .occupancy import march_batch
 from .surface_emitters import TrianglePoints
 from .vpl import EMITTER_BYTES
-
-RECEIVER_SENDERS = 256
-"""Emitters of each set a receiver gathers from: a strided subset scaled up."""
-LANES = 64
 
 
 @dataclass

@@ -144,10 +144,19 @@ class _Evaluation:
         if node.type == "ADD_SHADER":
             return self.emitted(node.inputs[0], depth + 1) + self.emitted(node.inputs[1], depth + 1)
         if node.type == "MIX_SHADER":
-            weight = float(np.clip(self.value(node.inputs[0]), 0.0, 1.0))
+            weight = self.mix_weight(node)
             return ((1.0 - weight) * self.emitted(node.inputs[1], depth + 1)
                     + weight * self.emitted(node.inputs[2], depth + 1))
         return np.zeros(3)
+
+    def mix_weight(self, node):
+        """A Mix Shader's weight of its second shader: its factor, or a half when the
+        factor is linked (approximated), for the colour and the emission alike."""
+        factor = node.inputs[0]
+        if factor.is_linked:
+            self.approximated = True
+            return 0.5
+        return float(np.clip(factor.default_value, 0.0, 1.0))
 
     def value(self, socket):
         """A socket's own value as an array; a linked one is approximated by it."""
@@ -174,12 +183,7 @@ class _Evaluation:
             return self.colour(node.inputs["Color"], depth)
         if node.type in ("MIX_SHADER", "ADD_SHADER"):
             first, second = (node.inputs[1], node.inputs[2]) if node.type == "MIX_SHADER" else node.inputs[:2]
-            weight = 1.0
-            if node.type == "MIX_SHADER":
-                factor = node.inputs[0]
-                if factor.is_linked:
-                    self.approximated = True
-                weight = 0.5 if factor.is_linked else float(np.clip(factor.default_value, 0.0, 1.0))
+            weight = self.mix_weight(node) if node.type == "MIX_SHADER" else 1.0
             parts = [(1.0 - weight if node.type == "MIX_SHADER" else 1.0, self.shader(first, fallback, depth + 1)),
                      (weight, self.shader(second, fallback, depth + 1))]
             return self.combined(parts)

@@ -12,7 +12,7 @@ import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms
-from .shade import bind_gbuffer, gbuffer_uniforms
+from .shade import bind_gbuffer, draw_points, gbuffer_uniforms
 
 STATUS_COLOURS = np.array([
     (0.0, 0.0, 0.0),     # no warped map sees it / background texel in the map overlay
@@ -121,14 +121,8 @@ def render_debug_passes(glc, targets, camera, light_maps, point_size):
     set_uniforms(program, view_projection=camera.projection @ camera.view,
                  camera_position=tuple(float(v) for v in camera.position), point_size=float(point_size),
                  pixel_angle=camera.pixel_angle(targets.size[1]))
-    gl.enable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
-    gl.blend_func = moderngl.ONE, moderngl.ONE
-    points = gl.vertex_array(program, [])
-    for maps in light_maps:
-        maps.vpls.buffer.bind_to_storage_buffer(0)
-        points.render(moderngl.POINTS, vertices=maps.vpls.count)
-    gl.disable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
-    points.release()
+    gl.enable(moderngl.DEPTH_TEST)
+    draw_points(gl, program, [(maps.vpls.buffer, maps.vpls.count) for maps in light_maps])
     program = glc.compute("warp_status_pass")
     bind_gbuffer(targets)
     status.bind_to_image(0, read=True, write=True)

@@ -145,13 +145,20 @@ def render_glow(glc, mesh, camera, targets, point_emitters=None):
         program = glc.program("emitter_glow", "emitter_glow")
         set_uniforms(program, view_projection=view_projection, camera_position=tuple(map(float, camera.position)),
                      pixel_angle=camera.pixel_angle(targets.size[1]))
-        gl.enable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
-        gl.blend_func = moderngl.ONE, moderngl.ONE
+        draw_points(gl, program, [(buffer, count)])
+
+
+def draw_points(gl, program, point_sets):
+    """Draw one point per entry of each (buffer, count) of `point_sets` (the buffer at
+    storage binding 0, read by the vertex shader), added up into the framebuffer in use."""
+    gl.enable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
+    gl.blend_func = moderngl.ONE, moderngl.ONE
+    points = gl.vertex_array(program, [])
+    for buffer, count in point_sets:
         buffer.bind_to_storage_buffer(0)
-        points = gl.vertex_array(program, [])
         points.render(moderngl.POINTS, vertices=count)
-        points.release()
-        gl.disable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
+    points.release()
+    gl.disable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
 
 
 def add_irradiance(glc, targets, uniforms, irradiance):

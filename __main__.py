@@ -25,8 +25,9 @@ from . import demo
 from .gpu.errors import LPVError
 from .gpu.passes import render_passes
 from .gpu.scene_edits import LIGHT_KIND_NAMES
-from .gpu.settings import (COMPARISON_PARAMETERS, DISPLAY_PARAMETERS, INDIRECT_METHODS, METHODS, PARAMETERS,
-                           PRESETS, ComparisonSettings, describe_preset, preset_settings)
+from .gpu.settings import (COMPARISON_PARAMETERS, CORRECTION_PARAMETERS, DISPLAY_PARAMETERS, INDIRECT_METHODS, METHODS,
+                           PARAMETERS, PRESETS, ComparisonSettings, CorrectionSettings, describe_preset,
+                           preset_settings)
 
 # ---- flags shared by the commands ----
 
@@ -83,6 +84,25 @@ def add_debug_passes_flag(parser):
     debug = ", ".join(p.name for p in render_passes(debug=True) if p.debug)
     parser.add_argument("--debug-passes", action="store_true",
                         help=f"{DISPLAY_PARAMETERS['debug_passes'].metadata['description']} (EXR layers {debug})")
+
+
+def add_correction_flags(parser):
+    """--correct-seconds and --workers (gpu/settings.py CorrectionSettings), --scheduler."""
+    for name, flag, kind in (("correct_seconds", "--correct-seconds", float), ("correction_workers", "--workers", int)):
+        field = CORRECTION_PARAMETERS[name]
+        meta = field.metadata
+        parser.add_argument(flag, dest=name, type=kind, default=field.default,
+                            help=f"{meta['description']} ({meta['min']}..{meta['max']}, default {field.default})")
+    parser.add_argument("--scheduler", help="with --correct-seconds: the tls://HOST:PORT of a Dask scheduler whose "
+                                            "workers render the Cycles samples, its certificates in Dask's "
+                                            "configuration (README), instead of local workers")
+
+
+def correction_from(args):
+    """The CorrectionSettings the flags give, refused before any work when bad."""
+    if args.scheduler is not None and args.correct_seconds <= 0:
+        raise LPVError("--scheduler is for the corrections; give --correct-seconds too.")
+    return CorrectionSettings(args.correct_seconds, args.correction_workers)
 
 
 def settings_from(args, width, height):
@@ -155,11 +175,12 @@ def command_demo(args):
     from .addon.batch import render_to_files
     check_writable(args.out)
     check_setting_flags(args)
+    correction = correction_from(args)
     start = time.perf_counter()
     bpy_scene = demo.build(args.scene, **({"triangles": args.triangles} if args.triangles is not None else {}))
     build_ms = (time.perf_counter() - start) * 1000
     stats = render_to_files(bpy_scene, settings_for_blend(bpy_scene, args), pass_names(args), args.out,
-                            {"scene": args.scene, "build_ms": build_ms})
+                            {"scene": args.scene, "build_ms": build_ms}, correction, scheduler=args.scheduler)
     stats["command_ms"] = (time.perf_counter() - start) * 1000
     return stats
 
@@ -169,11 +190,15 @@ def command_render(args):
     frames = parse_frames(args.frames) if args.frames else None
     check_writable(args.out)
     check_setting_flags(args)
+    correction = correction_from(args)
+    if frames is not None and correction.correct_seconds > 0:
+        raise LPVError("--correct-seconds corrects one frame; render the animation without it.")
     start = time.perf_counter()
     bpy_scene = open_blend(args.file)
     settings, file = settings_for_blend(bpy_scene, args), os.path.abspath(args.file)
     if frames is None:
-        stats = render_to_files(bpy_scene, settings, pass_names(args), args.out, {"file": file})
+        stats = render_to_files(bpy_scene, settings, pass_names(args), args.out, {"file": file}, correction, file,
+                                args.scheduler)
     else:
         stats = {"file": file, **render_animation(bpy_scene, frames, settings, pass_names(args), args.out,
                                                   args.overwrite)}
@@ -314,6 +339,31 @@ def bench_sample_workers(args, log):
     return write_sample_report(report, args.out)
 
 
+CORRECTION_BENCH_SIZES = {"cornell": (128, 128), "atrium": (160, 90), "city": (160, 90)}
+CORRECTION_REFERENCE_SAMPLES = 4096
+
+
+def bench_corrections(args, log):
+    """The corrected preview against Cycles progressive and denoised over time, on the demo
+    scenes lit by lamps (bench/corrections.py), into corrections.json, .md and plots."""
+    import platform
+
+    from .addon.correction_runs import measure_scene
+    from .bench import corrections
+    cores = os.cpu_count()
+    scenes = []
+    with tempfile.TemporaryDirectory(prefix="lpv_corrections_") as folder:
+        for name, size in CORRECTION_BENCH_SIZES.items():
+            runs = measure_scene(name, lambda: demo.build(name, resolution=size), size, CORRECTION_REFERENCE_SAMPLES,
+                                 os.path.join(folder, f"{name}.blend"), cores, corrections, log)
+            scenes.append(corrections.scene_report(name, runs, CORRECTION_REFERENCE_SAMPLES))
+            log(json.dumps({key: scenes[-1][key] for key in ("name", "preview_error", "goals", "turn")}))
+    report = {"machine": f"{platform.processor() or platform.machine()}, {cores} CPU cores", "cores": cores,
+              "workers": cores, "reference_samples": CORRECTION_REFERENCE_SAMPLES, "scenes": scenes,
+              "command": command_line(args)}
+    return corrections.write_correction_report(report, args.out)
+
+
 def command_bench(args):
     """Table 1 on demo scenes (built with bpy) or .npz scene files (no Blender needed),
     a declared sweep (--sweep), the outputs of a sweep report again (--report), or the
@@ -335,6 +385,9 @@ def command_bench(args):
     if args.sample_workers:
         check_writable(args.out)
         return bench_sample_workers(args, log)
+    if args.corrections:
+        check_writable(args.out)
+        return bench_corrections(args, log)
     if args.emitters:
         from .bench.emitters import (emitter_bench_size, measure_against_cycles, measure_emitter_counts,
                                      measure_many_lights, write_emitter_report)
@@ -393,6 +446,7 @@ def build_parser():
     command.add_argument("--out", default="out", help="output folder (default: out)")
     add_setting_flags(command)
     add_debug_passes_flag(command)
+    add_correction_flags(command)
     command.set_defaults(run=command_demo)
 
     command = commands.add_parser("render", help="render a .blend file from its active camera")
@@ -402,6 +456,7 @@ def build_parser():
     command.add_argument("--overwrite", action="store_true", help="with --frames: render frames already written too")
     add_setting_flags(command)
     add_debug_passes_flag(command)
+    add_correction_flags(command)
     command.set_defaults(run=command_render)
 
     command = commands.add_parser("compare", help="measure the methods and their peers (EEVEE, denoised Cycles) "
@@ -455,6 +510,10 @@ def build_parser():
     command.add_argument("--sample-workers", action="store_true",
                          help="measure Cycles sample requests (fixed cost, cost a sample) and samples a second with "
                               "1, 2 and 4 Dask workers (sample_workers.json, sample_workers.md)")
+    command.add_argument("--corrections", action="store_true",
+                         help="the preview corrected toward Cycles by sample workers against Cycles progressive and "
+                              "denoised, error over wall time, on the demo scenes lit by lamps (corrections.json, "
+                              ".md, plots; minutes, and the references the first time)")
     command.add_argument("--emitters", action="store_true",
                          help="measure the emitter grid against the emitter count (1 to 4^N, --emitters-up-to) and "
                               "64 point lights against one (emitters.json, emitters.md)")

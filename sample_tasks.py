@@ -19,13 +19,15 @@ class SampleRequest:
     """Samples of the pixels `region` (x0, y0, x1, y1: columns x0..x1-1 and rows y0..y1-1
     of a `resolution` (width, height) image, row 0 at the top) seen by a camera whose
     world matrix is `camera` (4 × 4 nested tuples; None: the scene's own), `samples` a
-    pixel with the sampling pattern of `seed`."""
+    pixel with the sampling pattern of `seed`; `denoise`d by OpenImageDenoise as Cycles'
+    viewport denoises (what the corrections are measured against)."""
 
     region: tuple
     resolution: tuple
     samples: int
     seed: int = 0
     camera: tuple = None
+    denoise: bool = False
 
     def __post_init__(self):
         x0, y0, x1, y1 = self.region

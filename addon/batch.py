@@ -12,6 +12,7 @@ import bpy
 from ..gpu.errors import LPVError
 from ..gpu.image_io import read_exr_metadata, write_exr, write_png
 from ..gpu.pipeline import Pipeline, render_once
+from .corrective import corrected_frame
 from .render_scene import scene_to_render
 
 
@@ -37,13 +38,20 @@ def write_outputs(frame, out_dir, extra_stats):
     return stats
 
 
-def render_to_files(bpy_scene, settings, passes, out_dir, extra_stats):
+def render_to_files(bpy_scene, settings, passes, out_dir, extra_stats, correction=None, blend_path=None,
+                    scheduler=None):
     """Render `passes` of what F12 shows of `bpy_scene` with `settings` and write them to
-    `out_dir`; returns the statistics written."""
+    `out_dir`; returns the statistics written. With `correction` (CorrectionSettings)
+    asking for seconds, the combined image is corrected toward Cycles by sample workers
+    opening `blend_path` (None: a copy of the open file) on this machine, or on the Dask
+    cluster at `scheduler`."""
     start = time.perf_counter()
     scene = scene_to_render(bpy_scene, (settings.width, settings.height))
     extract_ms = (time.perf_counter() - start) * 1000
-    frame = render_once(scene, settings, passes=passes)
+    if correction is not None and correction.correct_seconds > 0:
+        frame = corrected_frame(scene, settings, passes, correction, blend_path, scheduler)
+    else:
+        frame = render_once(scene, settings, passes=passes)
     return write_outputs(frame, out_dir, {**extra_stats, "extract_ms": extract_ms})
 
 

@@ -10,17 +10,16 @@ from dataclasses import dataclass, field
 
 import bpy
 import numpy as np
+from mathutils import Matrix
 
 from ..gpu.errors import LPVError
-from .cycles_reference import (_PASS_BY_NAME, _apply_reference_settings, _enable_cycles, read_exr_passes,
-                               render_to_file)
+from .cycles_reference import (_PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, _apply_reference_settings,
+                               _enable_cycles, read_exr_passes, render_to_file)
 from .render_scene import view_layer_to_render
 
-SAMPLE_PASSES = ("DiffDir", "DiffInd", "DiffCol", "Combined")
-"""What a request returns: diffuse direct and indirect light, the diffuse colour they are
-divided by, and Cycles' Combined."""
-SAMPLE_BOUNCES = 12
-"""Bounces of every type in the samples: full global illumination, as the corrections aim at."""
+SAMPLE_PASSES = ("Combined",)
+"""What a request returns: all the light, what the corrections aim at (as the full-GI
+reference: its bounces and pixel filter)."""
 
 
 @dataclass
@@ -58,8 +57,9 @@ class SampleRenderer:
             raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
         exr_path = os.path.join(self._folder, "samples.exr")
         _apply_reference_settings(scene, self.view_layer, exr_path, SAMPLE_PASSES, request.samples,
-                                  (0, request.samples), request.resolution, request.seed, SAMPLE_BOUNCES,
-                                  0.0, None, False)
+                                  (0, request.samples), request.resolution, request.seed, REFERENCE_BOUNCES["full_gi"],
+                                  0.0, REFERENCE_FILTER_WIDTH,
+                                  request.denoise)
         render.image_settings.exr_codec = "NONE"  # written and read at once: compression only costs
         render.threads_mode = "AUTO" if threads is None else "FIXED"
         if threads is not None:
@@ -71,7 +71,7 @@ class SampleRenderer:
         render.border_min_y, render.border_max_y = 1 - y1 / height, 1 - y0 / height
         camera = request.camera if request.camera is not None else self._camera
         if camera is not None and tuple(map(tuple, scene.camera.matrix_world)) != camera:
-            scene.camera.matrix_world = [list(row) for row in camera]
+            scene.camera.matrix_world = Matrix(camera)  # a nested list would be read as columns
         started = time.perf_counter()
         render_to_file(scene, exr_path)
         passes = read_exr_passes(exr_path, self.view_layer.name,

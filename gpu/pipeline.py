@@ -26,8 +26,8 @@ from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
 from .settings import DisplaySettings, Settings
-from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, render_gbuffer, render_glow, seen_points,
-                    shade_direct, shade_indirect)
+from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, read_guide, render_gbuffer, render_glow,
+                    seen_points, shade_direct, shade_indirect)
 from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES, warp_paraboloid_map
@@ -467,6 +467,10 @@ class Pipeline:
             frame.stats.update({key: value for key, value in spent.items() if key != "total_ms"})
         frame.stats["converge_ms"] = (time.perf_counter() - start) * 1000.0
         return frame
+
+    def read_guide(self, scene):
+        """The last frame's G-buffer as a corrections Guide (gpu/corrections.py)."""
+        return read_guide(self.glc, self._targets, scene.camera)
 
     def draw_debug_passes(self, scene, display_settings=None):
         """Draw the last frame's debug passes (DEBUG_PASS_NAMES) into its images."""

@@ -4,7 +4,8 @@ This is the one source of truth: Blender properties, command-line flags and benc
 sweeps are generated from `PARAMETERS` or checked against it; the viewport overlays and
 debug passes, which change what is shown but rerun no stage, and the viewport's convergence,
 from `DISPLAY_PARAMETERS`;
-the comparison with Cycles from `COMPARISON_PARAMETERS`. `ALL_PARAMETERS` is every one
+the comparison with Cycles from `COMPARISON_PARAMETERS`; the corrections toward Cycles from
+`CORRECTION_PARAMETERS`. `ALL_PARAMETERS` is every one
 a Blender property mirrors. `PRESETS` are named sets of pipeline parameters.
 """
 from dataclasses import dataclass, field, fields, replace
@@ -168,10 +169,23 @@ class ComparisonSettings(Validated):
         return [method for method in INDIRECT_METHODS if getattr(self, f"compare_{method}")]
 
 
+@dataclass(frozen=True)
+class CorrectionSettings(Validated):
+    """How long a render is corrected toward Cycles and by how many local sample workers
+    (issue 18: addon/corrective.py)."""
+
+    correct_seconds: float = _param(0.0, "Seconds a rendered frame is corrected toward Cycles' full global "
+                                         "illumination by Cycles samples of its view, after the preview (0: not "
+                                         "corrected)", 0.0, 3600.0)
+    correction_workers: int = _param(2, "Cycles sample worker processes started on this machine for the "
+                                        "corrections, one CPU core each", 1, 256)
+
+
 PARAMETERS = {f.name: f for f in fields(Settings)}
 DISPLAY_PARAMETERS = {f.name: f for f in fields(DisplaySettings)}
 COMPARISON_PARAMETERS = {f.name: f for f in fields(ComparisonSettings)}
-ALL_PARAMETERS = {**PARAMETERS, **DISPLAY_PARAMETERS, **COMPARISON_PARAMETERS}
+CORRECTION_PARAMETERS = {f.name: f for f in fields(CorrectionSettings)}
+ALL_PARAMETERS = {**PARAMETERS, **DISPLAY_PARAMETERS, **COMPARISON_PARAMETERS, **CORRECTION_PARAMETERS}
 
 
 PRESETS = {

@@ -3,6 +3,7 @@ import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms
+from .corrections import Guide
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .settings import INDIRECT_METHODS
@@ -194,6 +195,26 @@ def seen_points(glc, targets, camera):
     dispatch(program, VIEW_LATTICE, VIEW_LATTICE)
     points = np.frombuffer(targets.seen.read(), dtype=np.float32).reshape(-1, 4)
     return points[points[:, 3] > 0, :3].astype(np.float64)
+
+
+def read_guide(glc, targets, camera):
+    """The G-buffer as a corrections Guide (gpu/corrections.py), top row first."""
+    width, height = targets.size
+    program = glc.compute("gbuffer_read")
+    bind_gbuffer(targets)
+    buffer = glc.gl.buffer(reserve=width * height * 48)
+    try:
+        buffer.bind_to_storage_buffer(0)
+        set_uniforms(program, **gbuffer_uniforms(camera), camera_position=tuple(map(float, camera.position)))
+        dispatch(program, width, height)
+        texels = np.frombuffer(buffer.read(), dtype=np.float32).reshape(height, width, 3, 4)[::-1]
+    finally:
+        buffer.release()
+    position, normal, albedo = (np.ascontiguousarray(texels[:, :, i, :3]) for i in range(3))
+    seen = texels[:, :, 0, 3] > 0
+    distance = np.linalg.norm(position - camera.position.astype(np.float32), axis=-1)
+    footprint = np.where(seen, distance, 0.0) * camera.pixel_angle(height)
+    return Guide(position, normal, albedo, seen, footprint.astype(np.float32))
 
 
 def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, display=False, accumulated=0,

@@ -1,6 +1,9 @@
-"""Cycles sample workers (issue 18, first step): a border region renders the pixels the
-whole image has there, and Dask workers lose no request when one dies mid-request. Real
-bpy and Cycles, a real Dask cluster of local processes."""
+"""Cycles sample workers and the corrections they feed (issue 18): a border region renders
+the pixels the whole image has there, a request's camera is the one rendered, Dask workers
+lose no request when one dies mid-request, and a corrected render comes closer to Cycles
+than its preview. Real bpy and Cycles, a real Dask cluster of local processes."""
+import json
+import math
 import time
 
 import numpy as np
@@ -9,9 +12,14 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from lpv_preview import demo  # noqa: E402
+from lpv_preview.__main__ import main  # noqa: E402
+from lpv_preview.addon.correction_runs import camera_at, turned  # noqa: E402
+from lpv_preview.addon.cycles_reference import cycles_reference, render_cycles_passes  # noqa: E402
 from lpv_preview.addon.cycles_samples import SampleRenderer  # noqa: E402
 from lpv_preview.addon.sample_workers import SampleWorkers  # noqa: E402
 from lpv_preview.gpu.errors import LPVError  # noqa: E402
+from lpv_preview.gpu.image_io import read_exr  # noqa: E402
+from lpv_preview.gpu.metrics import relative_mse  # noqa: E402
 from lpv_preview.sample_tasks import SampleRequest  # noqa: E402
 
 SIZE = (32, 24)
@@ -62,3 +70,51 @@ def test_no_request_is_lost_when_a_worker_dies(cornell_blend):
         results = workers.client.gather(futures)
     assert [result.request.seed for result in results] == list(range(6))
     assert all(result.passes["Combined"].shape == (SIZE[1], SIZE[0], 3) for result in results)
+
+
+def test_a_request_renders_its_own_camera(cornell_blend):
+    """A request's camera world matrix, not the file's, is the one Cycles renders (and the
+    file's again for a request without one)."""
+    bpy.ops.wm.open_mainfile(filepath=cornell_blend)
+    scene = bpy.context.scene
+    matrix = turned(scene.camera.matrix_world.copy(), 30.0)
+    with camera_at(scene, matrix):
+        expected = render_cycles_passes(scene, ("Combined",), 64, SIZE, 0, 12, 0.0, 0.01)["Combined"]
+    own = render_cycles_passes(scene, ("Combined",), 64, SIZE, 0, 12, 0.0, 0.01)["Combined"]
+    renderer = SampleRenderer(cornell_blend)
+    try:
+        turned_render = renderer.render(SampleRequest((0, 0, *SIZE), SIZE, 64, 5, tuple(map(tuple, matrix))))
+        own_render = renderer.render(SampleRequest((0, 0, *SIZE), SIZE, 64, 6))
+    finally:
+        renderer.close()
+    assert relative_mse(turned_render.passes["Combined"], expected) < 0.5 * relative_mse(
+        turned_render.passes["Combined"], own)
+    assert relative_mse(own_render.passes["Combined"], own) < 0.5 * relative_mse(own_render.passes["Combined"],
+                                                                                 expected)
+
+
+def test_a_corrected_render_comes_closer_to_cycles(tmp_path, capsys):
+    """`demo --correct-seconds 3 --workers 2`: samples come, and the combined image is far
+    closer to Cycles' full global illumination than the preview kept beside it."""
+    size = ("--width", "32", "--height", "24")
+    assert main(["demo", "--out", str(tmp_path), *size, "--correct-seconds", "3", "--workers", "2"]) == 0
+    captured = capsys.readouterr()
+    stats = json.loads(captured.out[captured.out.index("{\n"):])
+    assert stats["correction_samples"] > 0 and stats["correction_samples_per_second"] > 0
+    assert 0 < stats["correction_estimated_error"] < 1
+    passes = read_exr(str(tmp_path / "passes.exr"))
+    reference = cycles_reference(bpy.context.scene, "full_gi", 256, 0, SIZE).combined_pass
+    preview_error = relative_mse(passes["preview"], reference)
+    assert relative_mse(passes["combined"], reference) < 0.4 * preview_error
+    assert math.isfinite(preview_error)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["demo", "--scheduler", "tls://192.0.2.1:8786"], "give --correct-seconds too"),
+    (["render", "scene.blend", "--frames", "1-2", "--correct-seconds", "2"], "corrects one frame"),
+    (["demo", "--correct-seconds", "-1"], "correct_seconds"),
+])
+def test_bad_correction_flags_are_refused_before_any_work(argv, words, tmp_path, capsys):
+    assert main([*argv, "--out", str(tmp_path)]) == 2
+    error = capsys.readouterr().err.strip().splitlines()
+    assert len(error) == 1 and words in error[0]

@@ -1,0 +1,165 @@
+"""The seed's master (issue 18): keeps the Cycles sample workers busy with the priority
+queue's requests for the view at rest, adds what comes back to the corrections, and
+rebuilds the corrected frame when asked (gpu/corrections.py, gpu/correction_queue.py).
+
+A view is a gpu Camera with its preview and Guide and the camera's world matrix the
+workers render with; a new view keeps the corrections of the earlier ones that still
+apply. Results of a view the camera left still go into that view's layer.
+"""
+import os
+import time
+from contextlib import contextmanager
+
+import bpy
+
+from ..gpu.correction_queue import RequestQueue
+from ..gpu.corrections import Corrections
+from ..gpu.pipeline import Pipeline
+from .cycles_reference import temporary_folder
+from .sample_workers import SampleRequest, SampleWorkers
+
+REQUESTS_PER_WORKER = 2
+"""Requests kept in flight a worker: the next one is there when one ends."""
+FIRST_SEED = 1000
+"""Seeds of the requests count up from here, apart from the references' (0) and the peers' (1)."""
+
+
+class Corrector:
+    """Corrections of one scene from `workers` (addon/sample_workers.py SampleWorkers)."""
+
+    def __init__(self, workers):
+        self.workers = workers
+        self.corrections = Corrections()
+        self.in_flight = {}  # future -> (view key, region, samples a pixel)
+        self.seed = FIRST_SEED
+        self.view_key = self.queue = self.preview = self.camera_matrix = None
+        self.resolution = None
+        self.samples_received = self.requests_received = 0
+        self.started = None
+        self.worker_seconds = 0.0
+
+    def rest(self, key, camera, camera_matrix, preview, guide):
+        """The camera rests at the view `key`: its gpu Camera, the world matrix Cycles
+        renders it from (4 × 4 nested tuples), its preview ((h, w, 3)) and Guide."""
+        if key != self.view_key:
+            self.corrections.view(key, camera, guide)
+            self.view_key, self.camera_matrix = key, camera_matrix
+            self.resolution = guide.size
+            self.queue = RequestQueue(self.resolution)
+        self.preview = preview
+        return self.frame()
+
+    def frame(self):
+        """The corrected frame of the view at rest (a gpu.corrections Reconstruction); the
+        queue learns its errors."""
+        reconstruction = self.corrections.reconstruct(self.view_key, self.preview)
+        self.queue.update(reconstruction.error, self.corrections.gathered(self.view_key)[1])
+        return reconstruction
+
+    def fill(self):
+        """Send requests until every worker has REQUESTS_PER_WORKER."""
+        if self.started is None:
+            self.started = time.perf_counter()
+        wanted = REQUESTS_PER_WORKER * max(1, sum(self.workers.client.nthreads().values()))
+        while len(self.in_flight) < wanted:
+            region, spp = self.queue.next()
+            request = SampleRequest(region, self.resolution, spp, self.seed, self.camera_matrix)
+            self.seed += 1
+            self.in_flight[self.workers.submit(request)] = (self.view_key, region, spp)
+
+    def receive(self, timeout=None):
+        """Wait up to `timeout` seconds (None: until one comes) for results and add them;
+        returns how many came."""
+        from distributed import wait
+        self.fill()
+        done = [future for future in self.in_flight if future.done()]
+        if not done and timeout != 0:
+            try:
+                done = wait(list(self.in_flight), timeout=timeout, return_when="FIRST_COMPLETED").done
+            except TimeoutError:
+                return 0
+        for future in done:
+            key, region, spp = self.in_flight.pop(future)
+            result = future.result()
+            if self.corrections.add(key, region, result.passes["Combined"], spp):
+                self.samples_received += result.passes["Combined"].shape[0] * result.passes["Combined"].shape[1] * spp
+                self.requests_received += 1
+                self.worker_seconds += result.seconds
+            if key == self.view_key:
+                self.queue.done(region, spp, result.seconds)
+        return len(done)
+
+    def run(self, seconds, frames_at=(), stop=None):
+        """Receive for `seconds` (or until `stop()`), rebuilding the frame at each of the
+        times `frames_at` (seconds from now; what a viewport redraw would show then);
+        yields (seconds since the start, Reconstruction) for each of them and at the end."""
+        start = time.perf_counter()
+        pending = sorted(at for at in frames_at if at < seconds)
+        while True:
+            elapsed = time.perf_counter() - start
+            if elapsed >= seconds or (stop is not None and stop()):
+                break
+            until = min([seconds, *pending[:1]]) - elapsed
+            self.receive(timeout=max(0.0, min(until, 0.05)))  # the workers are kept busy first
+            elapsed = time.perf_counter() - start
+            if pending and elapsed >= pending[0]:
+                pending = [at for at in pending if at > elapsed]
+                frame = self.frame()
+                yield time.perf_counter() - start, frame
+        frame = self.frame()
+        yield time.perf_counter() - start, frame
+
+    def stats(self, reconstruction=None):
+        """Samples received, samples a second since the first request, the estimated error."""
+        elapsed = time.perf_counter() - self.started if self.started is not None else 0.0
+        stats = {"correction_samples": self.samples_received, "correction_requests": self.requests_received,
+                 "correction_samples_per_second": self.samples_received / elapsed if elapsed > 0 else 0.0}
+        if reconstruction is not None:
+            stats["correction_estimated_error"] = reconstruction.estimated_error
+        return stats
+
+    def cancel(self):
+        """Drop the requests in flight."""
+        for future in self.in_flight:
+            future.cancel()
+        self.in_flight.clear()
+
+
+@contextmanager
+def blend_for_workers(path=None):
+    """The .blend the workers open: `path` when it is the open file with nothing unsaved,
+    else a copy of the open file saved in a temporary folder for the while (the open file,
+    its path and its unsaved state are left as they are)."""
+    if path is not None and not bpy.data.is_dirty and os.path.abspath(bpy.data.filepath) == os.path.abspath(path):
+        yield path
+        return
+    with temporary_folder() as folder:
+        copy = os.path.join(folder, "corrections.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=copy, copy=True)
+        yield copy
+
+
+def corrected_frame(scene, settings, passes, correction, blend_path=None, scheduler=None, security=None):
+    """A frame of the gpu Scene `scene` (extracted from the open .blend) whose combined
+    pass is corrected toward Cycles for `correction.correct_seconds` by
+    `correction.correction_workers` local workers (or the Dask cluster at `scheduler`);
+    the uncorrected image is the pass `preview`, the statistics say what came."""
+    pipeline = Pipeline(settings)
+    try:
+        frame = pipeline.render_converged(scene, passes=tuple(dict.fromkeys(("combined", *passes))))
+        guide = pipeline.read_guide(scene)
+    finally:
+        pipeline.release()
+    with blend_for_workers(blend_path) as path:
+        with SampleWorkers(path, workers=None if scheduler else correction.correction_workers, scheduler=scheduler,
+                           security=security) as workers:
+            workers.open_everywhere()
+            corrector = Corrector(workers)
+            corrector.rest(scene.camera.key(), scene.camera, None, frame.passes["combined"], guide)
+            for _, reconstruction in corrector.run(correction.correct_seconds):
+                pass
+            corrector.cancel()
+    frame.passes["preview"] = frame.passes["combined"]
+    frame.passes["combined"] = reconstruction.image
+    frame.stats.update(corrector.stats(reconstruction))
+    return frame

@@ -1,0 +1,96 @@
+"""The seed's priority queue of Cycles sample requests (issue 18): which region of the view
+to ask for next, and how many samples a pixel.
+
+The image is cut into square tiles; a tile's priority is the error its next request is
+expected to remove for each second it costs. The error is the reconstruction's own
+estimate (gpu/corrections.py), so the seed's three sources are one rule: tiles no sample
+has reached yet carry the preview's assumed error and go first (the uniform requests),
+tiles the reprojected corrections of earlier views leave uncertain carry that (their
+largest errors), and a tile next to one with a large error shares part of it (its
+children). A tile's samples a pixel double from request to request, as progressive
+rendering's do, and a request carries at least REQUEST_SAMPLES samples so that its fixed
+cost stays a minority.
+"""
+import math
+
+import numpy as np
+
+TILES = 16
+"""About how many tiles an image is cut into (their side a power of two, 16 to 128 pixels)."""
+REQUEST_SAMPLES = 16384
+UNKNOWN_ERROR = 1e30
+"""A tile's error before any reconstruction: above any measured one."""
+CHILD_SHARE = 0.5
+"""Share of its largest neighbour's error a tile takes on."""
+FIXED_SECONDS = 0.006
+"""A request's cost beyond its samples until measured (docs/bench/cpu/sample_workers.md)."""
+SAMPLES_PER_SECOND = 250_000.0
+"""A worker's samples a second until measured."""
+
+
+class RequestQueue:
+    """Tiles of a `size` (width, height) view, their errors and the samples asked of them."""
+
+    def __init__(self, size):
+        width, height = size
+        side = int(np.clip(2 ** round(math.log2(math.sqrt(width * height / TILES))), 16, 128))
+        self.tiles = [(x0, y0, min(x0 + side, width), min(y0 + side, height))
+                      for y0 in range(0, height, side) for x0 in range(0, width, side)]
+        self.grid = (math.ceil(height / side), math.ceil(width / side))
+        self.pixels = np.array([(x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in self.tiles], dtype=np.float64)
+        self.error = np.full(len(self.tiles), np.inf)  # until the first reconstruction
+        self.samples = np.zeros(len(self.tiles))  # a pixel's samples at the last update
+        self.received = np.zeros(len(self.tiles))  # since then
+        self.pending = np.zeros(len(self.tiles))  # asked, not received
+        self.asked = {}  # (region, samples a pixel) -> the tiles of each such request in flight
+        self.fixed_seconds, self.samples_per_second = FIXED_SECONDS, SAMPLES_PER_SECOND
+
+    def update(self, error, samples):
+        """The reconstruction's per-pixel relative error and samples ((h, w) each), every
+        sample received so far in them."""
+        own = np.array([error[y0:y1, x0:x1].sum() for x0, y0, x1, y1 in self.tiles])
+        grid = own.reshape(self.grid)
+        padded = np.pad(grid, 1)
+        neighbours = np.max([padded[1 + dy:1 + dy + grid.shape[0], 1 + dx:1 + dx + grid.shape[1]]
+                             for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx], axis=0)
+        self.error = np.maximum(grid, CHILD_SHARE * neighbours).reshape(-1)
+        self.samples = np.array([samples[y0:y1, x0:x1].mean() for x0, y0, x1, y1 in self.tiles])
+        self.received[:] = 0.0
+
+    def done(self, region, spp, seconds):
+        """The request of `region` at `spp` came back after `seconds` on its worker: its
+        tiles' samples and the costs follow."""
+        asked = self.asked[(region, spp)]
+        tiles = asked.pop(0)
+        if not asked:
+            del self.asked[(region, spp)]
+        self.pending[tiles] -= spp
+        self.received[tiles] += spp
+        pace = max(seconds - self.fixed_seconds, 1e-6) / (self.pixels[tiles].sum() * spp)
+        self.samples_per_second = 0.8 * self.samples_per_second + 0.2 / pace
+
+    def next(self):
+        """The next request: (region, samples a pixel). A tile nothing was asked of yet is
+        asked for with the untouched tiles beside it in its row (one request, the fixed
+        cost once)."""
+        held = self.samples + self.received + self.pending
+        spp = np.maximum(np.ceil(REQUEST_SAMPLES / self.pixels), 2.0 ** np.floor(np.log2(np.maximum(held, 1.0))))
+        # the error falls as 1/samples: what remains of it now, and what the request takes away
+        remaining = np.where(np.isinf(self.error), UNKNOWN_ERROR, self.error * (self.samples + 1.0) / (held + 1.0))
+        gain = remaining * spp / (held + spp)
+        cost = self.fixed_seconds + self.pixels * spp / self.samples_per_second
+        tile = int(np.argmax(gain / cost))
+        tiles = [tile]
+        if held[tile] == 0:
+            first = last = tile
+            while first % self.grid[1] > 0 and held[first - 1] == 0:
+                first -= 1
+            while (last + 1) % self.grid[1] > 0 and held[last + 1] == 0:
+                last += 1
+            tiles = list(range(first, last + 1))
+            spp[tile] = max(1.0, math.ceil(REQUEST_SAMPLES / self.pixels[tiles].sum()))
+        region = (self.tiles[tiles[0]][0], self.tiles[tiles[0]][1], self.tiles[tiles[-1]][2], self.tiles[tiles[-1]][3])
+        key = (region, int(spp[tile]))
+        self.asked.setdefault(key, []).append(tiles)
+        self.pending[tiles] += spp[tile]
+        return key

@@ -1,0 +1,292 @@
+"""Corrective texturing toward Cycles (issue 18, seed 001): Cycles samples of the view
+correct the preview, and the corrections outlive a camera move.
+
+The corrections are projective layers, as the seed's corrective textures are projected
+from the viewpoint: one layer for every camera position the view rested at, holding per
+pixel the surface it saw (position, normal) and the Cycles samples received there,
+divided by the preview's albedo (lighting varies less than texture). A frame gathers
+every layer into its own pixels, a layer's pixel counting where the frame sees the same
+surface (within a pixel's footprint along the normal, normals alike) and a background
+pixel where the frame sees background the same way; older layers weigh less (aging).
+
+The frame's residual (Cycles minus its own preview) is then rebuilt over the image by
+normalised convolutions at growing scales that follow the G-buffer's edges, each pixel
+keeping the largest scale whose estimate agrees, within its noise, with every finer one
+(the intersection of confidence intervals). Where samples are sparse each pixel takes the
+nearest ones, blended where their regions meet, as the seed's blended Voronoi cells; where
+they are dense, their average over the pixel alone: the resolution follows the samples.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .colour import LUMINANCE_WEIGHTS
+from .errors import LPVError
+
+ALBEDO_FLOOR = 0.05
+"""Added to the albedo the samples are divided by and the corrections multiplied by: keeps
+black surfaces, emitters and the background finite."""
+SCALES = 7
+"""Levels of the reconstruction's à-trous filter beyond the pixel itself: steps 1 to 64 pixels."""
+CONFIDENCE = 2.0
+"""Half-width of a scale's confidence interval in standard deviations (the rule's Γ)."""
+NORMAL_POWER = 16
+"""Sharpness of the normals' edge: a neighbour counts as (n·n')^NORMAL_POWER (a power of two)."""
+PLANE_FOOTPRINTS = 1.0
+"""A neighbour off the pixel's plane by this many pixel footprints times the step counts e^-1."""
+SAME_SURFACE_NORMAL = 0.9
+SAME_SURFACE_FOOTPRINTS = 2.0
+"""A layer's pixel is the frame's surface when their normals' cosine is above
+SAME_SURFACE_NORMAL and it lies within this many footprints of the frame's plane."""
+LAYER_AGING = 0.5
+"""Weight a layer keeps each time the view comes to rest somewhere else."""
+MAX_LAYERS = 8
+UNSAMPLED_ERROR = 0.25
+"""Relative MSE assumed of the preview where no sample tells: what the first requests go for."""
+OUTLIER = 4.0
+"""A pixel whose own squared deviation from its window's mean passes this many times the window's
+variance (a firefly) is given its own: its samples then spread over a larger scale."""
+RELATIVE_EPSILON = 1e-2
+"""The relative MSE's epsilon (gpu/metrics.py relative_mse)."""
+
+
+@dataclass
+class Guide:
+    """What the preview's G-buffer says of every pixel, (height, width, ...) top row first:
+    the surface's position (where `seen`; elsewhere the ray's direction) in the scene's local
+    frame, its normal and albedo, and a pixel's width there (`footprint`)."""
+
+    position: np.ndarray
+    normal: np.ndarray
+    albedo: np.ndarray
+    seen: np.ndarray
+    footprint: np.ndarray
+
+    @property
+    def size(self):
+        return self.seen.shape[1], self.seen.shape[0]
+
+
+class Layer:
+    """The Cycles samples received at one rest of the camera."""
+
+    def __init__(self, camera, guide):
+        self.camera, self.guide = camera, guide
+        height, width = guide.seen.shape
+        self.sum = np.zeros((height, width, 3))  # samples × demodulated radiance
+        self.samples = np.zeros((height, width))
+        self.weight = 1.0
+
+    def add(self, region, combined, samples):
+        x0, y0, x1, y1 = region
+        demodulated = combined / (self.guide.albedo[y0:y1, x0:x1] + ALBEDO_FLOOR)
+        self.sum[y0:y1, x0:x1] += samples * demodulated
+        self.samples[y0:y1, x0:x1] += samples
+
+
+@dataclass
+class Reconstruction:
+    """A corrected frame: the image, the correction added to the preview, each pixel's
+    estimated relative MSE and the estimate's mean (`estimated_error`)."""
+
+    image: np.ndarray
+    correction: np.ndarray
+    error: np.ndarray
+    estimated_error: float
+
+
+class Corrections:
+    """The layers of one scene's views, newest last."""
+
+    def __init__(self):
+        self.layers = {}
+
+    def view(self, key, camera, guide):
+        """Come to rest at the view `key` (its gpu Camera and Guide): its layer, new unless
+        the view rested here before; the others age."""
+        if key in self.layers:
+            self.layers[key] = self.layers.pop(key)
+            return self.layers[key]
+        for layer in self.layers.values():
+            layer.weight *= LAYER_AGING
+        while len(self.layers) >= MAX_LAYERS:
+            self.layers.pop(next(iter(self.layers)))
+        self.layers[key] = Layer(camera, guide)
+        return self.layers[key]
+
+    def add(self, key, region, combined, samples):
+        """Samples of `region` (x0, y0, x1, y1) of the view `key`: `combined` the Cycles
+        radiance there ((y1 - y0, x1 - x0, 3)), `samples` a pixel. False when that view's
+        layer was dropped meanwhile."""
+        layer = self.layers.get(key)
+        if layer is None:
+            return False
+        x0, y0, x1, y1 = region
+        if combined.shape != (y1 - y0, x1 - x0, 3) or not np.all(np.isfinite(combined)):
+            raise LPVError(f"Cycles samples of region {region} came as {combined.shape} or not finite; the worker "
+                           f"rendered another image than asked.")
+        layer.add(region, combined, samples)
+        return True
+
+    def clear(self):
+        self.layers.clear()
+
+    def gathered(self, key):
+        """Every layer's samples as the view `key` sees them: (sum, samples) per pixel."""
+        frame = self.layers[key]
+        total, samples = frame.sum * frame.weight, frame.samples * frame.weight
+        for other in self.layers.values():
+            if other is not frame:
+                _project(other, frame, total, samples)
+        return total, samples
+
+    def reconstruct(self, key, preview):
+        """The frame of the view `key` whose preview is `preview` ((h, w, 3) linear), corrected."""
+        guide = self.layers[key].guide
+        total, samples = self.gathered(key)
+        return reconstruct(total, samples, preview, guide)
+
+
+def _project(layer, frame, total, samples):
+    """Add `layer`'s samples where `frame` sees the same surfaces into total and samples."""
+    source, target = layer.guide, frame.guide
+    height, width = target.seen.shape
+    used = layer.samples > 0
+    if not np.any(used):
+        return
+    points = source.position[used].astype(np.float64)
+    seen = source.seen[used]
+    homogeneous = np.concatenate([points, seen[:, None].astype(np.float64)], axis=1)  # background: directions
+    clip = homogeneous @ (frame.camera.projection @ frame.camera.view).T
+    ahead = clip[:, 3] > 1e-12
+    ndc = clip[:, :2] / np.where(ahead, clip[:, 3], 1.0)[:, None]
+    column = np.floor((ndc[:, 0] * 0.5 + 0.5) * width).astype(np.int64)
+    row = height - 1 - np.floor((ndc[:, 1] * 0.5 + 0.5) * height).astype(np.int64)
+    inside = ahead & (column >= 0) & (column < width) & (row >= 0) & (row < height)
+    pixel = np.where(inside, row * width + column, 0)
+    target_seen = target.seen.reshape(-1)[pixel]
+    normal = target.normal.reshape(-1, 3)[pixel].astype(np.float64)
+    offset = points - target.position.reshape(-1, 3)[pixel]
+    on_plane = np.abs(np.sum(offset * normal, axis=1)) < SAME_SURFACE_FOOTPRINTS * target.footprint.reshape(-1)[pixel]
+    facing = np.sum(source.normal[used] * normal, axis=1) > SAME_SURFACE_NORMAL
+    same = inside & np.where(seen, target_seen & on_plane & facing, ~target_seen)
+    pixel = pixel[same]
+    count = height * width
+    samples += np.bincount(pixel, layer.samples[used][same] * layer.weight, count).reshape(height, width)
+    sums = layer.sum[used][same] * layer.weight
+    for channel in range(3):
+        total[..., channel] += np.bincount(pixel, sums[:, channel], count).reshape(height, width)
+
+
+def reconstruct(total, samples, preview, guide):
+    """The corrected preview from per-pixel sums of demodulated Cycles samples (`total`,
+    `samples`), the preview and its Guide: the residual rebuilt scale by scale (module
+    docstring)."""
+    scale = guide.albedo.astype(np.float64) + ALBEDO_FLOOR
+    sampled = samples > 0
+    mean = total / np.maximum(samples, 1e-30)[..., None]
+    residual = np.where(sampled[..., None], mean - preview / scale, 0.0)
+    luminance = residual @ LUMINANCE_WEIGHTS
+    variance = _pooled_variance(luminance, samples)
+    numerator, denominator, spread = residual * samples[..., None], samples.copy(), samples * variance
+    height, width = samples.shape
+    # a pixel no sample reached takes no correction its preview's assumed error rules out
+    prior = CONFIDENCE * np.sqrt(UNSAMPLED_ERROR * ((preview @ LUMINANCE_WEIGHTS) ** 2 + RELATIVE_EPSILON))
+    prior /= scale @ LUMINANCE_WEIGHTS
+    lower, upper = np.where(sampled, -np.inf, -prior), np.where(sampled, np.inf, prior)
+    active = np.ones((height, width), dtype=bool)
+    chosen, chosen_variance = np.zeros((height, width, 3)), np.full((height, width), np.nan)
+    edges = _Edges(guide)
+    for level in range(SCALES + 1):
+        if level:
+            numerator, denominator, spread = edges.filter(numerator, denominator, spread, 2 ** (level - 1))
+        valid = denominator > 1e-12
+        safe = np.where(valid, denominator, 1.0)
+        estimate = numerator / safe[..., None]
+        estimate_variance = spread / (safe * safe)
+        centre = estimate @ LUMINANCE_WEIGHTS
+        half = CONFIDENCE * np.sqrt(estimate_variance)
+        low, high = np.maximum(lower, centre - half), np.minimum(upper, centre + half)
+        agrees = active & valid & (low <= high)
+        active &= ~valid | agrees
+        chosen[agrees], chosen_variance[agrees] = estimate[agrees], estimate_variance[agrees]
+        lower, upper = np.where(agrees, low, lower), np.where(agrees, high, upper)
+    known = np.isfinite(chosen_variance)
+    correction = chosen * scale
+    image = preview + correction
+    weight = scale @ LUMINANCE_WEIGHTS
+    reference = np.maximum(image @ LUMINANCE_WEIGHTS, 0.0)
+    # the scale's noise and a bias as large as its interval allows
+    error = np.where(known & sampled, (1 + CONFIDENCE ** 2) * np.nan_to_num(chosen_variance) * weight * weight,
+                     UNSAMPLED_ERROR * reference * reference) / (reference * reference + RELATIVE_EPSILON)
+    return Reconstruction(image.astype(np.float32), correction.astype(np.float32), error.astype(np.float32),
+                          float(np.mean(error)))
+
+
+def _box_sum(image, radius):
+    """Sums over (2 radius + 1)² windows, clipped at the borders."""
+    padded = np.pad(image, radius)
+    summed = padded.cumsum(0).cumsum(1)
+    summed = np.pad(summed, ((1, 0), (1, 0)))
+    side = 2 * radius + 1
+    return summed[side:, side:] - summed[:-side, side:] - summed[side:, :-side] + summed[:-side, :-side]
+
+
+def _pooled_variance(luminance, samples, radius=2):
+    """A sample's variance at each pixel, pooled over its window: from the samples' spread
+    around the window's mean (the residual's own variation counts too: conservative)."""
+    sampled = (samples > 0).astype(np.float64)
+    weights = _box_sum(samples, radius)
+    first = _box_sum(samples * luminance, radius)
+    second = _box_sum(samples * luminance * luminance, radius)
+    count = _box_sum(sampled, radius)
+    spread = second - first * first / np.maximum(weights, 1e-30)
+    pooled = np.where(count > 1, np.maximum(spread, 0.0) / np.maximum(count - 1, 1.0), np.nan)
+    fallback = np.nanmax(pooled) if np.any(np.isfinite(pooled)) else 1.0
+    pooled = np.where(np.isfinite(pooled), pooled, fallback)
+    # a pixel far from its window's mean (a firefly) is its own evidence of a wide spread
+    own = samples * (luminance - first / np.maximum(weights, 1e-30)) ** 2
+    return np.where(own > OUTLIER * pooled, own, pooled)
+
+
+class _Edges:
+    """The G-buffer's edges for the à-trous filter: a 3 × 3 B-spline kernel at a step,
+    neighbours weighted by plane distance and normals, surfaces and background apart."""
+
+    KERNEL = (0.25, 0.5, 0.25)
+
+    def __init__(self, guide):
+        self.position = guide.position.astype(np.float32)
+        self.normal = guide.normal.astype(np.float32)
+        self.seen = guide.seen
+        self.footprint = guide.footprint.astype(np.float32)
+
+    def filter(self, numerator, denominator, spread, step):
+        height, width = denominator.shape
+        sums = [np.zeros_like(numerator), np.zeros_like(denominator), np.zeros_like(spread)]
+        for dy, ky in zip((-1, 0, 1), self.KERNEL):
+            for dx, kx in zip((-1, 0, 1), self.KERNEL):
+                oy, ox = dy * step, dx * step
+                target = (slice(max(0, -oy), height - max(0, oy)), slice(max(0, -ox), width - max(0, ox)))
+                source = (slice(max(0, oy), height + min(0, oy)), slice(max(0, ox), width + min(0, ox)))
+                if target[0].start >= target[0].stop or target[1].start >= target[1].stop:
+                    continue
+                weight = ky * kx * self._edge(target, source, step)
+                sums[0][target] += weight[..., None] * numerator[source]
+                sums[1][target] += weight * denominator[source]
+                sums[2][target] += weight * weight * spread[source]
+        return sums
+
+    def _edge(self, at, neighbour, step):
+        if at == neighbour:
+            return np.ones(self.seen[at].shape, np.float32)
+        seen = self.seen[at]
+        normal = self.normal[at]
+        offset = self.position[neighbour] - self.position[at]
+        plane = np.abs(np.einsum("...k,...k->...", offset, normal)) / (PLANE_FOOTPRINTS * step * self.footprint[at]
+                                                                        + 1e-30)
+        alike = np.clip(np.einsum("...k,...k->...", normal, self.normal[neighbour]), 0.0, 1.0)
+        for _ in range(int(np.log2(NORMAL_POWER))):
+            alike *= alike
+        surface = np.exp(-plane) * alike
+        return np.where(seen == self.seen[neighbour], np.where(seen, surface, 1.0), 0.0)

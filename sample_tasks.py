@@ -18,15 +18,18 @@ _RENDERERS = {}  # in a worker process: .blend path -> SampleRenderer
 class SampleRequest:
     """Samples of the pixels `region` (x0, y0, x1, y1: columns x0..x1-1 and rows y0..y1-1
     of a `resolution` (width, height) image, row 0 at the top) seen by a camera whose
-    world matrix is `camera` (4 × 4 nested tuples; None: the scene's own), `samples` a
-    pixel with the sampling pattern of `seed`; `denoise`d by OpenImageDenoise as Cycles'
-    viewport denoises (what the corrections are measured against)."""
+    world matrix is `camera` (4 × 4 nested tuples; None: the scene's own) through the
+    OpenGL perspective `projection` (4 × 4 nested tuples, unshifted, the image's aspect;
+    None: the scene camera's own lens), `samples` a pixel with the sampling pattern of
+    `seed`; `denoise`d by OpenImageDenoise as Cycles' viewport denoises (what the
+    corrections are measured against)."""
 
     region: tuple
     resolution: tuple
     samples: int
     seed: int = 0
     camera: tuple = None
+    projection: tuple = None
     denoise: bool = False
 
     def __post_init__(self):
@@ -36,6 +39,12 @@ class SampleRequest:
             raise LPVError(f"A Cycles sample request of region {self.region} in a {width} x {height} image with "
                            f"{self.samples} samples is out of range; ask for pixels inside the image, 1 sample or "
                            f"more.")
+        if self.projection is not None:
+            p = self.projection
+            if p[3][2] != -1 or abs(p[0][2]) > 1e-6 or abs(p[1][2]) > 1e-6 or \
+                    abs(p[1][1] / p[0][0] * height / width - 1) > 0.01:
+                raise LPVError("Cycles samples are taken through unshifted perspective views of the image's aspect "
+                               "only; leave the orthographic or shifted view to correct it.")
 
 
 def renderer(blend_path):

@@ -43,13 +43,13 @@ def render_to_files(bpy_scene, settings, passes, out_dir, extra_stats, correctio
     """Render `passes` of what F12 shows of `bpy_scene` with `settings` and write them to
     `out_dir`; returns the statistics written. With `correction` (CorrectionSettings)
     asking for seconds, the combined image is corrected toward Cycles by sample workers
-    opening `blend_path` (None: a copy of the open file) on this machine, or on the Dask
-    cluster at `scheduler`."""
+    opening `blend_path` (None: a copy of the scene as it is) on this machine, or on the
+    Dask cluster at `scheduler`."""
     start = time.perf_counter()
     scene = scene_to_render(bpy_scene, (settings.width, settings.height))
     extract_ms = (time.perf_counter() - start) * 1000
     if correction is not None and correction.correct_seconds > 0:
-        frame = corrected_frame(scene, settings, passes, correction, blend_path, scheduler)
+        frame = corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path, scheduler)
     else:
         frame = render_once(scene, settings, passes=passes)
     return write_outputs(frame, out_dir, {**extra_stats, "extract_ms": extract_ms})

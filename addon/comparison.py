@@ -16,7 +16,8 @@ from ..gpu.errors import LPVError
 from ..gpu.metrics import error_map, figure_text, heat_map, image_errors
 from ..gpu.passes import COMPARED_PASS_NAMES as IMAGES
 from ..gpu.settings import INDIRECT_METHODS, METHODS
-from .cycles_reference import REFERENCE_BOUNCES, cycles_reference_in_parts, reference_key
+from .cycles_reference import cycles_reference_in_parts, reference_key
+from .cycles_render import REFERENCE_BOUNCES
 from .peers import peer_renders
 from .render_scene import scene_to_render
 

@@ -7,15 +7,16 @@ workers render with; a new view keeps the corrections of the earlier ones that s
 apply. Results of a view the camera left still go into that view's layer.
 """
 import os
+import tempfile
 import time
 from contextlib import contextmanager
 
 import bpy
 
+from ..gpu.errors import LPVError
 from ..gpu.correction_queue import RequestQueue
 from ..gpu.corrections import Corrections
 from ..gpu.pipeline import Pipeline
-from .cycles_reference import temporary_folder
 from .sample_workers import SampleRequest, SampleWorkers
 
 REQUESTS_PER_WORKER = 2
@@ -32,18 +33,19 @@ class Corrector:
         self.corrections = Corrections()
         self.in_flight = {}  # future -> (view key, region, samples a pixel)
         self.seed = FIRST_SEED
-        self.view_key = self.queue = self.preview = self.camera_matrix = None
+        self.view_key = self.queue = self.preview = self.camera_matrix = self.projection = None
         self.resolution = None
         self.samples_received = self.requests_received = 0
         self.started = None
         self.worker_seconds = 0.0
 
-    def rest(self, key, camera, camera_matrix, preview, guide):
-        """The camera rests at the view `key`: its gpu Camera, the world matrix Cycles
-        renders it from (4 × 4 nested tuples), its preview ((h, w, 3)) and Guide."""
+    def rest(self, key, camera, camera_matrix, preview, guide, projection=None):
+        """The camera rests at the view `key`: its gpu Camera, the world matrix and the
+        projection Cycles renders it with (4 × 4 nested tuples; None: the scene camera's),
+        its preview ((h, w, 3)) and Guide."""
         if key != self.view_key:
             self.corrections.view(key, camera, guide)
-            self.view_key, self.camera_matrix = key, camera_matrix
+            self.view_key, self.camera_matrix, self.projection = key, camera_matrix, projection
             self.resolution = guide.size
             self.queue = RequestQueue(self.resolution)
         self.preview = preview
@@ -63,7 +65,7 @@ class Corrector:
         wanted = REQUESTS_PER_WORKER * max(1, sum(self.workers.client.nthreads().values()))
         while len(self.in_flight) < wanted:
             region, spp = self.queue.next()
-            request = SampleRequest(region, self.resolution, spp, self.seed, self.camera_matrix)
+            request = SampleRequest(region, self.resolution, spp, self.seed, self.camera_matrix, self.projection)
             self.seed += 1
             self.in_flight[self.workers.submit(request)] = (self.view_key, region, spp)
 
@@ -125,35 +127,45 @@ class Corrector:
         self.in_flight.clear()
 
 
+def write_scene(bpy_scene, path):
+    """Write `bpy_scene` and what it uses to the .blend `path` as it is now, unsaved edits
+    included, without touching the open file (no operator: callable while drawing)."""
+    bpy.data.libraries.write(path, {bpy_scene}, path_remap="ABSOLUTE", fake_user=True)
+
+
 @contextmanager
-def blend_for_workers(path=None):
+def blend_for_workers(bpy_scene, path=None, remote=False):
     """The .blend the workers open: `path` when it is the open file with nothing unsaved,
-    else a copy of the open file saved in a temporary folder for the while (the open file,
-    its path and its unsaved state are left as they are)."""
+    else `bpy_scene` written to a temporary folder for the while (for local workers only:
+    a `remote` cluster's cannot read it)."""
     if path is not None and not bpy.data.is_dirty and os.path.abspath(bpy.data.filepath) == os.path.abspath(path):
         yield path
         return
-    with temporary_folder() as folder:
+    if remote:
+        raise LPVError("A remote Dask cluster's workers open the .blend file itself; render a saved .blend file "
+                       "that they can read at the same path.")
+    with tempfile.TemporaryDirectory(prefix="lpv_corrections_") as folder:
         copy = os.path.join(folder, "corrections.blend")
-        bpy.ops.wm.save_as_mainfile(filepath=copy, copy=True)
+        write_scene(bpy_scene, copy)
         yield copy
 
 
-def corrected_frame(scene, settings, passes, correction, blend_path=None, scheduler=None, security=None):
-    """A frame of the gpu Scene `scene` (extracted from the open .blend) whose combined
+def corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path=None, scheduler=None,
+                    security=None):
+    """A frame of the gpu Scene `scene` (extracted from `bpy_scene`) whose combined
     pass is corrected toward Cycles for `correction.correct_seconds` by
     `correction.correction_workers` local workers (or the Dask cluster at `scheduler`);
     the uncorrected image is the pass `preview`, the statistics say what came."""
-    pipeline = Pipeline(settings)
-    try:
-        frame = pipeline.render_converged(scene, passes=tuple(dict.fromkeys(("combined", *passes))))
-        guide = pipeline.read_guide(scene)
-    finally:
-        pipeline.release()
-    with blend_for_workers(blend_path) as path:
+    with blend_for_workers(bpy_scene, blend_path, remote=scheduler is not None) as path:
         with SampleWorkers(path, workers=None if scheduler else correction.correction_workers, scheduler=scheduler,
                            security=security) as workers:
             workers.open_everywhere()
+            pipeline = Pipeline(settings)
+            try:
+                frame = pipeline.render_converged(scene, passes=tuple(dict.fromkeys(("combined", *passes))))
+                guide = pipeline.read_guide(scene)
+            finally:
+                pipeline.release()
             corrector = Corrector(workers)
             corrector.rest(scene.camera.key(), scene.camera, None, frame.passes["combined"], guide)
             for _, reconstruction in corrector.run(correction.correct_seconds):

@@ -2,6 +2,7 @@
 loads a .blend once and renders border regions of a camera on request, Cycles keeping its
 scene between requests (persistent data), so a request costs little beyond its samples.
 A worker process holds one (addon/sample_workers.py)."""
+import math
 import os
 import shutil
 import tempfile
@@ -13,10 +14,12 @@ import numpy as np
 from mathutils import Matrix
 
 from ..gpu.errors import LPVError
-from .cycles_reference import (_PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, _apply_reference_settings,
-                               _enable_cycles, read_exr_passes, render_to_file)
-from .render_scene import view_layer_to_render
+from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_render_settings,
+                            enable_cycles, read_exr_passes, render_to_file, view_layer_to_render)
 
+LENS_SETTINGS = ("type", "sensor_fit", "lens", "sensor_width", "sensor_height", "shift_x", "shift_y", "clip_start",
+                 "clip_end")
+"""The camera data a request's projection sets, and restores for a request without one."""
 SAMPLE_PASSES = ("Combined",)
 """What a request returns: all the light, what the corrections aim at (as the full-GI
 reference: its bounces and pixel filter)."""
@@ -40,11 +43,13 @@ class SampleRenderer:
             raise LPVError(f"There is no .blend file '{blend_path}' for the Cycles sample workers; give a path "
                            f"every worker can read.")
         bpy.ops.wm.open_mainfile(filepath=blend_path, load_ui=False)
-        _enable_cycles()
+        enable_cycles()
         self.scene = bpy.context.scene
         self.view_layer = view_layer_to_render(self.scene)
         self.scene.render.use_persistent_data = True
         self._camera = None if self.scene.camera is None else tuple(map(tuple, self.scene.camera.matrix_world))
+        self._lens = None if self.scene.camera is None else {name: getattr(self.scene.camera.data, name)
+                                                             for name in LENS_SETTINGS}
         self._folder = tempfile.mkdtemp(prefix="lpv_cycles_samples_")  # one for every request: no setup each
 
     def close(self):
@@ -56,10 +61,9 @@ class SampleRenderer:
         if scene.camera is None:
             raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
         exr_path = os.path.join(self._folder, "samples.exr")
-        _apply_reference_settings(scene, self.view_layer, exr_path, SAMPLE_PASSES, request.samples,
-                                  (0, request.samples), request.resolution, request.seed, REFERENCE_BOUNCES["full_gi"],
-                                  0.0, REFERENCE_FILTER_WIDTH,
-                                  request.denoise)
+        apply_render_settings(scene, self.view_layer, exr_path, SAMPLE_PASSES, request.samples, (0, request.samples),
+                              request.resolution, request.seed, REFERENCE_BOUNCES["full_gi"], 0.0,
+                              REFERENCE_FILTER_WIDTH, request.denoise)
         render.image_settings.exr_codec = "NONE"  # written and read at once: compression only costs
         render.threads_mode = "AUTO" if threads is None else "FIXED"
         if threads is not None:
@@ -72,10 +76,11 @@ class SampleRenderer:
         camera = request.camera if request.camera is not None else self._camera
         if camera is not None and tuple(map(tuple, scene.camera.matrix_world)) != camera:
             scene.camera.matrix_world = Matrix(camera)  # a nested list would be read as columns
+        self._set_lens(request.projection)
         started = time.perf_counter()
         render_to_file(scene, exr_path)
         passes = read_exr_passes(exr_path, self.view_layer.name,
-                                 {name: _PASS_BY_NAME[name].exr_layer for name in SAMPLE_PASSES})
+                                 {name: PASS_BY_NAME[name].exr_layer for name in SAMPLE_PASSES})
         size = (y1 - y0, x1 - x0)
         for name, image in passes.items():
             if image.shape[:2] != size:
@@ -83,4 +88,18 @@ class SampleRenderer:
                                f"{size[1]} x {size[0]} pixels.")
         return SampleResult(request, {name: np.ascontiguousarray(image, np.float32) for name, image in passes.items()},
                             time.perf_counter() - started)
+
+    def _set_lens(self, projection):
+        """The camera's lens as `projection` (an unshifted OpenGL perspective) gives, or its own for None."""
+        data = self.scene.camera.data
+        if projection is None:
+            wanted = self._lens
+        else:
+            p = np.asarray(projection, dtype=np.float64)
+            wanted = {"type": "PERSP", "sensor_fit": "VERTICAL", "angle_y": 2 * math.atan(1 / p[1, 1]),
+                      "shift_x": 0.0, "shift_y": 0.0, "clip_start": p[2, 3] / (p[2, 2] - 1),
+                      "clip_end": p[2, 3] / (p[2, 2] + 1)}
+        for name, value in wanted.items():
+            if getattr(data, name) != value:
+                setattr(data, name, value)
 

@@ -12,9 +12,10 @@ import bpy
 from ..gpu.errors import LPVError
 from . import frame_stats, overlay
 from .final_render import render_final, scene_passes
-from .properties import display_settings_from_properties
+from .properties import correction_settings_from_properties, display_settings_from_properties
 from .sync import record_updates
 from .viewport import ViewportSession, viewport_camera
+from .viewport_corrections import REBUILD_SECONDS
 
 ENGINE_ID = "LPV_PREVIEW"
 
@@ -29,6 +30,7 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         super().__init__(*args, **kwargs)
         self.session = None
         self.region = None  # the 3D view region whose overlays this engine's session feeds
+        self.redraw_pending = False
 
     def __del__(self):
         try:
@@ -71,13 +73,34 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         except LPVError as error:
             self.report({"ERROR"}, str(error))
             return
-        self.session.display.draw(self, depsgraph.scene)
+        self.session.display.draw(self, depsgraph.scene, (region.width, region.height))
         overlay.show(self.region, self.session.overlays)
         sets = frame.stats["vpl_sets"]
+        samples = frame.stats.get("correction_samples")
         self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms" +
-                          (f", {sets} VPL sets" if sets > 1 else ""))
-        if self.session.converging(display_settings_from_properties(depsgraph.scene.lpv_preview)):
+                          (f", {sets} VPL sets" if sets > 1 else "") +
+                          (f", {samples:,} Cycles samples" if samples else ""))
+        properties = depsgraph.scene.lpv_preview
+        if self.session.converging(display_settings_from_properties(properties),
+                                   correction_settings_from_properties(properties)):
             self.tag_redraw()  # a still view goes on converging
+        elif self.session.corrections.streaming:
+            self.redraw_later()  # samples go on coming
+
+    def redraw_later(self):
+        """Draw again in REBUILD_SECONDS (once), to show the samples come by then."""
+        if self.redraw_pending:
+            return
+        self.redraw_pending = True
+
+        def redraw():
+            try:
+                self.redraw_pending = False
+                self.tag_redraw()
+            except ReferenceError:  # the engine was freed meanwhile
+                pass
+            return None
+        bpy.app.timers.register(redraw, first_interval=REBUILD_SECONDS)
 
 
 SKIPPED_PANELS = {"VIEWLAYER_PT_filter", "VIEWLAYER_PT_layer_passes", "RENDER_PT_eevee_performance",

@@ -19,10 +19,9 @@ from dataclasses import dataclass, field
 
 from ..gpu.context import GLContext
 from ..gpu.errors import LPVError
-from .cycles_reference import (REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_output_settings, content_key,
-                               read_exr_passes, render_cycles_denoised, render_to_file, temporary_copy,
-                               temporary_folder)
-from .render_scene import view_layer_to_render
+from .cycles_reference import content_key, render_cycles_denoised, temporary_copy
+from .cycles_render import (REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_output_settings, read_exr_passes,
+                            render_to_file, temporary_folder, view_layer_to_render)
 
 EEVEE = "EEVEE ray tracing"
 DENOISED_SAMPLES = (1, 4)

@@ -6,8 +6,8 @@ scene as `scene.lpv_preview`.
 """
 import bpy
 
-from ..gpu.settings import (ALL_PARAMETERS, COMPARISON_PARAMETERS, DISPLAY_PARAMETERS, PARAMETERS,
-                            ComparisonSettings, DisplaySettings, Settings)
+from ..gpu.settings import (ALL_PARAMETERS, COMPARISON_PARAMETERS, CORRECTION_PARAMETERS, DISPLAY_PARAMETERS,
+                            PARAMETERS, ComparisonSettings, CorrectionSettings, DisplaySettings, Settings)
 
 
 def redraw_views(properties, context):
@@ -64,6 +64,11 @@ def _values(properties, names):
 def settings_from_properties(properties, **overrides):
     """A validated Settings from a scene's properties."""
     return Settings(**{**_values(properties, PARAMETERS), **overrides})
+
+
+def correction_settings_from_properties(properties):
+    """A validated CorrectionSettings from a scene's properties."""
+    return CorrectionSettings(**_values(properties, CORRECTION_PARAMETERS))
 
 
 def display_settings_from_properties(properties):

@@ -14,16 +14,10 @@ from contextlib import contextmanager
 import bpy
 
 from ..gpu.errors import LPVError
+from .cycles_render import view_layer_to_render
 from .engine import ENGINE_ID, LPVPreviewEngine
 from .final_render import ExtractionRequest, pending_extractions
 from .interrupt import interrupt_after_render
-
-
-def view_layer_to_render(scene):
-    """The view layer the user is looking at when `scene` is the current one, else its first."""
-    if bpy.context.scene == scene and bpy.context.view_layer is not None:
-        return bpy.context.view_layer
-    return scene.view_layers[0]
 
 
 @contextmanager

@@ -24,11 +24,13 @@ SETTING_GROUPS = {
     "Overlays": ("show_vpls", "vpl_point_size", "show_lpv_slice", "lpv_slice_axis", "lpv_slice_position",
                  "show_warp_status"),
     "Passes": ("debug_passes",),
+    "Corrections": ("viewport_corrections", "correction_viewport_width", "correction_workers", "correct_seconds"),
     "Comparison": ("compare_cm", "compare_dpm", "compare_wdpm", "compare_tdpm", "compare_twdpm", "compare_auto",
                    "compare_lpv", "compare_light_grid", "compare_vpl_gather", "compare_samples", "compare_noise_floor",
                    "compare_peers"),
 }
-ENABLED_BY = {"lpv_slice_axis": "show_lpv_slice", "lpv_slice_position": "show_lpv_slice"}
+ENABLED_BY = {"lpv_slice_axis": "show_lpv_slice", "lpv_slice_position": "show_lpv_slice",
+              "correction_viewport_width": "viewport_corrections"}
 """Settings that matter only while another is on: drawn inactive while it is off."""
 FROM_BLENDER = ("width", "height")
 """Settings Blender supplies: the render resolution, or the viewport's size."""
@@ -83,6 +85,11 @@ def draw_statistics(layout, stats):
         found = max(1, status["converged"] + status["approximate"] + status["failed"])
         column.label(text="Warp: " + ", ".join(f"{name} {status[name] / found:.1%}"
                                                 for name in ("converged", "approximate", "failed")))
+    if "correction_samples" in stats:
+        column.label(text=f"Corrections: {stats['correction_samples']:,} Cycles samples, "
+                          f"{stats['correction_samples_per_second']:,.0f} a second")
+        if "correction_estimated_error" in stats:
+            column.label(text=f"Estimated error (relMSE, noise only): {stats['correction_estimated_error']:.4f}")
     images = stats.get("images")
     if images:
         column.label(text=f"Images: {len(images)}")

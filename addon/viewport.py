@@ -13,8 +13,10 @@ import numpy as np
 from ..gpu.pipeline import Pipeline
 from ..gpu.scene import Camera
 from . import frame_stats, overlay
-from .properties import display_settings_from_properties, settings_from_properties
-from .sync import EVERYTHING, SceneSync, changed_parts
+from .properties import (correction_settings_from_properties, display_settings_from_properties,
+                         settings_from_properties)
+from .sync import CAMERA, EVERYTHING, SceneSync, changed_parts
+from .viewport_corrections import ViewportCorrections, corrected_size
 
 
 def viewport_camera(region_data):
@@ -55,7 +57,9 @@ class ViewportSession:
         self.sync = SceneSync()
         self.display = display or DisplayRows()
         self.overlays = overlay.OverlayData()
+        self.corrections = ViewportCorrections()
         self.pending = set(EVERYTHING)
+        self.scene = None  # the Scene last extracted
         self._shown = None  # (what the last drawn frame depends on, that frame)
 
     def note_updates(self, updates):
@@ -67,6 +71,7 @@ class ViewportSession:
         the last frame's indirect light (Pipeline.render)."""
         start = time.perf_counter()
         scene = self.sync.scene(depsgraph, self.pending, camera, view3d)
+        self.scene = scene
         self.pending = set()
         extract_ms = (time.perf_counter() - start) * 1000.0
         if settings is None:
@@ -83,21 +88,39 @@ class ViewportSession:
         """The frame for a redraw: a new one when an edit is pending or the view, its size
         or the settings changed; while they stay, one more VPL set averaged in until the
         still view has `viewport_vpl_sets` (`converging`), then the last one again
-        (Blender redraws the viewport for many reasons that change nothing we show)."""
+        (Blender redraws the viewport for many reasons that change nothing we show).
+        With viewport corrections on, the view is rendered at most
+        `correction_viewport_width` wide, and corrected by what the Cycles samples
+        of it brought (addon/viewport_corrections.py) instead of converging."""
         properties = depsgraph.scene.lpv_preview
+        correction = correction_settings_from_properties(properties)
+        if correction.viewport_corrections:
+            size = corrected_size(size, correction.correction_viewport_width)
         settings = settings_from_properties(properties, width=size[0], height=size[1])
         display = display_settings_from_properties(properties)
+        edited = bool(self.pending - {CAMERA})
         depends_on = (camera.key(), settings)
         if self._shown is None or self._shown[0] != depends_on:
             self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings))
-        elif self.pending or self.converging(display):  # the pipeline starts again if the scene changed
+        elif self.pending or self.converging(display, correction):  # the pipeline starts again if the scene changed
             self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings, accumulate=True))
         self.overlays.update(self.pipeline, display)
-        return self._shown[1]
+        frame = self._shown[1]
+        if not correction.viewport_corrections:
+            self.corrections.stop()
+            return frame
+        if edited or self.corrections.worker_count != correction.correction_workers:
+            self.corrections.start(depsgraph.scene, correction.correction_workers)
+        frame.stats.update(self.corrections.show(frame, self.scene, self.pipeline, camera, self.display))
+        frame_stats.remember(frame.stats)
+        return frame
 
-    def converging(self, display):
-        """Whether the next redraw of the still view adds a VPL set."""
+    def converging(self, display, correction=None):
+        """Whether the next redraw of the still view adds a VPL set (not while corrected)."""
+        if correction is not None and correction.viewport_corrections:
+            return False
         return self._shown is not None and self._shown[1].stats["vpl_sets"] < display.viewport_vpl_sets
 
     def release(self):
+        self.corrections.stop()
         self.pipeline.release()

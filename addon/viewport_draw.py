@@ -25,14 +25,15 @@ class ViewportImage(DisplayRows):
         self.buffer = gpu.types.Buffer("FLOAT", count)
         return np.asarray(self.buffer)
 
-    def draw(self, engine, scene):
-        """Draw the last frame over the whole region, through the scene's view transform
-        like every render engine's viewport image."""
+    def draw(self, engine, scene, region_size):
+        """Draw the last frame over the whole region (of `region_size`; the frame may be
+        smaller), through the scene's view transform like every render engine's viewport
+        image."""
         if self.fresh or self.texture is None:
             self.texture = gpu.types.GPUTexture(self.size, format="RGBA16F", data=self.buffer)
             self.fresh = False
         gpu.state.blend_set("ALPHA_PREMULT")
         engine.bind_display_space_shader(scene)
-        draw_texture_2d(self.texture, (0, 0), *self.size)
+        draw_texture_2d(self.texture, (0, 0), *region_size)
         engine.unbind_display_space_shader()
         gpu.state.blend_set("NONE")

@@ -179,6 +179,11 @@ class CorrectionSettings(Validated):
                                          "corrected)", 0.0, 3600.0)
     correction_workers: int = _param(2, "Cycles sample worker processes started on this machine for the "
                                         "corrections, one CPU core each", 1, 256)
+    viewport_corrections: bool = _param(False, "Correct the still viewport toward Cycles: sample workers start, "
+                                               "and each redraw shows what their samples corrected")
+    correction_viewport_width: int = _param(320, "Width in pixels the viewport is rendered at while it is corrected "
+                                                 "(Cycles' samples are the cost), drawn over the whole view",
+                                            16, 16384)
 
 
 PARAMETERS = {f.name: f for f in fields(Settings)}

@@ -4,6 +4,7 @@ lose no request when one dies mid-request, and a corrected render comes closer t
 than its preview. Real bpy and Cycles, a real Dask cluster of local processes."""
 import json
 import math
+import os
 import time
 
 import numpy as np
@@ -21,8 +22,26 @@ from lpv_preview.gpu.errors import LPVError  # noqa: E402
 from lpv_preview.gpu.image_io import read_exr  # noqa: E402
 from lpv_preview.gpu.metrics import relative_mse  # noqa: E402
 from lpv_preview.sample_tasks import SampleRequest  # noqa: E402
+from lpv_preview.addon.sync import record_updates  # noqa: E402
 
 SIZE = (32, 24)
+
+
+def recorded_updates(edit):
+    """The updates Blender's depsgraph reports for `edit`, as the engine's view_update records them."""
+    records = []
+
+    def handler(scene, depsgraph):
+        records.extend(record_updates(depsgraph))
+
+    bpy.context.view_layer.update()
+    bpy.app.handlers.depsgraph_update_post.append(handler)
+    try:
+        edit()
+        bpy.context.view_layer.update()
+    finally:
+        bpy.app.handlers.depsgraph_update_post.remove(handler)
+    return records
 
 
 @pytest.fixture(scope="module")
@@ -49,6 +68,9 @@ def test_a_region_has_the_pixels_of_the_whole_image(cornell_blend):
 def test_requests_out_of_the_image_are_refused():
     with pytest.raises(LPVError, match="out of range"):
         SampleRequest((0, 0, 40, 10), SIZE, 4)
+    shifted = ((1.0, 0.0, 0.2, 0.0), (0.0, 1.333, 0.0, 0.0), (0.0, 0.0, -1.0, -0.1), (0.0, 0.0, -1.0, 0.0))
+    with pytest.raises(LPVError, match="unshifted perspective"):
+        SampleRequest((0, 0, *SIZE), SIZE, 4, projection=shifted)
 
 
 def test_a_remote_scheduler_is_reached_over_tls_only(cornell_blend):
@@ -81,12 +103,17 @@ def test_a_request_renders_its_own_camera(cornell_blend):
     with camera_at(scene, matrix):
         expected = render_cycles_passes(scene, ("Combined",), 64, SIZE, 0, 12, 0.0, 0.01)["Combined"]
     own = render_cycles_passes(scene, ("Combined",), 64, SIZE, 0, 12, 0.0, 0.01)["Combined"]
+    from lpv_preview.addon.extract import extract_camera
+    camera = extract_camera(bpy.context.evaluated_depsgraph_get(), SIZE)  # the 3D view's kind of camera
     renderer = SampleRenderer(cornell_blend)
     try:
         turned_render = renderer.render(SampleRequest((0, 0, *SIZE), SIZE, 64, 5, tuple(map(tuple, matrix))))
         own_render = renderer.render(SampleRequest((0, 0, *SIZE), SIZE, 64, 6))
+        projected = renderer.render(SampleRequest((0, 0, *SIZE), SIZE, 64, 7, tuple(map(tuple, np.linalg.inv(
+            camera.view))), tuple(map(tuple, camera.projection))))
     finally:
         renderer.close()
+    assert relative_mse(projected.passes["Combined"], own) < 0.5 * relative_mse(projected.passes["Combined"], expected)
     assert relative_mse(turned_render.passes["Combined"], expected) < 0.5 * relative_mse(
         turned_render.passes["Combined"], own)
     assert relative_mse(own_render.passes["Combined"], own) < 0.5 * relative_mse(own_render.passes["Combined"],
@@ -118,3 +145,50 @@ def test_bad_correction_flags_are_refused_before_any_work(argv, words, tmp_path,
     assert main([*argv, "--out", str(tmp_path)]) == 2
     error = capsys.readouterr().err.strip().splitlines()
     assert len(error) == 1 and words in error[0]
+
+
+def test_the_still_viewport_streams_corrections_and_keeps_them_over_a_move():
+    """A viewport session with corrections on: a still view improves redraw after redraw
+    toward Cycles, a small camera move starts from the corrections that still apply, a
+    material edit starts them again on a new copy of the scene, and closing removes it all."""
+    import lpv_preview
+    from lpv_preview.addon.extract import extract_camera
+    from lpv_preview.addon.viewport import ViewportSession
+    scene = demo.build("cornell", resolution=SIZE)
+    lpv_preview.register()
+    session = ViewportSession()
+    try:
+        properties = scene.lpv_preview
+        properties.rsm_resolution, properties.vpls_per_light, properties.lpv_resolution = 64, 256, 16
+        properties.viewport_corrections, properties.correction_viewport_width = True, SIZE[0]
+
+        def redraw():
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+            frame = session.frame_to_draw(depsgraph, extract_camera(depsgraph, SIZE), SIZE)
+            return frame, np.array(session.display.rows.reshape(SIZE[1], SIZE[0], 4)[::-1, :, :3])
+
+        first, preview = redraw()
+        deadline = time.time() + 20
+        while time.time() < deadline and first.stats["correction_samples"] < 200_000:
+            time.sleep(0.1)
+            first, image = redraw()
+        reference = cycles_reference(scene, "full_gi", 256, 0, SIZE).combined_pass
+        assert first.stats["correction_samples"] > 0
+        assert relative_mse(image, reference) < 0.4 * relative_mse(preview, reference)
+        folder = session.corrections.folder
+        assert os.listdir(folder) == ["scene_1.blend"]
+
+        scene.camera.location.x += 0.02
+        moved, moved_image = redraw()
+        moved_preview = session.corrections.preview[2]
+        assert relative_mse(moved_image, reference) < 0.6 * relative_mse(moved_preview, reference)
+
+        material = next(m for m in bpy.data.materials if m.users and m.node_tree)
+        colour = material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value
+        session.note_updates(recorded_updates(lambda: colour.__setitem__(1, colour[1] * 0.9)))
+        edited, _ = redraw()
+        assert edited.stats["correction_samples"] == 0 and os.path.isfile(os.path.join(folder, "scene_2.blend"))
+    finally:
+        session.release()
+        lpv_preview.unregister()
+    assert not os.path.exists(folder)

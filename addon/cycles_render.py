@@ -1,0 +1,183 @@
+"""Cycles renders of ours into a multilayer EXR read back: the settings every one sets
+(passes, samples and their subset, seed, bounces, pixel filter, denoising, output), the
+render call and the passes read from the file. In Blender 5.0 every view-layer pass
+reaches the file only once `image_settings.media_type` is 'MULTI_LAYER_IMAGE' (only then
+can `file_format` be 'OPEN_EXR_MULTILAYER'); plain 'OPEN_EXR' holds Combined alone.
+The references (cycles_reference.py), the peers (peers.py) and the sample workers
+(cycles_samples.py) render through it."""
+import os
+import shutil
+import tempfile
+import time
+from collections import namedtuple
+from contextlib import contextmanager
+
+import bpy
+import numpy as np
+
+import addon_utils  # on the path only once bpy is imported
+
+from ..gpu.errors import LPVError
+from ..gpu.image_io import read_exr_channels
+from .interrupt import interrupt_after_render
+
+ColourPass = namedtuple("ColourPass", "view_layer_flag exr_layer")
+
+# Blender's short pass names, each with the view-layer switch that makes Cycles produce
+# it and the layer name it gets in a multilayer EXR.
+COLOUR_PASSES = {
+    "Combined": ColourPass("use_pass_combined", "Combined"),
+    "DiffDir": ColourPass("use_pass_diffuse_direct", "Diffuse Direct"),
+    "DiffInd": ColourPass("use_pass_diffuse_indirect", "Diffuse Indirect"),
+    "DiffCol": ColourPass("use_pass_diffuse_color", "Diffuse Color"),
+    "GlossDir": ColourPass("use_pass_glossy_direct", "Glossy Direct"),
+    "GlossInd": ColourPass("use_pass_glossy_indirect", "Glossy Indirect"),
+    "GlossCol": ColourPass("use_pass_glossy_color", "Glossy Color"),
+    "TransDir": ColourPass("use_pass_transmission_direct", "Transmission Direct"),
+    "TransInd": ColourPass("use_pass_transmission_indirect", "Transmission Indirect"),
+    "TransCol": ColourPass("use_pass_transmission_color", "Transmission Color"),
+    "Emit": ColourPass("use_pass_emit", "Emission"),
+    "Env": ColourPass("use_pass_environment", "Environment"),
+    "AO": ColourPass("use_pass_ambient_occlusion", "Ambient Occlusion"),
+}
+PASS_BY_NAME = {**COLOUR_PASSES, **{p.exr_layer: p for p in COLOUR_PASSES.values()}}
+BOUNCE_ATTRIBUTES = (
+    "max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces")
+
+
+REFERENCE_BOUNCES = {"one_bounce": 1, "full_gi": 12}
+"""The references: Cycles' bounce limit (every bounce type) for each."""
+
+REFERENCE_FILTER_WIDTH = 0.01
+"""Pixel filter width of the references: our images are sampled at pixel centres, so the
+reference is too (Cycles' default 1.5 px Blackman-Harris would blur it against ours)."""
+
+
+def view_layer_to_render(scene):
+    """The view layer the user is looking at when `scene` is the current one, else its first."""
+    if bpy.context.scene == scene and bpy.context.view_layer is not None:
+        return bpy.context.view_layer
+    return scene.view_layers[0]
+
+
+def enable_cycles():
+    if not addon_utils.check("cycles")[1] and addon_utils.enable("cycles", default_set=True) is None:
+        raise LPVError("The Cycles add-on could not be enabled; enable it in Preferences > Add-ons.")
+
+
+@contextmanager
+def temporary_folder():
+    try:
+        folder = tempfile.mkdtemp(prefix="lpv_cycles_reference_")
+    except OSError as error:
+        raise LPVError(f"Cannot create a temporary folder for the Cycles reference in "
+                       f"'{tempfile.gettempdir()}' ({error.strerror}); set TMPDIR to a writable folder.") from error
+    try:
+        yield folder
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def apply_output_settings(scene, view_layer, exr_path, resolution):
+    """Render `view_layer` alone at `resolution` (None: the scene's) into a float multilayer
+    EXR at `exr_path`, with no compositor, sequencer, Freestyle or border."""
+    render = scene.render
+    if resolution is not None:
+        render.resolution_x, render.resolution_y = resolution
+        render.resolution_percentage = 100
+    render.use_border = False
+    render.use_multiview = False
+    render.filepath = exr_path
+    render.use_file_extension = False
+    render.use_compositing = False
+    render.use_sequencer = False
+    render.use_freestyle = False
+
+    image = render.image_settings
+    image.media_type = "MULTI_LAYER_IMAGE"
+    image.file_format = "OPEN_EXR_MULTILAYER"
+    image.color_depth = "32"
+    image.exr_codec = "ZIP"
+    image.use_exr_interleave = False
+    image.color_management = "FOLLOW_SCENE"
+    for layer in scene.view_layers:
+        layer.use = layer == view_layer
+
+
+def apply_render_settings(scene, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
+                              max_bounces, light_threshold, pixel_filter_width, denoise):
+    cycles = scene.cycles
+    scene.render.engine = "CYCLES"
+    apply_output_settings(scene, view_layer, exr_path, resolution)
+    cycles.device = "CPU"
+    cycles.samples = samples
+    cycles.use_adaptive_sampling = False
+    cycles.time_limit = 0.0
+    cycles.use_layer_samples = "IGNORE"
+    cycles.use_sample_subset = True
+    cycles.sample_offset, cycles.sample_subset_length = sample_range
+    cycles.seed = seed
+    cycles.use_animated_seed = False
+    cycles.use_denoising = denoise
+    if denoise:
+        cycles.denoiser = "OPENIMAGEDENOISE"
+        cycles.denoising_use_gpu = False
+        cycles.denoising_input_passes = cycles.preview_denoising_input_passes
+        cycles.denoising_prefilter = cycles.preview_denoising_prefilter
+        cycles.denoising_quality = cycles.preview_denoising_quality
+    cycles.light_sampling_threshold = light_threshold
+    cycles.sample_clamp_direct = 0.0
+    cycles.sample_clamp_indirect = 0.0
+    if pixel_filter_width is not None:
+        cycles.filter_width = pixel_filter_width
+    if max_bounces is not None:
+        for name in BOUNCE_ATTRIBUTES:
+            setattr(cycles, name, max_bounces)
+
+    for name in passes:
+        if name in PASS_BY_NAME:
+            setattr(view_layer, PASS_BY_NAME[name].view_layer_flag, True)
+
+
+def settings_in_use(scene, view_layer):
+    cycles, render = scene.cycles, scene.render
+    return {
+        "resolution": (render.resolution_x * render.resolution_percentage // 100,
+                       render.resolution_y * render.resolution_percentage // 100),
+        "device": cycles.device, "samples": cycles.samples, "seed": cycles.seed,
+        "max_bounces": cycles.max_bounces, "diffuse_bounces": cycles.diffuse_bounces,
+        "light_threshold": cycles.light_sampling_threshold, "pixel_filter": cycles.pixel_filter_type,
+        "pixel_filter_width": cycles.filter_width, "frame": scene.frame_current,
+        "view_layer": view_layer.name,
+        "denoiser": (f"OpenImageDenoise ({cycles.denoising_input_passes}, {cycles.denoising_prefilter} prefilter, "
+                     f"{cycles.denoising_quality} quality)" if cycles.use_denoising else None),
+    }
+
+
+def render_to_file(scene, exr_path, engine="Cycles"):
+    """Render `scene` (set up by `apply_output_settings`) into `exr_path`; its wall seconds."""
+    started = time.perf_counter()
+    try:
+        with interrupt_after_render():
+            bpy.ops.render.render(write_still=True, scene=scene.name)
+    except RuntimeError as error:
+        reason = str(error).splitlines()[0].removeprefix("Error: ").rstrip(".")
+        raise LPVError(f"{engine} could not render or save its image: {reason}.") from error
+    if not os.path.isfile(exr_path):
+        raise LPVError(f"{engine} rendered but wrote no image to '{exr_path}'.")
+    return time.perf_counter() - started
+
+
+def read_exr_passes(exr_path, view_layer_name, wanted_layers):
+    """{pass name: (H, W, 3) float32} from the multilayer EXR, top row first."""
+    channels = read_exr_channels(exr_path)
+    prefix = f"{view_layer_name}."
+    images = {}
+    for name, layer in wanted_layers.items():
+        names = [f"{prefix}{layer}.{c}" for c in "RGB"]
+        if not all(channel in channels for channel in names):
+            present = sorted({c[len(prefix):].rsplit(".", 1)[0] for c in channels if c.startswith(prefix)})
+            raise LPVError(f"The Cycles render has no '{name}' pass with R, G and B channels; "
+                           f"it has {', '.join(present)}.")
+        images[name] = np.stack([channels[channel] for channel in names], axis=2)
+    return images

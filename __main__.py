@@ -86,23 +86,34 @@ def add_debug_passes_flag(parser):
                         help=f"{DISPLAY_PARAMETERS['debug_passes'].metadata['description']} (EXR layers {debug})")
 
 
-def add_correction_flags(parser):
-    """--correct-seconds and --workers (gpu/settings.py CorrectionSettings), --scheduler."""
+def add_correction_flags(parser, scheduler=True):
+    """--correct-seconds and --workers (gpu/settings.py CorrectionSettings), and --scheduler
+    where the .blend can be shared."""
     for name, flag, kind in (("correct_seconds", "--correct-seconds", float), ("correction_workers", "--workers", int)):
         field = CORRECTION_PARAMETERS[name]
         meta = field.metadata
-        parser.add_argument(flag, dest=name, type=kind, default=field.default,
-                            help=f"{meta['description']} ({meta['min']}..{meta['max']}, default {field.default})")
-    parser.add_argument("--scheduler", help="with --correct-seconds: the tls://HOST:PORT of a Dask scheduler whose "
-                                            "workers render the Cycles samples, its certificates in Dask's "
-                                            "configuration (README), instead of local workers")
+        parser.add_argument(flag, dest=name, type=kind, help=f"{meta['description']} ({meta['min']}..{meta['max']}, "
+                                                             f"default {field.default})")
+    if scheduler:
+        parser.add_argument("--scheduler", help="with --correct-seconds: the tls://HOST:PORT of a Dask scheduler "
+                                                "whose workers render the Cycles samples, its certificates in Dask's "
+                                                "configuration (README), instead of local workers")
 
 
 def correction_from(args):
     """The CorrectionSettings the flags give, refused before any work when bad."""
-    if args.scheduler is not None and args.correct_seconds <= 0:
-        raise LPVError("--scheduler is for the corrections; give --correct-seconds too.")
-    return CorrectionSettings(args.correct_seconds, args.correction_workers)
+    from .addon.sample_workers import check_scheduler
+    scheduler = getattr(args, "scheduler", None)
+    given = {name: getattr(args, name) for name in ("correct_seconds", "correction_workers")
+             if getattr(args, name) is not None}
+    correction = CorrectionSettings(**given)
+    if scheduler is not None:
+        if correction.correct_seconds <= 0:
+            raise LPVError("--scheduler is for the corrections; give --correct-seconds too.")
+        if "correction_workers" in given:
+            raise LPVError("--workers starts local workers and --scheduler uses a cluster's; give one of them.")
+        check_scheduler(scheduler)
+    return correction
 
 
 def settings_from(args, width, height):
@@ -180,7 +191,7 @@ def command_demo(args):
     bpy_scene = demo.build(args.scene, **({"triangles": args.triangles} if args.triangles is not None else {}))
     build_ms = (time.perf_counter() - start) * 1000
     stats = render_to_files(bpy_scene, settings_for_blend(bpy_scene, args), pass_names(args), args.out,
-                            {"scene": args.scene, "build_ms": build_ms}, correction, scheduler=args.scheduler)
+                            {"scene": args.scene, "build_ms": build_ms}, correction)
     stats["command_ms"] = (time.perf_counter() - start) * 1000
     return stats
 
@@ -339,10 +350,6 @@ def bench_sample_workers(args, log):
     return write_sample_report(report, args.out)
 
 
-CORRECTION_BENCH_SIZES = {"cornell": (128, 128), "atrium": (160, 90), "city": (160, 90)}
-CORRECTION_REFERENCE_SAMPLES = 4096
-
-
 def bench_corrections(args, log):
     """The corrected preview against Cycles progressive and denoised over time, on the demo
     scenes lit by lamps (bench/corrections.py), into corrections.json, .md and plots."""
@@ -350,16 +357,17 @@ def bench_corrections(args, log):
 
     from .addon.correction_runs import measure_scene
     from .bench import corrections
+    gpu = corrections.read_gpu_previews(args.gpu_previews) if args.gpu_previews else {}
     cores = os.cpu_count()
     scenes = []
     with tempfile.TemporaryDirectory(prefix="lpv_corrections_") as folder:
-        for name, size in CORRECTION_BENCH_SIZES.items():
-            runs = measure_scene(name, lambda: demo.build(name, resolution=size), size, CORRECTION_REFERENCE_SAMPLES,
-                                 os.path.join(folder, f"{name}.blend"), cores, corrections, log)
-            scenes.append(corrections.scene_report(name, runs, CORRECTION_REFERENCE_SAMPLES))
+        for name, size in corrections.SCENES.items():
+            runs = measure_scene(name, lambda: demo.build(name, resolution=size), size, corrections.REFERENCE_SAMPLES,
+                                 os.path.join(folder, f"{name}.blend"), cores, corrections.TIMING, log)
+            scenes.append(corrections.scene_report(name, runs, corrections.REFERENCE_SAMPLES, gpu.get(name)))
             log(json.dumps({key: scenes[-1][key] for key in ("name", "preview_error", "goals", "turn")}))
     report = {"machine": f"{platform.processor() or platform.machine()}, {cores} CPU cores", "cores": cores,
-              "workers": cores, "reference_samples": CORRECTION_REFERENCE_SAMPLES, "scenes": scenes,
+              "workers": cores, "reference_samples": corrections.REFERENCE_SAMPLES, "scenes": scenes,
               "command": command_line(args)}
     return corrections.write_correction_report(report, args.out)
 
@@ -446,7 +454,7 @@ def build_parser():
     command.add_argument("--out", default="out", help="output folder (default: out)")
     add_setting_flags(command)
     add_debug_passes_flag(command)
-    add_correction_flags(command)
+    add_correction_flags(command, scheduler=False)  # a demo scene is never saved where a cluster could read it
     command.set_defaults(run=command_demo)
 
     command = commands.add_parser("render", help="render a .blend file from its active camera")
@@ -514,6 +522,9 @@ def build_parser():
                          help="the preview corrected toward Cycles by sample workers against Cycles progressive and "
                               "denoised, error over wall time, on the demo scenes lit by lamps (corrections.json, "
                               ".md, plots; minutes, and the references the first time)")
+    command.add_argument("--gpu-previews", help="with --corrections: the JSON of scripts/time_previews.py on a GPU "
+                                               "(docs/bench/corrections_previews.json), to judge the goals also with "
+                                               "the preview rendered there")
     command.add_argument("--emitters", action="store_true",
                          help="measure the emitter grid against the emitter count (1 to 4^N, --emitters-up-to) and "
                               "64 point lights against one (emitters.json, emitters.md)")

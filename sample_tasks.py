@@ -40,11 +40,17 @@ class SampleRequest:
                            f"{self.samples} samples is out of range; ask for pixels inside the image, 1 sample or "
                            f"more.")
         if self.projection is not None:
-            p = self.projection
-            if p[3][2] != -1 or abs(p[0][2]) > 1e-6 or abs(p[1][2]) > 1e-6 or \
-                    abs(p[1][1] / p[0][0] * height / width - 1) > 0.01:
-                raise LPVError("Cycles samples are taken through unshifted perspective views of the image's aspect "
-                               "only; leave the orthographic or shifted view to correct it.")
+            check_projection(self.projection, self.resolution)
+
+
+def check_projection(projection, resolution):
+    """Refuse an OpenGL projection Cycles' camera cannot take: not perspective, shifted, or
+    of another aspect than the `resolution` (width, height)."""
+    width, height = resolution
+    p = projection
+    if p[3][2] != -1 or abs(p[0][2]) > 1e-6 or abs(p[1][2]) > 1e-6 or abs(p[1][1] / p[0][0] * height / width - 1) > 0.01:
+        raise LPVError("Cycles samples are taken through unshifted perspective views of the image's aspect only; "
+                       "leave the orthographic or shifted view to correct it.")
 
 
 def renderer(blend_path):

@@ -12,12 +12,14 @@ import numpy as np
 from mathutils import Matrix
 
 from ..gpu.pipeline import Pipeline
+from ..gpu.settings import Settings
 from .corrective import Corrector
 from .cycles_reference import ReferenceCache, cycles_reference
+from .cycles_samples import SampleRenderer
 from .render_scene import scene_to_render
-from .sample_workers import SampleRequest
+from .sample_workers import SampleRequest, SampleWorkers
 
-FIRST_SEED = 100
+TIMELINE_SEED = 100
 """The Cycles timelines' seeds count up from here, apart from the references' and the corrections'."""
 
 
@@ -98,11 +100,11 @@ def cycles_progressive(renderer, view, seconds, threads, denoise=False):
     refines); denoised: 1, 2, 4, ... samples each rendered anew and denoised, while the
     next is expected to fit. Returns the timeline and the samples of its last image."""
     height, width = view.reference.shape[:2]
-    timeline, total, samples, spent, seed = [], 0.0, 0, 0.0, FIRST_SEED
+    timeline, total, samples, spent, seed = [], 0.0, 0, 0.0, TIMELINE_SEED
     step = 1
     while spent < seconds:
         result = renderer.render(SampleRequest((0, 0, width, height), (width, height), step, seed, view.camera,
-                                               denoise), threads)
+                                               denoise=denoise), threads)
         seed += 1
         image = result.passes["Combined"]
         if denoise:
@@ -137,22 +139,20 @@ def corrected(workers, views, seconds, frames_at=(), corrector=None):
 
 
 def measure_scene(name, build, resolution, reference_samples, blend_path, cores, timing, log=print):
-    """Every timeline of the benchmark on the scene `name` that `build()` makes (`timing`: bench/corrections.py,
-    its durations and path): {"views", "still" {method: timeline}, "cycles_samples", "turn"
-    (the first corrected image after turning to the path's last view), "path" [{method:
-    timeline} per view]}."""
-    from ..gpu.settings import Settings
-    from .cycles_samples import SampleRenderer
-    from .sample_workers import SampleWorkers
-    views = path_views(name, build, resolution, timing.PATH_DEGREES, reference_samples, blend_path, log)
+    """Every timeline of the benchmark on the scene `name` that `build()` makes, `timing`
+    giving the camera path's turns and the seconds of each run (bench/corrections.py
+    TIMING): {"views", "still" {method: timeline}, "cycles_samples", "turn" (the first
+    corrected image after turning to the path's last view), "path" [{method: timeline}
+    per view]}, Cycles and the workers on `cores` cores."""
+    views = path_views(name, build, resolution, timing["path_degrees"], reference_samples, blend_path, log)
     render_previews(views, Settings(width=resolution[0], height=resolution[1]))
     renderer = SampleRenderer(blend_path)
     try:
         renderer.render(SampleRequest((0, 0, 1, 1), resolution, 1, 1), cores)  # Cycles' scene loaded, as the workers'
-        still, samples = cycles_progressive(renderer, views[0], timing.STILL_SECONDS, cores)
-        denoised, _ = cycles_progressive(renderer, views[0], timing.DENOISED_SECONDS, cores, denoise=True)
-        path = [{"cycles": cycles_progressive(renderer, view, timing.FRAME_SECONDS, cores)[0],
-                 "cycles_denoised": cycles_progressive(renderer, view, timing.FRAME_SECONDS, cores, denoise=True)[0]}
+        still, samples = cycles_progressive(renderer, views[0], timing["still_seconds"], cores)
+        denoised, _ = cycles_progressive(renderer, views[0], timing["denoised_seconds"], cores, denoise=True)
+        path = [{"cycles": cycles_progressive(renderer, view, timing["frame_seconds"], cores)[0],
+                 "cycles_denoised": cycles_progressive(renderer, view, timing["frame_seconds"], cores, denoise=True)[0]}
                 for view in views]
     finally:
         renderer.close()
@@ -161,14 +161,14 @@ def measure_scene(name, build, resolution, reference_samples, blend_path, cores,
         workers.open_everywhere()
         workers.client.gather([workers.submit(SampleRequest((0, 0, 1, 1), resolution, 1, 1 + i))
                                for i in range(cores)])  # every worker's scene loaded
-        ours, corrector = corrected(workers, views[:1], timing.STILL_SECONDS, timing.FRAMES_AT)
+        ours, corrector = corrected(workers, views[:1], timing["still_seconds"], timing["frames_at"])
         corrector.cancel()
         turn = corrector.rest(views[-1].key, views[-1].scene.camera, views[-1].camera, views[-1].preview,
                               views[-1].guide).image
         log(f"{name}: corrected still done ({corrector.samples_received} samples)")
         corrector = None
         for view, frame in zip(views, path):
-            frame["corrected"], corrector = corrected(workers, [view], timing.FRAME_SECONDS, (), corrector)
+            frame["corrected"], corrector = corrected(workers, [view], timing["frame_seconds"], (), corrector)
             corrector.cancel()
     return {"views": views, "still": {"cycles": still, "cycles_denoised": denoised, "corrected": ours},
-            "cycles_samples": samples, "turn": turn, "path": path, "correction_samples": corrector.samples_received}
+            "cycles_samples": samples, "turn": turn, "path": path}

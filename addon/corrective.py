@@ -17,12 +17,16 @@ from ..gpu.errors import LPVError
 from ..gpu.correction_queue import RequestQueue
 from ..gpu.corrections import Corrections
 from ..gpu.pipeline import Pipeline
-from .sample_workers import SampleRequest, SampleWorkers
+from .sample_workers import SampleRequest, SampleWorkers, first_line
 
 REQUESTS_PER_WORKER = 2
 """Requests kept in flight a worker: the next one is there when one ends."""
 FIRST_SEED = 1000
 """Seeds of the requests count up from here, apart from the references' (0) and the peers' (1)."""
+QUEUE_SECONDS = 0.5
+"""While samples come, the queue learns the reconstruction's errors at least this often."""
+CAPACITY_SECONDS = 10.0
+"""How often the cluster is asked how many workers it has (a studio's may grow)."""
 
 
 class Corrector:
@@ -31,18 +35,20 @@ class Corrector:
     def __init__(self, workers):
         self.workers = workers
         self.corrections = Corrections()
-        self.in_flight = {}  # future -> (view key, region, samples a pixel)
+        self.in_flight = {}  # future -> (view key, the queue that asked, region, samples a pixel)
         self.seed = FIRST_SEED
         self.view_key = self.queue = self.preview = self.camera_matrix = self.projection = None
         self.resolution = None
         self.samples_received = self.requests_received = 0
         self.started = None
-        self.worker_seconds = 0.0
+        self.updated = (0.0, 0)  # when the queue last learnt the errors, and the samples then
+        self.capacity = (-CAPACITY_SECONDS, 1)  # (when asked, requests in flight wanted)
 
     def rest(self, key, camera, camera_matrix, preview, guide, projection=None):
         """The camera rests at the view `key`: its gpu Camera, the world matrix and the
         projection Cycles renders it with (4 × 4 nested tuples; None: the scene camera's),
-        its preview ((h, w, 3)) and Guide."""
+        its preview ((h, w, 3)) and Guide. Returns the frame corrected by what the
+        corrections hold already."""
         if key != self.view_key:
             self.corrections.view(key, camera, guide)
             self.view_key, self.camera_matrix, self.projection = key, camera_matrix, projection
@@ -55,23 +61,27 @@ class Corrector:
         """The corrected frame of the view at rest (a gpu.corrections Reconstruction); the
         queue learns its errors."""
         reconstruction = self.corrections.reconstruct(self.view_key, self.preview)
-        self.queue.update(reconstruction.error, self.corrections.gathered(self.view_key)[1])
+        self.queue.update(reconstruction.error, reconstruction.samples)
+        self.updated = (time.perf_counter(), self.samples_received)
         return reconstruction
 
     def fill(self):
         """Send requests until every worker has REQUESTS_PER_WORKER."""
+        now = time.perf_counter()
         if self.started is None:
-            self.started = time.perf_counter()
-        wanted = REQUESTS_PER_WORKER * max(1, sum(self.workers.client.nthreads().values()))
-        while len(self.in_flight) < wanted:
+            self.started = now
+        if now - self.capacity[0] >= CAPACITY_SECONDS:
+            self.capacity = (now, REQUESTS_PER_WORKER * max(1, sum(self.workers.client.nthreads().values())))
+        while len(self.in_flight) < self.capacity[1]:
             region, spp = self.queue.next()
             request = SampleRequest(region, self.resolution, spp, self.seed, self.camera_matrix, self.projection)
             self.seed += 1
-            self.in_flight[self.workers.submit(request)] = (self.view_key, region, spp)
+            self.in_flight[self.workers.submit(request)] = (self.view_key, self.queue, region, spp)
 
     def receive(self, timeout=None):
         """Wait up to `timeout` seconds (None: until one comes) for results and add them;
-        returns how many came."""
+        returns how many came. A request that failed on its worker (after Dask's retries)
+        is refused in one sentence."""
         from distributed import wait
         self.fill()
         done = [future for future in self.in_flight if future.done()]
@@ -81,25 +91,27 @@ class Corrector:
             except TimeoutError:
                 return 0
         for future in done:
-            key, region, spp = self.in_flight.pop(future)
+            key, queue, region, spp = self.in_flight.pop(future)
+            if future.status != "finished":
+                queue.done(region, spp)
+                raise LPVError(f"A Cycles sample worker failed: {first_line(future.exception())}.")
             result = future.result()
+            queue.done(region, spp, result.seconds)
             if self.corrections.add(key, region, result.passes["Combined"], spp):
                 self.samples_received += result.passes["Combined"].shape[0] * result.passes["Combined"].shape[1] * spp
                 self.requests_received += 1
-                self.worker_seconds += result.seconds
-            if key == self.view_key:
-                self.queue.done(region, spp, result.seconds)
         return len(done)
 
-    def run(self, seconds, frames_at=(), stop=None):
-        """Receive for `seconds` (or until `stop()`), rebuilding the frame at each of the
-        times `frames_at` (seconds from now; what a viewport redraw would show then);
-        yields (seconds since the start, Reconstruction) for each of them and at the end."""
+    def run(self, seconds, frames_at=()):
+        """Receive for `seconds`, rebuilding the frame at each of the times `frames_at`
+        (seconds from now; what a viewport redraw would show then) and, for the queue,
+        every QUEUE_SECONDS while samples come; yields (seconds since the start,
+        Reconstruction) for each of `frames_at` and at the end."""
         start = time.perf_counter()
         pending = sorted(at for at in frames_at if at < seconds)
         while True:
             elapsed = time.perf_counter() - start
-            if elapsed >= seconds or (stop is not None and stop()):
+            if elapsed >= seconds:
                 break
             until = min([seconds, *pending[:1]]) - elapsed
             self.receive(timeout=max(0.0, min(until, 0.05)))  # the workers are kept busy first
@@ -108,6 +120,8 @@ class Corrector:
                 pending = [at for at in pending if at > elapsed]
                 frame = self.frame()
                 yield time.perf_counter() - start, frame
+            elif time.perf_counter() - self.updated[0] >= QUEUE_SECONDS and self.samples_received > self.updated[1]:
+                self.frame()
         frame = self.frame()
         yield time.perf_counter() - start, frame
 
@@ -122,8 +136,9 @@ class Corrector:
 
     def cancel(self):
         """Drop the requests in flight."""
-        for future in self.in_flight:
+        for future, (_, queue, region, spp) in self.in_flight.items():
             future.cancel()
+            queue.done(region, spp)
         self.in_flight.clear()
 
 
@@ -150,15 +165,16 @@ def blend_for_workers(bpy_scene, path=None, remote=False):
         yield copy
 
 
-def corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path=None, scheduler=None,
-                    security=None):
+def corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path=None, scheduler=None):
     """A frame of the gpu Scene `scene` (extracted from `bpy_scene`) whose combined
     pass is corrected toward Cycles for `correction.correct_seconds` by
-    `correction.correction_workers` local workers (or the Dask cluster at `scheduler`);
-    the uncorrected image is the pass `preview`, the statistics say what came."""
+    `correction.correction_workers` local workers (or the Dask cluster at `scheduler`,
+    its TLS certificates from Dask's configuration); the uncorrected image is the pass
+    `preview`, the statistics say what came. The workers start first: a cluster that
+    cannot be reached stops it before the preview's work."""
     with blend_for_workers(bpy_scene, blend_path, remote=scheduler is not None) as path:
-        with SampleWorkers(path, workers=None if scheduler else correction.correction_workers, scheduler=scheduler,
-                           security=security) as workers:
+        with SampleWorkers(path, workers=None if scheduler else correction.correction_workers,
+                           scheduler=scheduler) as workers:
             workers.open_everywhere()
             pipeline = Pipeline(settings)
             try:

@@ -28,6 +28,7 @@ from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WI
                             view_layer_to_render)
 from .render_scene import scene_to_render
 
+
 @contextmanager
 def temporary_copy(scene):
     """A linked copy of `scene` (the same objects, world, camera, frame and view layers)
@@ -159,6 +160,8 @@ def describe_reference_settings(settings):
 # ----------------------------------------------------------------------------- references
 
 REFERENCE_PASSES = ("DiffDir", "DiffInd", "DiffCol", "Combined")
+
+
 @dataclass
 class CyclesReference:
     """A Cycles reference: diffuse direct and indirect light and Cycles' own Combined pass

@@ -67,10 +67,11 @@ def enable_cycles():
 
 @contextmanager
 def temporary_folder():
+    """A temporary folder for a Cycles render's file, removed afterwards."""
     try:
-        folder = tempfile.mkdtemp(prefix="lpv_cycles_reference_")
+        folder = tempfile.mkdtemp(prefix="lpv_cycles_")
     except OSError as error:
-        raise LPVError(f"Cannot create a temporary folder for the Cycles reference in "
+        raise LPVError(f"Cannot create a temporary folder for a Cycles render in "
                        f"'{tempfile.gettempdir()}' ({error.strerror}); set TMPDIR to a writable folder.") from error
     try:
         yield folder
@@ -105,7 +106,12 @@ def apply_output_settings(scene, view_layer, exr_path, resolution):
 
 
 def apply_render_settings(scene, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
-                              max_bounces, light_threshold, pixel_filter_width, denoise):
+                          max_bounces, light_threshold, pixel_filter_width, denoise):
+    """Set `scene` up for a raw Cycles render on the CPU of `passes` into `exr_path`: the
+    `sample_range` (first, count) of `samples` with `seed`, every bounce type capped at
+    `max_bounces` (None: the scene's), no adaptive sampling, clamping or time limit, the
+    pixel filter `pixel_filter_width` wide (None: the scene's), and `denoise`d by
+    OpenImageDenoise as the viewport denoises."""
     cycles = scene.cycles
     scene.render.engine = "CYCLES"
     apply_output_settings(scene, view_layer, exr_path, resolution)

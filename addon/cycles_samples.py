@@ -19,7 +19,8 @@ from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WI
 
 LENS_SETTINGS = ("type", "sensor_fit", "lens", "sensor_width", "sensor_height", "shift_x", "shift_y", "clip_start",
                  "clip_end")
-"""The camera data a request's projection sets, and restores for a request without one."""
+"""The camera data a request's projection sets, and restores for a request without one
+(with its depth of field, `dof.use_dof`)."""
 SAMPLE_PASSES = ("Combined",)
 """What a request returns: all the light, what the corrections aim at (as the full-GI
 reference: its bounces and pixel filter)."""
@@ -48,8 +49,9 @@ class SampleRenderer:
         self.view_layer = view_layer_to_render(self.scene)
         self.scene.render.use_persistent_data = True
         self._camera = None if self.scene.camera is None else tuple(map(tuple, self.scene.camera.matrix_world))
-        self._lens = None if self.scene.camera is None else {name: getattr(self.scene.camera.data, name)
-                                                             for name in LENS_SETTINGS}
+        self._lens = None if self.scene.camera is None else {
+            **{name: getattr(self.scene.camera.data, name) for name in LENS_SETTINGS},
+            "use_dof": self.scene.camera.data.dof.use_dof}
         self._folder = tempfile.mkdtemp(prefix="lpv_cycles_samples_")  # one for every request: no setup each
 
     def close(self):
@@ -90,7 +92,8 @@ class SampleRenderer:
                             time.perf_counter() - started)
 
     def _set_lens(self, projection):
-        """The camera's lens as `projection` (an unshifted OpenGL perspective) gives, or its own for None."""
+        """The camera's lens as `projection` (an unshifted OpenGL perspective, a 3D view's:
+        no depth of field) gives, or its own for None."""
         data = self.scene.camera.data
         if projection is None:
             wanted = self._lens
@@ -98,8 +101,9 @@ class SampleRenderer:
             p = np.asarray(projection, dtype=np.float64)
             wanted = {"type": "PERSP", "sensor_fit": "VERTICAL", "angle_y": 2 * math.atan(1 / p[1, 1]),
                       "shift_x": 0.0, "shift_y": 0.0, "clip_start": p[2, 3] / (p[2, 2] - 1),
-                      "clip_end": p[2, 3] / (p[2, 2] + 1)}
+                      "clip_end": p[2, 3] / (p[2, 2] + 1), "use_dof": False}
         for name, value in wanted.items():
-            if getattr(data, name) != value:
-                setattr(data, name, value)
+            holder = data.dof if name == "use_dof" else data
+            if getattr(holder, name) != value:
+                setattr(holder, name, value)
 

@@ -6,8 +6,9 @@ scene as `scene.lpv_preview`.
 """
 import bpy
 
-from ..gpu.settings import (ALL_PARAMETERS, COMPARISON_PARAMETERS, CORRECTION_PARAMETERS, DISPLAY_PARAMETERS,
-                            PARAMETERS, ComparisonSettings, CorrectionSettings, DisplaySettings, Settings)
+from ..gpu.settings import (ALL_PARAMETERS, COMMAND_LINE_ONLY, COMPARISON_PARAMETERS, CORRECTION_PARAMETERS,
+                            DISPLAY_PARAMETERS, PARAMETERS, ComparisonSettings, CorrectionSettings, DisplaySettings,
+                            Settings)
 
 
 def redraw_views(properties, context):
@@ -67,8 +68,9 @@ def settings_from_properties(properties, **overrides):
 
 
 def correction_settings_from_properties(properties):
-    """A validated CorrectionSettings from a scene's properties."""
-    return CorrectionSettings(**_values(properties, CORRECTION_PARAMETERS))
+    """A validated CorrectionSettings from a scene's properties (the command line's own at their defaults)."""
+    return CorrectionSettings(**_values(properties, (name for name in CORRECTION_PARAMETERS
+                                                    if name not in COMMAND_LINE_ONLY)))
 
 
 def display_settings_from_properties(properties):

@@ -15,33 +15,57 @@ WORKER_DEATHS_ALLOWED = 3
 """Worker deaths a request may see before it is given up (Dask's allowed-failures)."""
 
 
+def check_scheduler(scheduler):
+    """Refuse a scheduler address that is not TLS (before any work)."""
+    if scheduler is not None and not scheduler.startswith("tls://"):
+        raise LPVError(f"The Dask scheduler '{scheduler}' is not a tls:// address; a scheduler runs whatever code it "
+                       f"is sent, so reach it over TLS only (see the README).")
+
+
+def first_line(error):
+    """An exception's first line, without its full stop (or its type's name when it says nothing)."""
+    text = str(error).strip()
+    return text.splitlines()[0].rstrip(".") if text else type(error).__name__
+
+
 class SampleWorkers:
     """A Dask client and, for `workers`, the local cluster it owns."""
 
     def __init__(self, blend_path, workers=None, scheduler=None, security=None):
-        import dask
-        from distributed import Client, LocalCluster
+        check_scheduler(scheduler)
+        if scheduler is None and (workers is None or workers < 1):
+            raise LPVError(f"Start 1 or more Cycles sample workers, not {workers}.")
+        try:
+            import dask
+            from distributed import Client, LocalCluster
+        except ImportError:
+            raise LPVError("The Cycles sample workers need Dask distributed, which this Python lacks; install "
+                           "requirements.txt (bash scripts/setup.sh).") from None
         self.blend_path = blend_path
         self.cluster = None
         with dask.config.set({"distributed.scheduler.allowed-failures": WORKER_DEATHS_ALLOWED}):
-            if scheduler is not None:
-                if not scheduler.startswith("tls://"):
-                    raise LPVError(f"The Dask scheduler '{scheduler}' is not a tls:// address; a scheduler runs "
-                                   f"whatever code it is sent, so reach it over TLS only (see the README).")
-                self.client = Client(scheduler, security=security, timeout="20s")
-            else:
-                if workers is None or workers < 1:
-                    raise LPVError(f"Start 1 or more Cycles sample workers, not {workers}.")
-                self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                            host="127.0.0.1", dashboard_address=None)
-                self.client = Client(self.cluster)
+            try:
+                if scheduler is not None:
+                    self.client = Client(scheduler, security=security, timeout="20s")
+                else:
+                    self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                                host="127.0.0.1", dashboard_address=None)
+                    self.client = Client(self.cluster)
+            except (OSError, RuntimeError, TimeoutError) as error:
+                where = f"the Dask scheduler at '{scheduler}'" if scheduler else f"{workers} local workers"
+                raise LPVError(f"The Cycles sample workers could not start ({where}: {first_line(error)}); they "
+                               f"need a Python with the bpy module and Dask (bash scripts/setup.sh).") from None
         # a local worker is one core: Cycles alone would take them all in each (start as many
         # workers as cores); a remote worker's own machine decides
         self.threads = 1 if self.cluster is not None else None
 
     def open_everywhere(self):
         """Have every worker open the .blend now, so the first requests wait for none."""
-        self.client.run(open_blend, self.blend_path)
+        try:
+            self.client.run(open_blend, self.blend_path)
+        except Exception as error:  # whatever the worker raised, pickled back
+            raise LPVError(f"The Cycles sample workers could not open '{self.blend_path}': {first_line(error)}.") \
+                from None
 
     def submit(self, request):
         """A Dask future of the SampleResult of `request`."""

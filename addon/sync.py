@@ -47,6 +47,13 @@ def record_updates(depsgraph):
     return [RecordedUpdate.record(update) for update in depsgraph.updates]
 
 
+def edits_cycles_sees(updates):
+    """Whether `updates` hold an edit that changes what Cycles renders beyond the camera:
+    any but a camera's and the scene's own (its settings, ours among them)."""
+    return any(not ((update.id_type == "OBJECT" and update.object_type == "CAMERA")
+                    or update.id_type in ("CAMERA", "SCENE")) for update in updates)
+
+
 def changed_parts(updates):
     """The parts of the scene (CAMERA, LIGHTS, GEOMETRY) that `updates` may have changed."""
     parts = set()

@@ -24,7 +24,7 @@ SETTING_GROUPS = {
     "Overlays": ("show_vpls", "vpl_point_size", "show_lpv_slice", "lpv_slice_axis", "lpv_slice_position",
                  "show_warp_status"),
     "Passes": ("debug_passes",),
-    "Corrections": ("viewport_corrections", "correction_viewport_width", "correction_workers", "correct_seconds"),
+    "Corrections": ("viewport_corrections", "correction_viewport_width", "correction_workers"),
     "Comparison": ("compare_cm", "compare_dpm", "compare_wdpm", "compare_tdpm", "compare_twdpm", "compare_auto",
                    "compare_lpv", "compare_light_grid", "compare_vpl_gather", "compare_samples", "compare_noise_floor",
                    "compare_peers"),
@@ -89,7 +89,9 @@ def draw_statistics(layout, stats):
         column.label(text=f"Corrections: {stats['correction_samples']:,} Cycles samples, "
                           f"{stats['correction_samples_per_second']:,.0f} a second")
         if "correction_estimated_error" in stats:
-            column.label(text=f"Estimated error (relMSE, noise only): {stats['correction_estimated_error']:.4f}")
+            column.label(text=f"Estimated error (relative MSE): {stats['correction_estimated_error']:.4f}")
+    if stats.get("correction_problem"):
+        column.label(text=stats["correction_problem"], icon="ERROR")
     images = stats.get("images")
     if images:
         column.label(text=f"Images: {len(images)}")

@@ -15,7 +15,7 @@ from ..gpu.scene import Camera
 from . import frame_stats, overlay
 from .properties import (correction_settings_from_properties, display_settings_from_properties,
                          settings_from_properties)
-from .sync import CAMERA, EVERYTHING, SceneSync, changed_parts
+from .sync import EVERYTHING, SceneSync, changed_parts, edits_cycles_sees
 from .viewport_corrections import ViewportCorrections, corrected_size
 
 
@@ -59,11 +59,13 @@ class ViewportSession:
         self.overlays = overlay.OverlayData()
         self.corrections = ViewportCorrections()
         self.pending = set(EVERYTHING)
+        self.edited = True  # what Cycles renders changed since the last redraw
         self.scene = None  # the Scene last extracted
         self._shown = None  # (what the last drawn frame depends on, that frame)
 
     def note_updates(self, updates):
         self.pending |= changed_parts(updates)
+        self.edited |= edits_cycles_sees(updates)
 
     def frame(self, depsgraph, camera, size, view3d=None, settings=None, accumulate=False):
         """Render the current scene from `camera` at `size` (width, height), with the
@@ -98,7 +100,6 @@ class ViewportSession:
             size = corrected_size(size, correction.correction_viewport_width)
         settings = settings_from_properties(properties, width=size[0], height=size[1])
         display = display_settings_from_properties(properties)
-        edited = bool(self.pending - {CAMERA})
         depends_on = (camera.key(), settings)
         if self._shown is None or self._shown[0] != depends_on:
             self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings))
@@ -106,12 +107,12 @@ class ViewportSession:
             self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings, accumulate=True))
         self.overlays.update(self.pipeline, display)
         frame = self._shown[1]
+        edited, self.edited = self.edited, False
         if not correction.viewport_corrections:
             self.corrections.stop()
             return frame
-        if edited or self.corrections.worker_count != correction.correction_workers:
-            self.corrections.start(depsgraph.scene, correction.correction_workers)
-        frame.stats.update(self.corrections.show(frame, self.scene, self.pipeline, camera, self.display))
+        frame.stats.update(self.corrections.show(depsgraph.scene, frame, self.scene, self.pipeline, camera,
+                                                 self.display, correction.correction_workers, edited))
         frame_stats.remember(frame.stats)
         return frame
 

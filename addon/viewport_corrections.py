@@ -1,11 +1,14 @@
 """Corrections in the viewport (issue 18): while the view rests, Cycles samples of it
 stream in from local sample workers and each redraw shows the preview corrected by what
 has come; a camera move keeps the corrections that still apply; an edit of the scene
-starts them again on a fresh copy of it. The view is rendered at most
+starts them again on a fresh copy of it once the edits stop. The view is rendered at most
 `correction_viewport_width` pixels wide while corrections are on (Cycles' samples are
 the cost), and drawn over the whole region.
 
-Nothing here draws: it fills the session's display rows, so it runs in background mode.
+A view rests when a redraw shows the same frame as the one before: only then is its
+G-buffer read and a request sent, so orbiting costs nothing and leaves the layers of the
+views that rested. Nothing here draws: it fills the session's display rows, so it runs in
+background mode.
 """
 import os
 import shutil
@@ -14,11 +17,17 @@ import time
 
 import numpy as np
 
+from ..gpu.errors import LPVError
+from ..sample_tasks import check_projection
 from .corrective import Corrector, write_scene
 from .sample_workers import SampleWorkers
 
 REBUILD_SECONDS = 0.25
-"""A still view's corrected frame is rebuilt at most this often (the rebuild costs CPU the workers could use)."""
+"""A still view's corrected frame is rebuilt at most this often (the rebuild costs CPU the
+workers could use); a moved or edited view is looked at again after as long."""
+COPIES_KEPT = 2
+"""Scene copies kept: the one the workers open now and the one before (a request may
+still be reading it)."""
 
 
 def corrected_size(size, width):
@@ -29,64 +38,86 @@ def corrected_size(size, width):
 
 
 class ViewportCorrections:
-    """One viewport's workers, corrections and the preview they correct."""
+    """One viewport's workers, corrections and the frame they correct."""
 
     def __init__(self):
         self.workers = self.corrector = self.folder = None
         self.worker_count = None
-        self.edits = 0  # scene copies written so far
-        self.preview = None  # (view key, the preview, top row first)
+        self.copies = []  # the scene copies written, newest last
+        self.stale = False  # the scene was edited since its copy
+        self.shown = self.rested = None  # (view key, frame) drawn last, and where the corrector rests
         self.last = None  # the last corrected frame
-        self.rebuilt = 0.0
-        self.received = 0
+        self.rebuilt, self.received = 0.0, 0
+        self.problem = None  # why the view is not corrected, in one sentence
 
     @property
     def streaming(self):
-        """Whether samples may still come for the view at rest (redraw again)."""
-        return self.corrector is not None and self.corrector.view_key is not None
+        """Whether a later redraw may show more: samples to come, a view to rest, edits to catch up with."""
+        return self.workers is not None and self.problem is None and (self.stale or self.rested != self.shown
+                                                                      or bool(self.corrector.in_flight))
 
-    def start(self, bpy_scene, workers):
+    def show(self, bpy_scene, frame, scene, pipeline, camera, display, workers, edited):
+        """Correct `frame` (a viewport Frame of `scene`, its combined image in `display`'s
+        rows, `camera` the 3D view's) with what has come, from `workers` local workers;
+        `edited`: the scene changed since the last redraw. Returns the corrections'
+        statistics (and `correction_problem`, a sentence, when the view is not corrected)."""
+        if edited:
+            self.stale = True
+            if self.corrector is not None:
+                self.corrector.cancel()
+        height, width = frame.display.shape[:2]
+        key = f"{camera.key()}:{width}x{height}"
+        projection = tuple(map(tuple, camera.projection))
+        try:
+            if self.stale and not edited or self.worker_count != workers:
+                self._start(bpy_scene, workers)
+            self.problem = None
+            check_projection(projection, (width, height))
+            if (key, frame) != self.shown:  # moved (or edited): shown as it is until it rests
+                self.shown = (key, frame)
+            elif self.rested != self.shown:
+                self.rested = self.shown
+                preview = np.ascontiguousarray(frame.display[::-1, :, :3])
+                self._write(self.corrector.rest(key, scene.camera, tuple(map(tuple, np.linalg.inv(camera.view))),
+                                                preview, pipeline.read_guide(scene), projection), frame, display)
+                self.corrector.fill()
+            else:
+                self.corrector.receive(timeout=0)
+                if (self.corrector.samples_received > self.received
+                        and time.perf_counter() - self.rebuilt >= REBUILD_SECONDS):
+                    self._write(self.corrector.frame(), frame, display)
+        except LPVError as error:
+            self.problem = str(error)
+            if self.corrector is not None:
+                self.corrector.cancel()
+        stats = self.corrector.stats(self.last) if self.corrector is not None else {}
+        return {**stats, "correction_problem": self.problem} if self.problem else stats
+
+    def _start(self, bpy_scene, workers):
         """Workers (started again for another count) on a copy of `bpy_scene` as it is now;
         the corrections start empty."""
         if self.workers is None or self.worker_count != workers:
             self.stop()
             self.folder = tempfile.mkdtemp(prefix="lpv_viewport_corrections_")
-            self.workers, self.worker_count = SampleWorkers(self._copy(bpy_scene), workers=workers), workers
+            self.worker_count = workers
+            self.workers = SampleWorkers(self._copy(bpy_scene), workers=workers)
         else:
             self.corrector.cancel()
             self.workers.blend_path = self._copy(bpy_scene)  # each worker opens it with its next request
         self.corrector = Corrector(self.workers)
-        self.preview = None
+        self.stale, self.shown, self.rested, self.last, self.received = False, None, None, None, 0
 
     def _copy(self, bpy_scene):
-        self.edits += 1
-        path = os.path.join(self.folder, f"scene_{self.edits}.blend")
+        path = os.path.join(self.folder, f"scene_{len(self.copies) + 1}.blend")
         write_scene(bpy_scene, path)
+        self.copies.append(path)
+        for old in self.copies[:-COPIES_KEPT]:
+            if os.path.exists(old):
+                os.remove(old)
         return path
 
-    def show(self, frame, scene, pipeline, camera, display):
-        """Correct `frame` (a viewport Frame of `scene`, its combined image in `display`'s
-        rows) with what has come: a new view or preview rests the corrector there, a still
-        one is rebuilt when samples came and REBUILD_SECONDS passed. Returns the
-        corrections' statistics."""
-        key = scene.camera.key()
-        rows = frame.display
-        if self.preview is None or self.preview[0] != key or self.preview[1] is not frame:
-            preview = np.ascontiguousarray(rows[::-1, :, :3])
-            self.preview = (key, frame, preview)
-            camera_matrix = tuple(map(tuple, np.linalg.inv(camera.view)))
-            projection = tuple(map(tuple, camera.projection))
-            self._write(self.corrector.rest(key, scene.camera, camera_matrix, preview, pipeline.read_guide(scene),
-                                            projection), rows, display)
-        else:
-            self.corrector.receive(timeout=0)
-            now = time.perf_counter()
-            if self.corrector.samples_received > self.received and now - self.rebuilt >= REBUILD_SECONDS:
-                self._write(self.corrector.frame(), rows, display)
-        return self.corrector.stats(self.last)
-
-    def _write(self, reconstruction, rows, display):
-        rows[::-1, :, :3] = reconstruction.image
+    def _write(self, reconstruction, frame, display):
+        frame.display[::-1, :, :3] = reconstruction.image
         display.fresh = True
         self.last, self.rebuilt, self.received = reconstruction, time.perf_counter(), self.corrector.samples_received
 
@@ -97,4 +128,5 @@ class ViewportCorrections:
             self.workers.close()
         if self.folder is not None:
             shutil.rmtree(self.folder, ignore_errors=True)
-        self.workers = self.corrector = self.folder = self.preview = None
+        self.workers = self.corrector = self.folder = self.worker_count = None
+        self.copies, self.shown, self.rested, self.last, self.problem = [], None, None, None, None

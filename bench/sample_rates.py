@@ -8,9 +8,13 @@ from pathlib import Path
 
 import numpy as np
 
+from .plots import pyplot, save
+
 REGIONS = (1, 8, 32)  # square regions' sides, pixels
 SAMPLES = (1, 4, 16, 64)
 WORKER_COUNTS = (1, 2, 4)
+SCALING_REQUESTS = 12
+"""Requests each worker renders in the scaling measurement."""
 
 
 def request_costs(render, request_of, resolution, repeats=3, log=print):
@@ -35,8 +39,8 @@ def request_costs(render, request_of, resolution, repeats=3, log=print):
     return {"rows": rows, "fixed_ms": float(fixed * 1e3), "samples_per_second": float(1.0 / per_sample)}
 
 
-def worker_scaling(start_workers, request_of, resolution, region=32, samples=16, requests_per_worker=16,
-                   log=print):
+def worker_scaling(start_workers, request_of, resolution, region=64, samples=16,
+                   requests_per_worker=SCALING_REQUESTS, log=print):
     """Samples a second of `requests_per_worker` requests a worker of `region`² pixels at
     `samples` each, for each count in WORKER_COUNTS; `start_workers(n)` gives a context
     manager with `open_everywhere()`, `submit(request)` and `client.gather(futures)`
@@ -56,7 +60,7 @@ def worker_scaling(start_workers, request_of, resolution, region=32, samples=16,
             start = time.perf_counter()
             workers.client.gather([workers.submit(request) for request in requests])
             seconds = time.perf_counter() - start
-        rows.append({"workers": count, "seconds": seconds,
+        rows.append({"workers": count, "seconds": seconds, "region": region, "samples": samples,
                      "samples_per_second": len(requests) * region * region * samples / seconds})
         log(json.dumps(rows[-1]))
     for row in rows:
@@ -65,10 +69,11 @@ def worker_scaling(start_workers, request_of, resolution, region=32, samples=16,
 
 
 def write_sample_report(report, out):
-    """sample_workers.json and sample_workers.md in the folder `out`."""
+    """sample_workers.json, sample_workers.md and the scaling plot sample_workers.png in the folder `out`."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "sample_workers.json").write_text(json.dumps(report, indent=1))
+    plot = _scaling_plot(report["scaling"], out / "sample_workers.png")
     costs = report["costs"]
     lines = [f"### Cycles sample requests ({report['machine']})", "",
              f"One renderer, the {report['scene']} at {report['resolution'][0]}×{report['resolution'][1]}: a request "
@@ -76,9 +81,30 @@ def write_sample_report(report, out):
              f"{costs['samples_per_second']:,.0f} samples a second (least squares over the table).", "",
              "| pixels | samples | ms |", "|---:|---:|---:|"]
     lines += [f"| {row['pixels']} | {row['samples']} | {row['seconds'] * 1e3:.1f} |" for row in costs["rows"]]
-    lines += ["", "### Workers on Dask (local processes)", "", "| workers | samples / s | speed-up |", "|---:|---:|---:|"]
+    first = report["scaling"][0]
+    lines += ["", "### Workers on Dask (local processes)", "",
+              f"Requests of {first['region']}×{first['region']} pixels at {first['samples']} samples each, "
+              f"{SCALING_REQUESTS} a worker.",
+              "", "| workers | samples / s | speed-up |", "|---:|---:|---:|"]
     lines += [f"| {row['workers']} | {row['samples_per_second']:,.0f} | {row['speed_up']:.2f}× |"
               for row in report["scaling"]]
+    if plot is not None:
+        lines += ["", f"![samples a second against workers]({plot.name})"]
     lines += ["", f"Command: `{report['command']}`"]
     (out / "sample_workers.md").write_text("\n".join(lines) + "\n")
     return {"out": str(out)}
+
+
+def _scaling_plot(rows, path):
+    """Samples a second against the number of workers, beside perfect scaling."""
+    plt = pyplot()
+    if plt is None:
+        return None
+    figure, axes = plt.subplots(figsize=(5.2, 3.8), dpi=100)
+    workers = [row["workers"] for row in rows]
+    axes.plot(workers, [row["samples_per_second"] for row in rows], marker="o", label="measured")
+    axes.plot(workers, [rows[0]["samples_per_second"] * count for count in workers], linestyle=":", color="grey",
+              label="perfect scaling")
+    axes.set_xticks(workers)
+    return save(plt, figure, axes, ("local Dask workers (one Cycles thread each)", "Cycles samples a second"),
+                "Cycles sample workers on one machine", path)

@@ -1,7 +1,6 @@
 """What a sweep's JSON report shows: a Markdown table, Pareto plots of time against error
 per scene, and scaling plots of frame time against triangles and lights with the fitted
 line. Made from the JSON alone, so a sweep run on the GPU machine is reported here."""
-import importlib.util
 import json
 import os
 import sys
@@ -13,6 +12,7 @@ from ..gpu.errors import LPVError
 from ..gpu.metrics import figure_text
 from ..gpu.pipeline import STAGES
 from ..gpu.settings import INDIRECT_METHOD_ONLY, PRESET_PARAMETERS
+from .plots import pyplot, save
 
 ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
 ERROR_SOURCES = {"errors_vs_cycles": "Cycles one bounce", "errors_vs_cm": "CM-LPV"}
@@ -200,29 +200,10 @@ def machine_line(machine):
     return line + (f"; CPU {machine['cpu']}" if machine.get("cpu") else "")
 
 
-def _figure():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
-def _save(plt, figure, axes, labels, title, path, legend_size=8):
-    """Label the axes, title and legend the plot, and write it as a PNG."""
-    axes.set_xlabel(labels[0])
-    axes.set_ylabel(labels[1])
-    axes.set_title(title, fontsize=9)
-    axes.legend(fontsize=legend_size)
-    figure.tight_layout()
-    figure.savefig(path)
-    plt.close(figure)
-    return path
-
-
 def pareto_plots(report, folder):
     """One PNG per scene: frame time against the error, one series per method, the
     Pareto front drawn through its points. Returns the files written."""
-    plt = _figure()
+    plt = pyplot()
     written = []
     for scene, group in points_by_scene(report["points"]).items():
         source = error_source(group)
@@ -237,7 +218,7 @@ def pareto_plots(report, folder):
                   label="Pareto front")
         if all(p[source][ERROR_METRIC] for p in front):
             axes.set_yscale("log")
-        written.append(_save(plt, figure, axes, ("frame ms (every stage redone)",
+        written.append(save(plt, figure, axes, ("frame ms (every stage redone)",
                                                  f"relative MSE of the indirect image vs {ERROR_SOURCES[source]}"),
                              f"{scene_label(scene)}: {report['machine']['renderer']}",
                              os.path.join(folder, f"pareto_{report['sweep']}_{scene_label(scene)}.png")))
@@ -256,7 +237,7 @@ def scaling_plots(report, folder):
     """Frame time against triangles, and against light count, per method (and light
     kind), with the fitted line, for the axes the sweep names in `scaling`. Returns
     {plot: fits}."""
-    plt = _figure()
+    plt = pyplot()
     results = {}
     for axis in report.get("scaling", ()):
         key = SCALING_AXES[axis]
@@ -275,7 +256,7 @@ def scaling_plots(report, folder):
             fits[name] = {"intercept_ms": intercept, "slope_ms": slope, "exponent": exponent}
             axes.scatter(xs, ys, s=18, label=f"{name}: {slope:.3g} ms per {axis[:-1]}, exponent {exponent:.2f}")
             axes.plot(xs, intercept + slope * xs, linewidth=1)
-        path = _save(plt, figure, axes, (axis, "frame ms"), f"{report['sweep']}: {report['machine']['renderer']}",
+        path = save(plt, figure, axes, (axis, "frame ms"), f"{report['sweep']}: {report['machine']['renderer']}",
                      os.path.join(folder, f"scaling_{report['sweep']}_{axis}.png"), legend_size=7)
         results[path] = fits
     return results
@@ -290,7 +271,7 @@ def write_sweep_outputs(report, out, command=None, write_json=True):
     if write_json:
         with open(json_path, "w") as handle:
             json.dump(report, handle, indent=1, default=float)
-    if importlib.util.find_spec("matplotlib") is None:  # the GPU machine: plot here with --report
+    if pyplot() is None:  # the GPU machine: plot here with --report
         print("bench: no matplotlib here, so no plots; run `bench --report` on the JSON where it is installed",
               file=sys.stderr)
         plots, fits = [], {}

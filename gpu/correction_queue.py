@@ -18,14 +18,12 @@ import numpy as np
 TILES = 16
 """About how many tiles an image is cut into (their side a power of two, 16 to 128 pixels)."""
 REQUEST_SAMPLES = 16384
-UNKNOWN_ERROR = 1e30
-"""A tile's error before any reconstruction: above any measured one."""
 CHILD_SHARE = 0.5
 """Share of its largest neighbour's error a tile takes on."""
 FIXED_SECONDS = 0.006
-"""A request's cost beyond its samples until measured (docs/bench/cpu/sample_workers.md)."""
+"""A request's cost beyond its samples (docs/bench/cpu/sample_workers.md)."""
 SAMPLES_PER_SECOND = 250_000.0
-"""A worker's samples a second until measured."""
+"""A worker's samples a second until the requests' times tell."""
 
 
 class RequestQueue:
@@ -38,12 +36,12 @@ class RequestQueue:
                       for y0 in range(0, height, side) for x0 in range(0, width, side)]
         self.grid = (math.ceil(height / side), math.ceil(width / side))
         self.pixels = np.array([(x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in self.tiles], dtype=np.float64)
-        self.error = np.full(len(self.tiles), np.inf)  # until the first reconstruction
-        self.samples = np.zeros(len(self.tiles))  # a pixel's samples at the last update
-        self.received = np.zeros(len(self.tiles))  # since then
-        self.pending = np.zeros(len(self.tiles))  # asked, not received
-        self.asked = {}  # (region, samples a pixel) -> the tiles of each such request in flight
-        self.fixed_seconds, self.samples_per_second = FIXED_SECONDS, SAMPLES_PER_SECOND
+        self.side = side
+        self.error = np.zeros(len(self.tiles))  # summed over a tile's pixels, at the last update
+        # a pixel's samples (earlier views' weighed by their age) at the last update, received
+        # since, and asked but not received
+        self.samples, self.received, self.pending = (np.zeros(len(self.tiles)) for _ in range(3))
+        self.samples_per_second = SAMPLES_PER_SECOND
 
     def update(self, error, samples):
         """The reconstruction's per-pixel relative error and samples ((h, w) each), every
@@ -57,17 +55,21 @@ class RequestQueue:
         self.samples = np.array([samples[y0:y1, x0:x1].mean() for x0, y0, x1, y1 in self.tiles])
         self.received[:] = 0.0
 
-    def done(self, region, spp, seconds):
-        """The request of `region` at `spp` came back after `seconds` on its worker: its
-        tiles' samples and the costs follow."""
-        asked = self.asked[(region, spp)]
-        tiles = asked.pop(0)
-        if not asked:
-            del self.asked[(region, spp)]
+    def done(self, region, spp, seconds=None):
+        """The request of `region` at `spp` came back after `seconds` on its worker (None:
+        it was cancelled or failed): its tiles' samples and the pace follow."""
+        tiles = self._tiles_in(region)
         self.pending[tiles] -= spp
+        if seconds is None:
+            return
         self.received[tiles] += spp
-        pace = max(seconds - self.fixed_seconds, 1e-6) / (self.pixels[tiles].sum() * spp)
+        pace = max(seconds - FIXED_SECONDS, 1e-6) / (self.pixels[tiles].sum() * spp)
         self.samples_per_second = 0.8 * self.samples_per_second + 0.2 / pace
+
+    def _tiles_in(self, region):
+        x0, y0, x1, y1 = region
+        return [row * self.grid[1] + column for row in range(y0 // self.side, -(-y1 // self.side))
+                for column in range(x0 // self.side, -(-x1 // self.side))]
 
     def next(self):
         """The next request: (region, samples a pixel). A tile nothing was asked of yet is
@@ -76,9 +78,9 @@ class RequestQueue:
         held = self.samples + self.received + self.pending
         spp = np.maximum(np.ceil(REQUEST_SAMPLES / self.pixels), 2.0 ** np.floor(np.log2(np.maximum(held, 1.0))))
         # the error falls as 1/samples: what remains of it now, and what the request takes away
-        remaining = np.where(np.isinf(self.error), UNKNOWN_ERROR, self.error * (self.samples + 1.0) / (held + 1.0))
+        remaining = self.error * (self.samples + 1.0) / (held + 1.0)
         gain = remaining * spp / (held + spp)
-        cost = self.fixed_seconds + self.pixels * spp / self.samples_per_second
+        cost = FIXED_SECONDS + self.pixels * spp / self.samples_per_second
         tile = int(np.argmax(gain / cost))
         tiles = [tile]
         if held[tile] == 0:
@@ -90,7 +92,5 @@ class RequestQueue:
             tiles = list(range(first, last + 1))
             spp[tile] = max(1.0, math.ceil(REQUEST_SAMPLES / self.pixels[tiles].sum()))
         region = (self.tiles[tiles[0]][0], self.tiles[tiles[0]][1], self.tiles[tiles[-1]][2], self.tiles[tiles[-1]][3])
-        key = (region, int(spp[tile]))
-        self.asked.setdefault(key, []).append(tiles)
         self.pending[tiles] += spp[tile]
-        return key
+        return region, int(spp[tile])

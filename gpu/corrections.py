@@ -12,9 +12,13 @@ pixel where the frame sees background the same way; older layers weigh less (agi
 The frame's residual (Cycles minus its own preview) is then rebuilt over the image by
 normalised convolutions at growing scales that follow the G-buffer's edges, each pixel
 keeping the largest scale whose estimate agrees, within its noise, with every finer one
-(the intersection of confidence intervals). Where samples are sparse each pixel takes the
-nearest ones, blended where their regions meet, as the seed's blended Voronoi cells; where
-they are dense, their average over the pixel alone: the resolution follows the samples.
+(the intersection of confidence intervals). The intervals take each level's kernel as if
+its samples were fresh, narrower at coarse scales than the cascade's true noise
+(`CASCADE_VARIANCE`): that keeps finer scales where the preview errs in detail, at less
+error on the demo scenes than the true noise gives (docs/method.md). Where samples are
+sparse each pixel takes the nearest ones, blended where their regions meet, as the seed's
+blended Voronoi cells; where they are dense, their average over the pixel alone: the
+resolution follows the samples.
 """
 from dataclasses import dataclass
 
@@ -22,6 +26,7 @@ import numpy as np
 
 from .colour import LUMINANCE_WEIGHTS
 from .errors import LPVError
+from .metrics import RELATIVE_EPSILON
 
 ALBEDO_FLOOR = 0.05
 """Added to the albedo the samples are divided by and the corrections multiplied by: keeps
@@ -39,15 +44,14 @@ SAME_SURFACE_FOOTPRINTS = 2.0
 """A layer's pixel is the frame's surface when their normals' cosine is above
 SAME_SURFACE_NORMAL and it lies within this many footprints of the frame's plane."""
 LAYER_AGING = 0.5
-"""Weight a layer keeps each time the view comes to rest somewhere else."""
+"""Weight a layer keeps each time another view gets its first samples."""
 MAX_LAYERS = 8
+"""Layers kept (the oldest go), and views remembered."""
 UNSAMPLED_ERROR = 0.25
 """Relative MSE assumed of the preview where no sample tells: what the first requests go for."""
 OUTLIER = 4.0
 """A pixel whose own squared deviation from its window's mean passes this many times the window's
 variance (a firefly) is given its own: its samples then spread over a larger scale."""
-RELATIVE_EPSILON = 1e-2
-"""The relative MSE's epsilon (gpu/metrics.py relative_mse)."""
 
 
 @dataclass
@@ -79,77 +83,85 @@ class Layer:
 
     def add(self, region, combined, samples):
         x0, y0, x1, y1 = region
-        demodulated = combined / (self.guide.albedo[y0:y1, x0:x1] + ALBEDO_FLOOR)
+        finite = np.all(np.isfinite(combined), axis=-1)
+        demodulated = np.where(finite[..., None], combined, 0.0) / (self.guide.albedo[y0:y1, x0:x1] + ALBEDO_FLOOR)
         self.sum[y0:y1, x0:x1] += samples * demodulated
-        self.samples[y0:y1, x0:x1] += samples
+        self.samples[y0:y1, x0:x1] += samples * finite
 
 
 @dataclass
 class Reconstruction:
     """A corrected frame: the image, the correction added to the preview, each pixel's
-    estimated relative MSE and the estimate's mean (`estimated_error`)."""
+    samples (gathered from every layer, aged) and estimated relative MSE, and the
+    estimate's mean (`estimated_error`)."""
 
     image: np.ndarray
     correction: np.ndarray
+    samples: np.ndarray
     error: np.ndarray
     estimated_error: float
 
 
 class Corrections:
-    """The layers of one scene's views, newest last."""
+    """The views of one scene shown lately, and the layers of those that got samples,
+    newest last."""
 
     def __init__(self):
+        self.views = {}  # key -> (gpu Camera, Guide)
         self.layers = {}
 
     def view(self, key, camera, guide):
-        """Come to rest at the view `key` (its gpu Camera and Guide): its layer, new unless
-        the view rested here before; the others age."""
-        if key in self.layers:
-            self.layers[key] = self.layers.pop(key)
-            return self.layers[key]
-        for layer in self.layers.values():
-            layer.weight *= LAYER_AGING
-        while len(self.layers) >= MAX_LAYERS:
-            self.layers.pop(next(iter(self.layers)))
-        self.layers[key] = Layer(camera, guide)
-        return self.layers[key]
+        """The view `key` (its gpu Camera and Guide) is shown: remembered; its layer is made
+        when its first samples come."""
+        self.views.pop(key, None)
+        self.views[key] = (camera, guide)
+        while len(self.views) > MAX_LAYERS:
+            self.views.pop(next(iter(self.views)))
 
     def add(self, key, region, combined, samples):
         """Samples of `region` (x0, y0, x1, y1) of the view `key`: `combined` the Cycles
-        radiance there ((y1 - y0, x1 - x0, 3)), `samples` a pixel. False when that view's
-        layer was dropped meanwhile."""
+        radiance there ((y1 - y0, x1 - x0, 3); pixels not finite are left out), `samples`
+        a pixel. A view's first samples make its layer, and the others age. False when
+        the view was forgotten meanwhile."""
+        x0, y0, x1, y1 = region
+        if combined.shape != (y1 - y0, x1 - x0, 3):
+            raise LPVError(f"Cycles samples of region {region} came as {combined.shape[1]} x {combined.shape[0]} "
+                           f"pixels; the worker rendered another image than asked.")
         layer = self.layers.get(key)
         if layer is None:
-            return False
-        x0, y0, x1, y1 = region
-        if combined.shape != (y1 - y0, x1 - x0, 3) or not np.all(np.isfinite(combined)):
-            raise LPVError(f"Cycles samples of region {region} came as {combined.shape} or not finite; the worker "
-                           f"rendered another image than asked.")
+            if key not in self.views:
+                return False
+            for older in self.layers.values():
+                older.weight *= LAYER_AGING
+            while len(self.layers) >= MAX_LAYERS:
+                del self.layers[next(iter(self.layers))]
+            layer = self.layers[key] = Layer(*self.views[key])
         layer.add(region, combined, samples)
         return True
 
-    def clear(self):
-        self.layers.clear()
-
     def gathered(self, key):
         """Every layer's samples as the view `key` sees them: (sum, samples) per pixel."""
-        frame = self.layers[key]
-        total, samples = frame.sum * frame.weight, frame.samples * frame.weight
-        for other in self.layers.values():
-            if other is not frame:
-                _project(other, frame, total, samples)
+        camera, guide = self.views[key]
+        height, width = guide.seen.shape
+        total, samples = np.zeros((height, width, 3)), np.zeros((height, width))
+        for layer_key, layer in self.layers.items():
+            if layer_key == key:
+                total += layer.sum * layer.weight
+                samples += layer.samples * layer.weight
+            else:
+                _project(layer, camera, guide, total, samples)
         return total, samples
 
     def reconstruct(self, key, preview):
         """The frame of the view `key` whose preview is `preview` ((h, w, 3) linear), corrected."""
-        guide = self.layers[key].guide
         total, samples = self.gathered(key)
-        return reconstruct(total, samples, preview, guide)
+        return reconstruct(total, samples, preview, self.views[key][1])
 
 
-def _project(layer, frame, total, samples):
-    """Add `layer`'s samples where `frame` sees the same surfaces into total and samples."""
-    source, target = layer.guide, frame.guide
+def _project(layer, camera, target, total, samples):
+    """Add `layer`'s samples where the view of `camera` and Guide `target` sees the same
+    surfaces into total and samples."""
+    source = layer.guide
     height, width = target.seen.shape
     used = layer.samples > 0
     if not np.any(used):
@@ -157,7 +169,7 @@ def _project(layer, frame, total, samples):
     points = source.position[used].astype(np.float64)
     seen = source.seen[used]
     homogeneous = np.concatenate([points, seen[:, None].astype(np.float64)], axis=1)  # background: directions
-    clip = homogeneous @ (frame.camera.projection @ frame.camera.view).T
+    clip = homogeneous @ (camera.projection @ camera.view).T
     ahead = clip[:, 3] > 1e-12
     ndc = clip[:, :2] / np.where(ahead, clip[:, 3], 1.0)[:, None]
     column = np.floor((ndc[:, 0] * 0.5 + 0.5) * width).astype(np.int64)
@@ -203,9 +215,10 @@ def reconstruct(total, samples, preview, guide):
         valid = denominator > 1e-12
         safe = np.where(valid, denominator, 1.0)
         estimate = numerator / safe[..., None]
-        estimate_variance = spread / (safe * safe)
+        interval_variance = spread / (safe * safe)
+        estimate_variance = interval_variance * CASCADE_VARIANCE[level]
         centre = estimate @ LUMINANCE_WEIGHTS
-        half = CONFIDENCE * np.sqrt(estimate_variance)
+        half = CONFIDENCE * np.sqrt(interval_variance)
         low, high = np.maximum(lower, centre - half), np.minimum(upper, centre + half)
         agrees = active & valid & (low <= high)
         active &= ~valid | agrees
@@ -219,8 +232,25 @@ def reconstruct(total, samples, preview, guide):
     # the scale's noise and a bias as large as its interval allows
     error = np.where(known & sampled, (1 + CONFIDENCE ** 2) * np.nan_to_num(chosen_variance) * weight * weight,
                      UNSAMPLED_ERROR * reference * reference) / (reference * reference + RELATIVE_EPSILON)
-    return Reconstruction(image.astype(np.float32), correction.astype(np.float32), error.astype(np.float32),
+    return Reconstruction(image.astype(np.float32), correction.astype(np.float32), samples, error.astype(np.float32),
                           float(np.mean(error)))
+
+
+def _cascade_variance(levels):
+    """Per level, the variance of the cascaded à-trous kernel's sum over that of the
+    levels' own kernels multiplied (what `spread` carries): the levels share samples, so
+    the variance falls slower than their product says. Exact for even weights (a plane
+    sampled alike); 2D, each axis alike. The estimated error takes it; the confidence
+    intervals do not (module docstring)."""
+    kernel, product, factors = np.ones(1), 1.0, [1.0]
+    for level in range(levels):
+        step = 2 ** level
+        taps = np.zeros(2 * step + 1)
+        taps[0], taps[step], taps[-1] = _Edges.KERNEL
+        kernel = np.convolve(kernel, taps)
+        product *= np.sum(taps * taps)
+        factors.append(float(np.sum(kernel * kernel) / product) ** 2)
+    return tuple(factors)
 
 
 def _box_sum(image, radius):
@@ -290,3 +320,6 @@ class _Edges:
             alike *= alike
         surface = np.exp(-plane) * alike
         return np.where(seen == self.seen[neighbour], np.where(seen, surface, 1.0), 0.0)
+
+
+CASCADE_VARIANCE = _cascade_variance(SCALES)

@@ -116,7 +116,11 @@ def psnr(test, reference, mask=None, peak=None):
     return float(10.0 * np.log10(peak * peak / error))
 
 
-def relative_mse(test, reference, mask=None, epsilon=1e-2):
+RELATIVE_EPSILON = 1e-2
+"""The relative MSE's epsilon: squared radiance below which a reference pixel counts as that."""
+
+
+def relative_mse(test, reference, mask=None, epsilon=RELATIVE_EPSILON):
     """Relative MSE of the rendering literature: mean of (test - ref)^2 / (ref^2 + epsilon).
 
     Averaged over the selected pixels per channel, then over the channels (the same as the

@@ -5,8 +5,8 @@ sweeps are generated from `PARAMETERS` or checked against it; the viewport overl
 debug passes, which change what is shown but rerun no stage, and the viewport's convergence,
 from `DISPLAY_PARAMETERS`;
 the comparison with Cycles from `COMPARISON_PARAMETERS`; the corrections toward Cycles from
-`CORRECTION_PARAMETERS`. `ALL_PARAMETERS` is every one
-a Blender property mirrors. `PRESETS` are named sets of pipeline parameters.
+`CORRECTION_PARAMETERS`. `ALL_PARAMETERS` is every one a Blender property mirrors (all but
+`COMMAND_LINE_ONLY`). `PRESETS` are named sets of pipeline parameters.
 """
 from dataclasses import dataclass, field, fields, replace
 
@@ -190,7 +190,11 @@ PARAMETERS = {f.name: f for f in fields(Settings)}
 DISPLAY_PARAMETERS = {f.name: f for f in fields(DisplaySettings)}
 COMPARISON_PARAMETERS = {f.name: f for f in fields(ComparisonSettings)}
 CORRECTION_PARAMETERS = {f.name: f for f in fields(CorrectionSettings)}
-ALL_PARAMETERS = {**PARAMETERS, **DISPLAY_PARAMETERS, **COMPARISON_PARAMETERS, **CORRECTION_PARAMETERS}
+COMMAND_LINE_ONLY = ("correct_seconds",)
+"""Parameters of the command line's renders alone: F12 runs inside Blender, whose Python
+cannot start the sample workers (docs/method.md, "Corrections toward Cycles")."""
+ALL_PARAMETERS = {**PARAMETERS, **DISPLAY_PARAMETERS, **COMPARISON_PARAMETERS,
+                  **{name: f for name, f in CORRECTION_PARAMETERS.items() if name not in COMMAND_LINE_ONLY}}
 
 
 PRESETS = {

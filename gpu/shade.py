@@ -212,8 +212,12 @@ def read_guide(glc, targets, camera):
         buffer.release()
     position, normal, albedo = (np.ascontiguousarray(texels[:, :, i, :3]) for i in range(3))
     seen = texels[:, :, 0, 3] > 0
-    distance = np.linalg.norm(position - camera.position.astype(np.float32), axis=-1)
-    footprint = np.where(seen, distance, 0.0) * camera.pixel_angle(height)
+    if camera.projection[3, 3] == 1:  # orthographic: one footprint, one direction
+        footprint = np.where(seen, 2.0 / (abs(camera.projection[1, 1]) * height), 0.0)
+        position[~seen] = -camera.view[2, :3]
+    else:
+        distance = np.linalg.norm(position - camera.position.astype(np.float32), axis=-1)
+        footprint = np.where(seen, distance, 0.0) * camera.pixel_angle(height)
     return Guide(position, normal, albedo, seen, footprint.astype(np.float32))
 
 

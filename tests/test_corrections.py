@@ -117,27 +117,35 @@ def test_layers_carry_corrections_over_a_turn(camera):
     corrections.view("second", turned, second)
     gathered, weights = corrections.gathered("second")
     assert np.mean(weights[second.seen] > 0) > 0.85  # all but the strip the turn reveals
-    assert corrections.layers["first"].weight == LAYER_AGING
     truth_second = truth_of(second)
     preview = truth_second * 0.6
     corrected = corrections.reconstruct("second", preview).image
     assert relative_mse(corrected, truth_second) < 0.2 * relative_mse(preview, truth_second)
+    assert corrections.layers["first"].weight == 1.0 and "second" not in corrections.layers
+    corrections.add("second", (0, 0, 4, 4), truth_second[:4, :4], 1)  # its first samples age the others
+    assert corrections.layers["first"].weight == LAYER_AGING
 
 
-def test_old_layers_are_dropped():
+def test_old_layers_are_dropped_and_bad_samples_left_out():
     corrections = Corrections()
     guide = Guide(*(np.zeros((4, 4, 3), np.float32) for _ in range(3)), np.zeros((4, 4), bool),
                   np.zeros((4, 4), np.float32))
     for index in range(MAX_LAYERS + 2):
         corrections.view(index, None, guide)
+        corrections.add(index, (0, 0, 1, 1), np.ones((1, 1, 3)), 1)
     assert list(corrections.layers) == list(range(2, MAX_LAYERS + 2))
-    assert not corrections.add(0, (0, 0, 1, 1), np.zeros((1, 1, 3)), 1)  # a dropped view's samples are let go
+    assert corrections.layers[2].weight == LAYER_AGING ** (MAX_LAYERS - 1)
+    assert not corrections.add(0, (0, 0, 1, 1), np.zeros((1, 1, 3)), 1)  # a forgotten view's samples are let go
     with pytest.raises(LPVError, match="another image than asked"):
         corrections.add(MAX_LAYERS + 1, (0, 0, 2, 2), np.zeros((1, 2, 3)), 1)
+    corrections.add(MAX_LAYERS + 1, (0, 0, 2, 1), np.array([[[np.nan, 0, 0], [2.0, 2.0, 2.0]]]), 4)
+    layer = corrections.layers[MAX_LAYERS + 1]
+    assert layer.samples[0, :2].tolist() == [1.0, 4.0] and np.all(np.isfinite(layer.sum))
 
 
 def test_the_queue_covers_the_view_first_then_follows_the_error():
     queue = RequestQueue((128, 96))
+    queue.update(np.full((96, 128), 0.25), np.zeros((96, 128)))  # no sample yet: the preview's assumed error
     first = [queue.next() for _ in range(len(queue.tiles))]
     covered = np.zeros((96, 128), bool)
     for (x0, y0, x1, y1), _ in first:

@@ -137,9 +137,14 @@ def test_a_corrected_render_comes_closer_to_cycles(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, words", [
-    (["demo", "--scheduler", "tls://192.0.2.1:8786"], "give --correct-seconds too"),
-    (["render", "scene.blend", "--frames", "1-2", "--correct-seconds", "2"], "corrects one frame"),
+    (["render", "missing.blend", "--scheduler", "tls://192.0.2.1:8786"], "give --correct-seconds too"),
+    (["render", "missing.blend", "--correct-seconds", "2", "--scheduler", "tcp://192.0.2.1:8786"],
+     "not a tls:// address"),
+    (["render", "missing.blend", "--correct-seconds", "2", "--scheduler", "tls://192.0.2.1:8786", "--workers", "2"],
+     "give one of them"),
+    (["render", "missing.blend", "--frames", "1-2", "--correct-seconds", "2"], "corrects one frame"),
     (["demo", "--correct-seconds", "-1"], "correct_seconds"),
+    (["bench", "--corrections", "--gpu-previews", "missing.json"], "Cannot read the GPU's preview times"),
 ])
 def test_bad_correction_flags_are_refused_before_any_work(argv, words, tmp_path, capsys):
     assert main([*argv, "--out", str(tmp_path)]) == 2
@@ -149,8 +154,9 @@ def test_bad_correction_flags_are_refused_before_any_work(argv, words, tmp_path,
 
 def test_the_still_viewport_streams_corrections_and_keeps_them_over_a_move():
     """A viewport session with corrections on: a still view improves redraw after redraw
-    toward Cycles, a small camera move starts from the corrections that still apply, a
-    material edit starts them again on a new copy of the scene, and closing removes it all."""
+    toward Cycles, a small camera move rests on the corrections that still apply, a
+    material edit starts them again on a new copy of the scene once edits stop, switching
+    them off removes it all, and on again starts afresh."""
     import lpv_preview
     from lpv_preview.addon.extract import extract_camera
     from lpv_preview.addon.viewport import ViewportSession
@@ -167,28 +173,36 @@ def test_the_still_viewport_streams_corrections_and_keeps_them_over_a_move():
             frame = session.frame_to_draw(depsgraph, extract_camera(depsgraph, SIZE), SIZE)
             return frame, np.array(session.display.rows.reshape(SIZE[1], SIZE[0], 4)[::-1, :, :3])
 
-        first, preview = redraw()
+        first, preview = redraw()  # the view is new: shown as it is
+        assert "correction_problem" not in first.stats and session.corrections.streaming
         deadline = time.time() + 20
-        while time.time() < deadline and first.stats["correction_samples"] < 200_000:
+        while time.time() < deadline and first.stats.get("correction_samples", 0) < 200_000:
             time.sleep(0.1)
             first, image = redraw()
         reference = cycles_reference(scene, "full_gi", 256, 0, SIZE).combined_pass
-        assert first.stats["correction_samples"] > 0
         assert relative_mse(image, reference) < 0.4 * relative_mse(preview, reference)
         folder = session.corrections.folder
         assert os.listdir(folder) == ["scene_1.blend"]
 
         scene.camera.location.x += 0.02
-        moved, moved_image = redraw()
-        moved_preview = session.corrections.preview[2]
+        _, moved_preview = redraw()  # moving: the preview alone
+        moved, moved_image = redraw()  # at rest: the layers of the view before apply
         assert relative_mse(moved_image, reference) < 0.6 * relative_mse(moved_preview, reference)
 
         material = next(m for m in bpy.data.materials if m.users and m.node_tree)
         colour = material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value
         session.note_updates(recorded_updates(lambda: colour.__setitem__(1, colour[1] * 0.9)))
-        edited, _ = redraw()
+        redraw()  # while edits come, nothing is written
+        assert sorted(os.listdir(folder)) == ["scene_1.blend"] and session.corrections.streaming
+        edited, _ = redraw()  # the edits stopped: a fresh copy, the corrections from nothing
         assert edited.stats["correction_samples"] == 0 and os.path.isfile(os.path.join(folder, "scene_2.blend"))
+
+        properties.viewport_corrections = False
+        redraw()
+        assert not os.path.exists(folder) and not session.corrections.streaming
+        properties.viewport_corrections = True
+        again, _ = redraw()
+        assert session.corrections.workers is not None and "correction_problem" not in again.stats
     finally:
         session.release()
         lpv_preview.unregister()
-    assert not os.path.exists(folder)

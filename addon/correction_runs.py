@@ -97,8 +97,9 @@ def render_previews(views, settings):
 def cycles_progressive(renderer, view, seconds, threads, denoise=False):
     """Cycles on `threads` threads over the whole view for `seconds`. Undenoised: steps of
     1, 1, 2, 4, ... samples whose running mean is shown after each (as its viewport
-    refines); denoised: 1, 2, 4, ... samples each rendered anew and denoised, while the
-    next is expected to fit. Returns the timeline and the samples of its last image."""
+    refines), the last cut to what its pace fits in the time left; denoised: 1, 2, 4, ...
+    samples each rendered anew and denoised, while the next is expected to fit. Returns
+    the timeline and the samples of its last image."""
     height, width = view.reference.shape[:2]
     timeline, total, samples, spent, seed = [], 0.0, 0, 0.0, TIMELINE_SEED
     step = 1
@@ -118,7 +119,7 @@ def cycles_progressive(renderer, view, seconds, threads, denoise=False):
         spent += result.seconds
         total, samples = total + image.astype(np.float64) * step, samples + step
         timeline.append((spent, (total / samples).astype(np.float32)))
-        step = samples
+        step = max(1, min(samples, int((seconds - spent) * step / result.seconds)))
     return timeline, samples
 
 

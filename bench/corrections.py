@@ -113,12 +113,15 @@ def _scene_lines(scene, plots):
     lines = [f"#### {scene['name']} ({scene['resolution'][0]}×{scene['resolution'][1]})", "",
              f"Preview alone: relative MSE {scene['preview_error']:.4f} ({scene['preview_psnr']:.1f} dB), rendered "
              f"in {scene['preview_seconds'] * 1e3:.0f} ms. The reference's own noise is about "
-             f"{scene['reference_noise']:.4f} (Cycles' undenoised error scaled by its samples).", "",
+             f"{scene['reference_noise']:.4f} (Cycles' undenoised error scaled by its samples). Denoised "
+             f"Cycles is rendered anew for 1, 2, 4, ... samples up to {DENOISED_SECONDS:g} s; '—': nothing shown "
+             f"yet.", "",
              "| method | " + " | ".join(f"{t:g} s" for t in moments) + " |",
              "|---|" + "---:|" * len(moments)]
     for method in curves:
-        cells = [error_at(curves[method], t) for t in moments]
-        cells = ("—" if math.isinf(cell) else f"{cell:.4f}" for cell in cells)
+        until = DENOISED_SECONDS if method == "cycles_denoised" else STILL_SECONDS
+        cells = [error_at(curves[method], t) if t <= until else None for t in moments]
+        cells = ("not run" if cell is None else "—" if math.isinf(cell) else f"{cell:.4f}" for cell in cells)
         lines.append(f"| {labels[method]} | " + " | ".join(cells) + " |")
     lines += ["", f"Preview counted as rendered here ({scene['preview_seconds']:.2f} s): "
               + _goal_words(scene["goals"]) + "."]

@@ -49,6 +49,8 @@ MAX_LAYERS = 8
 """Layers kept (the oldest go), and views remembered."""
 UNSAMPLED_ERROR = 0.25
 """Relative MSE assumed of the preview where no sample tells: what the first requests go for."""
+NOISE_DOF = 4
+"""Repeated requests a pixel's window needs before their spread alone measures the noise."""
 OUTLIER = 4.0
 """A pixel whose own squared deviation from its window's mean passes this many times the window's
 variance (a firefly) is given its own: its samples then spread over a larger scale."""
@@ -72,13 +74,17 @@ class Guide:
 
 
 class Layer:
-    """The Cycles samples received at one rest of the camera."""
+    """The Cycles samples received at one rest of the camera: per pixel their sum
+    (demodulated), count, and the spread of the requests' means (luminance), from which
+    their noise is known without the image's own variation."""
 
     def __init__(self, camera, guide):
         self.camera, self.guide = camera, guide
         height, width = guide.seen.shape
         self.sum = np.zeros((height, width, 3))  # samples × demodulated radiance
         self.samples = np.zeros((height, width))
+        self.squares = np.zeros((height, width))  # Σ a request's samples × its mean's luminance²
+        self.requests = np.zeros((height, width))
         self.weight = 1.0
 
     def add(self, region, combined, samples):
@@ -87,6 +93,29 @@ class Layer:
         demodulated = np.where(finite[..., None], combined, 0.0) / (self.guide.albedo[y0:y1, x0:x1] + ALBEDO_FLOOR)
         self.sum[y0:y1, x0:x1] += samples * demodulated
         self.samples[y0:y1, x0:x1] += samples * finite
+        self.squares[y0:y1, x0:x1] += samples * (demodulated @ LUMINANCE_WEIGHTS) ** 2
+        self.requests[y0:y1, x0:x1] += finite
+
+    def scatter(self):
+        """Per pixel Σ samples × (a request's mean - the pixel's mean)² (luminance), and its
+        degrees of freedom (requests - 1): (requests - 1) times a sample's variance, on average."""
+        mean = (self.sum @ LUMINANCE_WEIGHTS) / np.maximum(self.samples, 1e-30)
+        return np.maximum(self.squares - self.samples * mean * mean, 0.0), np.maximum(self.requests - 1, 0.0)
+
+
+@dataclass
+class Gathered:
+    """Samples as one view sees them, per pixel: `total` (demodulated, aged), `samples`
+    (aged), and the requests' `scatter` with its degrees of freedom `dof` (Layer.scatter)."""
+
+    total: np.ndarray
+    samples: np.ndarray
+    scatter: np.ndarray
+    dof: np.ndarray
+
+    @staticmethod
+    def empty(height, width):
+        return Gathered(np.zeros((height, width, 3)), *(np.zeros((height, width)) for _ in range(3)))
 
 
 @dataclass
@@ -140,27 +169,28 @@ class Corrections:
         return True
 
     def gathered(self, key):
-        """Every layer's samples as the view `key` sees them: (sum, samples) per pixel."""
+        """Every layer's samples as the view `key` sees them (Gathered)."""
         camera, guide = self.views[key]
-        height, width = guide.seen.shape
-        total, samples = np.zeros((height, width, 3)), np.zeros((height, width))
+        gathered = Gathered.empty(*guide.seen.shape)
         for layer_key, layer in self.layers.items():
+            scatter, dof = layer.scatter()
             if layer_key == key:
-                total += layer.sum * layer.weight
-                samples += layer.samples * layer.weight
+                gathered.total += layer.sum * layer.weight
+                gathered.samples += layer.samples * layer.weight
+                gathered.scatter += scatter
+                gathered.dof += dof
             else:
-                _project(layer, camera, guide, total, samples)
-        return total, samples
+                _project(layer, scatter, dof, camera, guide, gathered)
+        return gathered
 
     def reconstruct(self, key, preview):
         """The frame of the view `key` whose preview is `preview` ((h, w, 3) linear), corrected."""
-        total, samples = self.gathered(key)
-        return reconstruct(total, samples, preview, self.views[key][1])
+        return reconstruct(self.gathered(key), preview, self.views[key][1])
 
 
-def _project(layer, camera, target, total, samples):
-    """Add `layer`'s samples where the view of `camera` and Guide `target` sees the same
-    surfaces into total and samples."""
+def _project(layer, scatter, dof, camera, target, gathered):
+    """Add `layer`'s samples (and their `scatter` and `dof`) where the view of `camera` and
+    Guide `target` sees the same surfaces into `gathered`."""
     source = layer.guide
     height, width = target.seen.shape
     used = layer.samples > 0
@@ -184,22 +214,26 @@ def _project(layer, camera, target, total, samples):
     same = inside & np.where(seen, target_seen & on_plane & facing, ~target_seen)
     pixel = pixel[same]
     count = height * width
-    samples += np.bincount(pixel, layer.samples[used][same] * layer.weight, count).reshape(height, width)
-    sums = layer.sum[used][same] * layer.weight
+
+    def scattered(values):
+        return np.bincount(pixel, values[used][same], count).reshape(height, width)
+    gathered.samples += scattered(layer.samples) * layer.weight
+    gathered.scatter += scattered(scatter)
+    gathered.dof += scattered(dof)
     for channel in range(3):
-        total[..., channel] += np.bincount(pixel, sums[:, channel], count).reshape(height, width)
+        gathered.total[..., channel] += scattered(layer.sum[..., channel]) * layer.weight
 
 
-def reconstruct(total, samples, preview, guide):
-    """The corrected preview from per-pixel sums of demodulated Cycles samples (`total`,
-    `samples`), the preview and its Guide: the residual rebuilt scale by scale (module
-    docstring)."""
+def reconstruct(gathered, preview, guide):
+    """The corrected preview from the Cycles samples `gathered` (Gathered), the preview and
+    its Guide: the residual rebuilt scale by scale (module docstring)."""
+    total, samples = gathered.total, gathered.samples
     scale = guide.albedo.astype(np.float64) + ALBEDO_FLOOR
     sampled = samples > 0
     mean = total / np.maximum(samples, 1e-30)[..., None]
     residual = np.where(sampled[..., None], mean - preview / scale, 0.0)
     luminance = residual @ LUMINANCE_WEIGHTS
-    variance = _pooled_variance(luminance, samples)
+    variance = _pooled_variance(luminance, samples, gathered.scatter, gathered.dof)
     numerator, denominator, spread = residual * samples[..., None], samples.copy(), samples * variance
     height, width = samples.shape
     # a pixel no sample reached takes no correction its preview's assumed error rules out
@@ -262,9 +296,16 @@ def _box_sum(image, radius):
     return summed[side:, side:] - summed[:-side, side:] - summed[side:, :-side] + summed[:-side, :-side]
 
 
-def _pooled_variance(luminance, samples, radius=2):
-    """A sample's variance at each pixel, pooled over its window: from the samples' spread
-    around the window's mean (the residual's own variation counts too: conservative)."""
+def _pooled_variance(luminance, samples, scatter, dof, radius=2):
+    """A sample's variance at each pixel, pooled over its window: from the spread of the
+    requests' means about their pixels' own means where the window holds at least
+    NOISE_DOF repeated requests (noise alone), a pixel whose own requests spread more (a
+    firefly among them) given its own; else, while one request a pixel is all there is,
+    from the spread of the pixels' means about the window's (the residual's own variation
+    counts too: conservative), a pixel far off it (a firefly) given its own."""
+    repeated = _box_sum(dof, radius)
+    measured = np.maximum(_box_sum(scatter, radius), 0.0) / np.maximum(repeated, 1.0)
+    measured = np.maximum(measured, scatter / np.maximum(dof, 1.0))  # a firefly's requests spread it
     sampled = (samples > 0).astype(np.float64)
     weights = _box_sum(samples, radius)
     first = _box_sum(samples * luminance, radius)
@@ -274,9 +315,9 @@ def _pooled_variance(luminance, samples, radius=2):
     pooled = np.where(count > 1, np.maximum(spread, 0.0) / np.maximum(count - 1, 1.0), np.nan)
     fallback = np.nanmax(pooled) if np.any(np.isfinite(pooled)) else 1.0
     pooled = np.where(np.isfinite(pooled), pooled, fallback)
-    # a pixel far from its window's mean (a firefly) is its own evidence of a wide spread
     own = samples * (luminance - first / np.maximum(weights, 1e-30)) ** 2
-    return np.where(own > OUTLIER * pooled, own, pooled)
+    spatial = np.where(own > OUTLIER * pooled, own, pooled)
+    return np.where(repeated >= NOISE_DOF, measured, spatial)
 
 
 class _Edges:

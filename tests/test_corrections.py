@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from lpv_preview.gpu.correction_queue import RequestQueue
-from lpv_preview.gpu.corrections import ALBEDO_FLOOR, LAYER_AGING, MAX_LAYERS, Corrections, Guide, reconstruct
+from lpv_preview.gpu.corrections import LAYER_AGING, MAX_LAYERS, Corrections, Gathered, Guide, Layer, reconstruct
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.metrics import relative_mse
 from lpv_preview.gpu.scene import Camera
@@ -46,10 +46,17 @@ def truth_of(guide):
     return (guide.albedo * irradiance * guide.seen[..., None]).astype(np.float64)
 
 
-def noisy_samples(truth, guide, samples, rng, sigma=0.6):
-    """Per-pixel sums of `samples` noisy samples, demodulated as Layer.add does."""
-    noise = rng.normal(0.0, sigma, truth.shape) * truth / math.sqrt(samples)
-    return samples * (truth + noise) / (guide.albedo + ALBEDO_FLOOR), np.full(truth.shape[:2], float(samples))
+def noisy_requests(truth, samples, rng, requests=4, sigma=0.6):
+    """The images of `requests` requests of `samples` noisy samples a pixel."""
+    return [truth + rng.normal(0.0, sigma, truth.shape) * truth / math.sqrt(samples) for _ in range(requests)]
+
+
+def gathered(guide, images, samples):
+    """The Gathered samples of requests of `samples` a pixel whose images are `images`, as a layer holds them."""
+    layer = Layer(None, guide)
+    for image in images:
+        layer.add((0, 0, *guide.size), image, samples)
+    return Gathered(layer.sum, layer.samples, *layer.scatter())
 
 
 @pytest.fixture(scope="module")
@@ -66,19 +73,20 @@ def test_corrections_converge_and_beat_the_raw_samples(camera):
     rng = np.random.default_rng(1)
     errors = []
     for count in (1, 4, 16, 64):
-        total, samples = noisy_samples(truth, guide, count, rng)
-        corrected = reconstruct(total, samples, preview, guide).image
-        raw = total / samples[..., None] * (guide.albedo + ALBEDO_FLOOR)
+        images = noisy_requests(truth, count, rng)
+        corrected = reconstruct(gathered(guide, images, count), preview, guide).image
         errors.append(relative_mse(corrected, truth))
-        assert errors[-1] < relative_mse(raw, truth), count
+        assert errors[-1] < relative_mse(np.mean(images, axis=0), truth), count
     assert errors[-1] < 0.1 * relative_mse(preview, truth)
     assert errors[-1] < errors[0]
+    exact = reconstruct(gathered(guide, [truth] * 4, 1000), preview, guide).image  # noiseless: the samples exactly
+    assert relative_mse(exact, truth) < 1e-6
 
 
 def test_no_samples_leave_the_preview(camera):
     guide = corner_guide(camera)
     preview = truth_of(guide) * 0.5
-    result = reconstruct(np.zeros(preview.shape), np.zeros(preview.shape[:2]), preview, guide)
+    result = reconstruct(Gathered.empty(*preview.shape[:2]), preview, guide)
     np.testing.assert_array_equal(result.image, preview.astype(np.float32))
     assert result.estimated_error > 0
 
@@ -89,9 +97,10 @@ def test_a_correction_stops_at_the_geometry_edges(camera):
     truth = truth_of(guide)
     preview = truth * 0.5
     floor = guide.normal[..., 2] > 0.5
-    total, samples = noisy_samples(truth, guide, 16, np.random.default_rng(2))
-    total[~floor], samples[~floor] = 0.0, 0.0
-    corrected = reconstruct(total, samples, preview, guide).image
+    samples = gathered(guide, noisy_requests(truth, 16, np.random.default_rng(2)), 16)
+    for values in (samples.total, samples.samples, samples.scatter, samples.dof):
+        values[~floor] = 0.0
+    corrected = reconstruct(samples, preview, guide).image
     wall = guide.seen & ~floor
     np.testing.assert_allclose(corrected[wall], preview[wall], rtol=1e-5)
     assert relative_mse(corrected, truth, mask=floor) < 0.2 * relative_mse(preview, truth, mask=floor)
@@ -112,10 +121,10 @@ def test_layers_carry_corrections_over_a_turn(camera):
     corrections = Corrections()
     corrections.view("first", camera, first)
     truth = truth_of(first)
-    total, samples = noisy_samples(truth, first, 64, np.random.default_rng(3))
-    corrections.add("first", (0, 0, *SIZE), total / samples[..., None] * (first.albedo + ALBEDO_FLOOR), 64)
+    for image in noisy_requests(truth, 64, np.random.default_rng(3)):
+        corrections.add("first", (0, 0, *SIZE), image, 64)
     corrections.view("second", turned, second)
-    gathered, weights = corrections.gathered("second")
+    weights = corrections.gathered("second").samples
     assert np.mean(weights[second.seen] > 0) > 0.85  # all but the strip the turn reveals
     truth_second = truth_of(second)
     preview = truth_second * 0.6

@@ -49,8 +49,8 @@ class Corrector:
         projection Cycles renders it with (4 × 4 nested tuples; None: the scene camera's),
         its preview ((h, w, 3)) and Guide. Returns the frame corrected by what the
         corrections hold already."""
+        self.corrections.view(key, camera, guide, preview)
         if key != self.view_key:
-            self.corrections.view(key, camera, guide)
             self.view_key, self.camera_matrix, self.projection = key, camera_matrix, projection
             self.resolution = guide.size
             self.queue = RequestQueue(self.resolution)
@@ -60,7 +60,7 @@ class Corrector:
     def frame(self):
         """The corrected frame of the view at rest (a gpu.corrections Reconstruction); the
         queue learns its errors."""
-        reconstruction = self.corrections.reconstruct(self.view_key, self.preview)
+        reconstruction = self.corrections.reconstruct(self.view_key)
         self.queue.update(reconstruction.error, reconstruction.samples)
         self.updated = (time.perf_counter(), self.samples_received)
         return reconstruction

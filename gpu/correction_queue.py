@@ -8,8 +8,8 @@ has reached yet carry the preview's assumed error and go first (the uniform requ
 tiles the reprojected corrections of earlier views leave uncertain carry that (their
 largest errors), and a tile next to one with a large error shares part of it (its
 children). A tile's samples a pixel double from request to request, as progressive
-rendering's do, and a request carries at least REQUEST_SAMPLES samples so that its fixed
-cost stays a minority.
+rendering's do, up to REQUEST_SECONDS of work, and a request carries at least
+REQUEST_SAMPLES samples so that its fixed cost stays a minority.
 """
 import math
 
@@ -18,6 +18,9 @@ import numpy as np
 TILES = 16
 """About how many tiles an image is cut into (their side a power of two, 16 to 128 pixels)."""
 REQUEST_SAMPLES = 16384
+REQUEST_SECONDS = 0.5
+"""A request takes about this long at most (its samples a pixel stop doubling): a moved
+view's first requests never wait long behind the last view's."""
 CHILD_SHARE = 0.5
 """Share of its largest neighbour's error a tile takes on."""
 FIXED_SECONDS = 0.006
@@ -77,6 +80,7 @@ class RequestQueue:
         cost once)."""
         held = self.samples + self.received + self.pending
         spp = np.maximum(np.ceil(REQUEST_SAMPLES / self.pixels), 2.0 ** np.floor(np.log2(np.maximum(held, 1.0))))
+        spp = np.minimum(spp, np.maximum(1.0, np.floor(REQUEST_SECONDS * self.samples_per_second / self.pixels)))
         # the error falls as 1/samples: what remains of it now, and what the request takes away
         remaining = self.error * (self.samples + 1.0) / (held + 1.0)
         gain = remaining * spp / (held + spp)

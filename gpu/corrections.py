@@ -78,8 +78,9 @@ class Layer:
     (demodulated), count, and the spread of the requests' means (luminance), from which
     their noise is known without the image's own variation."""
 
-    def __init__(self, camera, guide):
+    def __init__(self, camera, guide, preview):
         self.camera, self.guide = camera, guide
+        self.preview = preview / (guide.albedo + ALBEDO_FLOOR)  # demodulated, as the samples
         height, width = guide.seen.shape
         self.sum = np.zeros((height, width, 3))  # samples × demodulated radiance
         self.samples = np.zeros((height, width))
@@ -139,11 +140,11 @@ class Corrections:
         self.views = {}  # key -> (gpu Camera, Guide)
         self.layers = {}
 
-    def view(self, key, camera, guide):
-        """The view `key` (its gpu Camera and Guide) is shown: remembered; its layer is made
-        when its first samples come."""
+    def view(self, key, camera, guide, preview):
+        """The view `key` (its gpu Camera, Guide and preview) is shown: remembered; its
+        layer is made when its first samples come."""
         self.views.pop(key, None)
-        self.views[key] = (camera, guide)
+        self.views[key] = (camera, guide, preview)
         while len(self.views) > MAX_LAYERS:
             self.views.pop(next(iter(self.views)))
 
@@ -170,7 +171,7 @@ class Corrections:
 
     def gathered(self, key):
         """Every layer's samples as the view `key` sees them (Gathered)."""
-        camera, guide = self.views[key]
+        _, guide, preview = self.views[key]
         gathered = Gathered.empty(*guide.seen.shape)
         for layer_key, layer in self.layers.items():
             scatter, dof = layer.scatter()
@@ -180,48 +181,68 @@ class Corrections:
                 gathered.scatter += scatter
                 gathered.dof += dof
             else:
-                _project(layer, scatter, dof, camera, guide, gathered)
+                _project(layer, scatter, dof, guide, preview / (guide.albedo + ALBEDO_FLOOR), gathered)
         return gathered
 
-    def reconstruct(self, key, preview):
-        """The frame of the view `key` whose preview is `preview` ((h, w, 3) linear), corrected."""
-        return reconstruct(self.gathered(key), preview, self.views[key][1])
+    def reconstruct(self, key):
+        """The view `key`'s preview, corrected."""
+        _, guide, preview = self.views[key]
+        return reconstruct(self.gathered(key), preview, guide)
 
 
-def _project(layer, scatter, dof, camera, target, gathered):
-    """Add `layer`'s samples (and their `scatter` and `dof`) where the view of `camera` and
-    Guide `target` sees the same surfaces into `gathered`."""
-    source = layer.guide
-    height, width = target.seen.shape
-    used = layer.samples > 0
-    if not np.any(used):
-        return
-    points = source.position[used].astype(np.float64)
-    seen = source.seen[used]
-    homogeneous = np.concatenate([points, seen[:, None].astype(np.float64)], axis=1)  # background: directions
-    clip = homogeneous @ (camera.projection @ camera.view).T
+def _project(layer, scatter, dof, target, preview, gathered):
+    """Add to `gathered` `layer`'s samples (and their `scatter` and `dof`) of what each
+    pixel of the Guide `target` sees: its point projected into the layer's view, the four
+    pixels around it weighed bilinearly where they saw the same surface (within
+    SAME_SURFACE_FOOTPRINTS along the normal, normals alike) or, for background,
+    background. Looking up rather than splatting leaves no holes and keeps a sample's
+    surface point within a fraction of a pixel. What is carried over is the samples'
+    difference from the layer's preview, added to the target's own `preview`
+    (demodulated): the previews hold the detail (shadow edges, small geometry) that
+    resampling would blur, the difference is smooth."""
+    source, camera = layer.guide, layer.camera
+    height, width = source.seen.shape
+    points = target.position.reshape(-1, 3).astype(np.float64)
+    seen = target.seen.reshape(-1)
+    normal = target.normal.reshape(-1, 3).astype(np.float64)
+    footprint = target.footprint.reshape(-1)
+    clip = np.concatenate([points, seen[:, None].astype(np.float64)], axis=1) @ (camera.projection @ camera.view).T
     ahead = clip[:, 3] > 1e-12
     ndc = clip[:, :2] / np.where(ahead, clip[:, 3], 1.0)[:, None]
-    column = np.floor((ndc[:, 0] * 0.5 + 0.5) * width).astype(np.int64)
-    row = height - 1 - np.floor((ndc[:, 1] * 0.5 + 0.5) * height).astype(np.int64)
-    inside = ahead & (column >= 0) & (column < width) & (row >= 0) & (row < height)
-    pixel = np.where(inside, row * width + column, 0)
-    target_seen = target.seen.reshape(-1)[pixel]
-    normal = target.normal.reshape(-1, 3)[pixel].astype(np.float64)
-    offset = points - target.position.reshape(-1, 3)[pixel]
-    on_plane = np.abs(np.sum(offset * normal, axis=1)) < SAME_SURFACE_FOOTPRINTS * target.footprint.reshape(-1)[pixel]
-    facing = np.sum(source.normal[used] * normal, axis=1) > SAME_SURFACE_NORMAL
-    same = inside & np.where(seen, target_seen & on_plane & facing, ~target_seen)
-    pixel = pixel[same]
-    count = height * width
-
-    def scattered(values):
-        return np.bincount(pixel, values[used][same], count).reshape(height, width)
-    gathered.samples += scattered(layer.samples) * layer.weight
-    gathered.scatter += scattered(scatter)
-    gathered.dof += scattered(dof)
-    for channel in range(3):
-        gathered.total[..., channel] += scattered(layer.sum[..., channel]) * layer.weight
+    x = (ndc[:, 0] * 0.5 + 0.5) * width - 0.5  # pixel centres at whole numbers
+    y = (0.5 - ndc[:, 1] * 0.5) * height - 0.5  # rows from the top
+    left, top = np.floor(x).astype(np.int64), np.floor(y).astype(np.int64)
+    across, down = x - left, y - top
+    residual = layer.sum - layer.samples[..., None] * layer.preview
+    flat = {name: values.reshape(len(points), -1) if values.ndim == 3 else values.reshape(-1)
+            for name, values in (("residual", residual), ("samples", layer.samples), ("scatter", scatter),
+                                 ("dof", dof))}
+    picked = {name: np.zeros_like(values, shape=(len(points),) + values.shape[1:]) for name, values in flat.items()}
+    found = np.zeros(len(points))
+    source_position = source.position.reshape(-1, 3)
+    source_normal = source.normal.reshape(-1, 3)
+    for dy in (0, 1):
+        for dx in (0, 1):
+            column, row = left + dx, top + dy
+            inside = ahead & (column >= 0) & (column < width) & (row >= 0) & (row < height)
+            pixel = np.where(inside, row * width + column, 0)
+            offset = source_position[pixel] - points
+            on_plane = np.abs(np.sum(offset * normal, axis=1)) < SAME_SURFACE_FOOTPRINTS * footprint
+            facing = np.sum(source_normal[pixel] * normal, axis=1) > SAME_SURFACE_NORMAL
+            source_seen = source.seen.reshape(-1)[pixel]
+            same = np.where(seen, source_seen & on_plane & facing, ~source_seen)
+            weight = (across if dx else 1 - across) * (down if dy else 1 - down)
+            weight = np.where(inside & same & (flat["samples"][pixel] > 0), weight, 0.0)
+            found += weight
+            for name, values in flat.items():
+                picked[name] += (weight[:, None] if values.ndim == 2 else weight) * values[pixel]
+    share = np.where(found > 0, 1.0 / np.maximum(found, 1e-30), 0.0)  # the surface's neighbours alone, renormalised
+    samples = picked["samples"] * share
+    total = picked["residual"] * share[:, None] + samples[:, None] * preview.reshape(-1, 3)
+    gathered.total += total.reshape(gathered.total.shape) * layer.weight
+    gathered.samples += samples.reshape(gathered.samples.shape) * layer.weight
+    gathered.scatter += (picked["scatter"] * share).reshape(gathered.scatter.shape)
+    gathered.dof += (picked["dof"] * share).reshape(gathered.dof.shape)
 
 
 def reconstruct(gathered, preview, guide):

@@ -53,7 +53,7 @@ def noisy_requests(truth, samples, rng, requests=4, sigma=0.6):
 
 def gathered(guide, images, samples):
     """The Gathered samples of requests of `samples` a pixel whose images are `images`, as a layer holds them."""
-    layer = Layer(None, guide)
+    layer = Layer(None, guide, np.zeros(guide.albedo.shape))
     for image in images:
         layer.add((0, 0, *guide.size), image, samples)
     return Gathered(layer.sum, layer.samples, *layer.scatter())
@@ -119,16 +119,16 @@ def test_layers_carry_corrections_over_a_turn(camera):
     turned = Camera(view, camera.projection)
     first, second = corner_guide(camera), corner_guide(turned)
     corrections = Corrections()
-    corrections.view("first", camera, first)
     truth = truth_of(first)
+    corrections.view("first", camera, first, truth * 0.6)
     for image in noisy_requests(truth, 64, np.random.default_rng(3)):
         corrections.add("first", (0, 0, *SIZE), image, 64)
-    corrections.view("second", turned, second)
-    weights = corrections.gathered("second").samples
-    assert np.mean(weights[second.seen] > 0) > 0.85  # all but the strip the turn reveals
     truth_second = truth_of(second)
     preview = truth_second * 0.6
-    corrected = corrections.reconstruct("second", preview).image
+    corrections.view("second", turned, second, preview)
+    weights = corrections.gathered("second").samples
+    assert np.mean(weights[second.seen] > 0) > 0.85  # all but the strip the turn reveals
+    corrected = corrections.reconstruct("second").image
     assert relative_mse(corrected, truth_second) < 0.2 * relative_mse(preview, truth_second)
     assert corrections.layers["first"].weight == 1.0 and "second" not in corrections.layers
     corrections.add("second", (0, 0, 4, 4), truth_second[:4, :4], 1)  # its first samples age the others
@@ -140,7 +140,7 @@ def test_old_layers_are_dropped_and_bad_samples_left_out():
     guide = Guide(*(np.zeros((4, 4, 3), np.float32) for _ in range(3)), np.zeros((4, 4), bool),
                   np.zeros((4, 4), np.float32))
     for index in range(MAX_LAYERS + 2):
-        corrections.view(index, None, guide)
+        corrections.view(index, None, guide, np.zeros((4, 4, 3)))
         corrections.add(index, (0, 0, 1, 1), np.ones((1, 1, 3)), 1)
     assert list(corrections.layers) == list(range(2, MAX_LAYERS + 2))
     assert corrections.layers[2].weight == LAYER_AGING ** (MAX_LAYERS - 1)

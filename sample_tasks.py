@@ -48,7 +48,8 @@ def check_projection(projection, resolution):
     of another aspect than the `resolution` (width, height)."""
     width, height = resolution
     p = projection
-    if p[3][2] != -1 or abs(p[0][2]) > 1e-6 or abs(p[1][2]) > 1e-6 or abs(p[1][1] / p[0][0] * height / width - 1) > 0.01:
+    aspect = max(0.01, 1.0 / min(width, height))  # sizes are whole pixels
+    if p[3][2] != -1 or abs(p[0][2]) > 1e-6 or abs(p[1][2]) > 1e-6 or abs(p[1][1] / p[0][0] * height / width - 1) > aspect:
         raise LPVError("Cycles samples are taken through unshifted perspective views of the image's aspect only; "
                        "leave the orthographic or shifted view to correct it.")
 

@@ -13,11 +13,11 @@ from contextlib import contextmanager
 
 import bpy
 
-from ..gpu.errors import LPVError
+from ..gpu.errors import LPVError, first_line
 from ..gpu.correction_queue import RequestQueue
 from ..gpu.corrections import Corrections
 from ..gpu.pipeline import Pipeline
-from .sample_workers import SampleRequest, SampleWorkers, first_line
+from .sample_workers import SampleRequest, SampleWorkers
 
 REQUESTS_PER_WORKER = 2
 """Requests kept in flight a worker: the next one is there when one ends."""

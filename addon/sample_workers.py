@@ -8,7 +8,7 @@ address only; `SampleWorkers(blend, scheduler="tls://HOST:PORT", security=...)` 
 studio's cluster, over TLS only: a Dask scheduler runs whatever code it is sent, so it is
 never reached in the clear (README, "Cycles sample workers").
 """
-from ..gpu.errors import LPVError
+from ..gpu.errors import LPVError, first_line
 from ..sample_tasks import SampleRequest, open_blend, render_request  # noqa: F401 (the request type, for callers)
 
 WORKER_DEATHS_ALLOWED = 3
@@ -20,12 +20,6 @@ def check_scheduler(scheduler):
     if scheduler is not None and not scheduler.startswith("tls://"):
         raise LPVError(f"The Dask scheduler '{scheduler}' is not a tls:// address; a scheduler runs whatever code it "
                        f"is sent, so reach it over TLS only (see the README).")
-
-
-def first_line(error):
-    """An exception's first line, without its full stop (or its type's name when it says nothing)."""
-    text = str(error).strip()
-    return text.splitlines()[0].rstrip(".") if text else type(error).__name__
 
 
 class SampleWorkers:

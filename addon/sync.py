@@ -49,9 +49,20 @@ def record_updates(depsgraph):
 
 def edits_cycles_sees(updates):
     """Whether `updates` hold an edit that changes what Cycles renders beyond the camera:
-    any but a camera's and the scene's own (its settings, ours among them)."""
-    return any(not ((update.id_type == "OBJECT" and update.object_type == "CAMERA")
-                    or update.id_type in ("CAMERA", "SCENE")) for update in updates)
+    an object's geometry, transform or shading (a camera's aside), any data block's but a
+    camera's and the scene's, and the scene's own where it may show or hide anything
+    (its settings, ours among them, are left out)."""
+    for update in updates:
+        changed = update.geometry or update.transform or update.shading
+        if update.id_type == "OBJECT":
+            if update.object_type != "CAMERA" and changed:
+                return True
+        elif update.id_type in EVERYTHING_DATA:
+            if update.geometry or update.transform:
+                return True
+        elif update.id_type != "CAMERA":
+            return True
+    return False
 
 
 def changed_parts(updates):

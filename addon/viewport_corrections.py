@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from ..gpu.errors import LPVError
+from ..gpu.errors import LPVError, first_line
 from ..sample_tasks import check_projection
 from .corrective import Corrector, write_scene
 from .sample_workers import SampleWorkers
@@ -46,52 +46,68 @@ class ViewportCorrections:
         self.copies = []  # the scene copies written, newest last
         self.stale = False  # the scene was edited since its copy
         self.shown = self.rested = None  # (view key, frame) drawn last, and where the corrector rests
+        self.preview = None  # the shown frame's own image, before any correction (top row first)
         self.last = None  # the last corrected frame
         self.rebuilt, self.received = 0.0, 0
-        self.problem = None  # why the view is not corrected, in one sentence
+        self.problem = None  # (why the view is not corrected in one sentence, the view and edit it holds for)
 
     @property
     def streaming(self):
         """Whether a later redraw may show more: samples to come, a view to rest, edits to catch up with."""
-        return self.workers is not None and self.problem is None and (self.stale or self.rested != self.shown
-                                                                      or bool(self.corrector.in_flight))
+        return self.problem is None and self.shown is not None and (
+            self.stale or not self._same(self.rested, self.shown)
+            or (self.corrector is not None and bool(self.corrector.in_flight)))
+
+    @staticmethod
+    def _same(one, other):
+        return one is not None and other is not None and one[0] == other[0] and one[1] is other[1]
 
     def show(self, bpy_scene, frame, scene, pipeline, camera, display, workers, edited):
         """Correct `frame` (a viewport Frame of `scene`, its combined image in `display`'s
         rows, `camera` the 3D view's) with what has come, from `workers` local workers;
         `edited`: the scene changed since the last redraw. Returns the corrections'
-        statistics (and `correction_problem`, a sentence, when the view is not corrected)."""
+        statistics (and `correction_problem`, a sentence, while the view is not corrected)."""
+        height, width = frame.display.shape[:2]
+        key = f"{camera.key()}:{width}x{height}"
         if edited:
             self.stale = True
             if self.corrector is not None:
                 self.corrector.cancel()
-        height, width = frame.display.shape[:2]
-        key = f"{camera.key()}:{width}x{height}"
-        projection = tuple(map(tuple, camera.projection))
-        try:
-            if self.stale and not edited or self.worker_count != workers:
-                self._start(bpy_scene, workers)
-            self.problem = None
-            check_projection(projection, (width, height))
-            if (key, frame) != self.shown:  # moved (or edited): shown as it is until it rests
-                self.shown = (key, frame)
-            elif self.rested != self.shown:
-                self.rested = self.shown
-                preview = np.ascontiguousarray(frame.display[::-1, :, :3])
-                self._write(self.corrector.rest(key, scene.camera, tuple(map(tuple, np.linalg.inv(camera.view))),
-                                                preview, pipeline.read_guide(scene), projection), frame, display)
-                self.corrector.fill()
-            else:
-                self.corrector.receive(timeout=0)
-                if (self.corrector.samples_received > self.received
-                        and time.perf_counter() - self.rebuilt >= REBUILD_SECONDS):
-                    self._write(self.corrector.frame(), frame, display)
-        except LPVError as error:
-            self.problem = str(error)
-            if self.corrector is not None:
-                self.corrector.cancel()
+        if self.problem is not None and self.problem[1:] != (key, self.stale, workers):
+            self.problem = None  # its cause may have gone: try again
+        if self.problem is None:
+            try:
+                self._correct(bpy_scene, frame, scene, pipeline, camera, display, workers, key, edited)
+            except LPVError as error:
+                self.problem = (str(error), key, self.stale, workers)
+                if self.corrector is not None:
+                    self.corrector.cancel()
         stats = self.corrector.stats(self.last) if self.corrector is not None else {}
-        return {**stats, "correction_problem": self.problem} if self.problem else stats
+        return {**stats, "correction_problem": self.problem[0]} if self.problem else stats
+
+    def _correct(self, bpy_scene, frame, scene, pipeline, camera, display, workers, key, edited):
+        width, height = frame.display.shape[1], frame.display.shape[0]
+        projection = tuple(map(tuple, camera.projection))
+        check_projection(projection, (width, height))  # before any work
+        if bpy_scene.camera is None:
+            raise LPVError("The scene has no camera, which Cycles renders from; add one to correct the view.")
+        if not self._same((key, frame), self.shown):  # moved or edited: shown as it is until it rests
+            self.shown = (key, frame)
+            self.preview = np.ascontiguousarray(frame.display[::-1, :, :3])
+            return
+        if edited:
+            return  # edits go on: nothing asked of the old copy, none written yet
+        if self.corrector is None or self.worker_count != workers or self.stale:
+            self._start(bpy_scene, workers)
+        if not self._same(self.rested, self.shown):
+            self.rested = self.shown
+            self._write(self.corrector.rest(key, scene.camera, tuple(map(tuple, np.linalg.inv(camera.view))),
+                                            self.preview, pipeline.read_guide(scene), projection), frame, display)
+            self.corrector.fill()
+            return
+        self.corrector.receive(timeout=0)
+        if self.corrector.samples_received > self.received and time.perf_counter() - self.rebuilt >= REBUILD_SECONDS:
+            self._write(self.corrector.frame(), frame, display)
 
     def _start(self, bpy_scene, workers):
         """Workers (started again for another count) on a copy of `bpy_scene` as it is now;
@@ -99,17 +115,25 @@ class ViewportCorrections:
         if self.workers is None or self.worker_count != workers:
             self.stop()
             self.folder = tempfile.mkdtemp(prefix="lpv_viewport_corrections_")
+            try:
+                self.workers = SampleWorkers(self._copy(bpy_scene), workers=workers)
+            except LPVError:
+                self.stop()
+                raise
             self.worker_count = workers
-            self.workers = SampleWorkers(self._copy(bpy_scene), workers=workers)
         else:
             self.corrector.cancel()
             self.workers.blend_path = self._copy(bpy_scene)  # each worker opens it with its next request
         self.corrector = Corrector(self.workers)
-        self.stale, self.shown, self.rested, self.last, self.received = False, None, None, None, 0
+        self.stale, self.rested, self.last, self.received = False, None, None, 0
 
     def _copy(self, bpy_scene):
         path = os.path.join(self.folder, f"scene_{len(self.copies) + 1}.blend")
-        write_scene(bpy_scene, path)
+        try:
+            write_scene(bpy_scene, path)
+        except (OSError, RuntimeError) as error:
+            raise LPVError(f"Cannot write the scene's copy for the Cycles sample workers to '{path}' "
+                           f"({first_line(error)}); free some disk space or set TMPDIR.") from None
         self.copies.append(path)
         for old in self.copies[:-COPIES_KEPT]:
             if os.path.exists(old):

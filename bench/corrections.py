@@ -12,7 +12,7 @@ import json
 import math
 from pathlib import Path
 
-from ..gpu.errors import LPVError
+from ..gpu.errors import LPVError, first_line
 from ..gpu.metrics import psnr, relative_mse
 from .plots import pyplot, save
 
@@ -47,12 +47,8 @@ def read_gpu_previews(path):
         scenes = json.loads(Path(path).read_text())["scenes"]
         return {name: float(scene["preview_ms"]) / 1e3 for name, scene in scenes.items()}
     except (OSError, ValueError, KeyError, TypeError) as error:
-        raise LPVError(f"Cannot read the GPU's preview times from '{path}' ({first_words(error)}); give the JSON "
+        raise LPVError(f"Cannot read the GPU's preview times from '{path}' ({first_line(error)}); give the JSON "
                        f"that scripts/time_previews.py printed.") from None
-
-
-def first_words(error):
-    return str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
 
 
 def error_curve(timeline, reference):

@@ -8,8 +8,8 @@ has reached yet carry the preview's assumed error and go first (the uniform requ
 tiles the reprojected corrections of earlier views leave uncertain carry that (their
 largest errors), and a tile next to one with a large error shares part of it (its
 children). A tile's samples a pixel double from request to request, as progressive
-rendering's do, up to REQUEST_SECONDS of work, and a request carries at least
-REQUEST_SAMPLES samples so that its fixed cost stays a minority.
+rendering's do; a request carries REQUEST_SAMPLES samples or more, so that its fixed cost
+stays a minority, but no more than about REQUEST_SECONDS of work.
 """
 import math
 
@@ -66,7 +66,7 @@ class RequestQueue:
         if seconds is None:
             return
         self.received[tiles] += spp
-        pace = max(seconds - FIXED_SECONDS, 1e-6) / (self.pixels[tiles].sum() * spp)
+        pace = max(seconds - FIXED_SECONDS, 0.5 * seconds) / (self.pixels[tiles].sum() * spp)
         self.samples_per_second = 0.8 * self.samples_per_second + 0.2 / pace
 
     def _tiles_in(self, region):
@@ -94,7 +94,9 @@ class RequestQueue:
             while (last + 1) % self.grid[1] > 0 and held[last + 1] == 0:
                 last += 1
             tiles = list(range(first, last + 1))
-            spp[tile] = max(1.0, math.ceil(REQUEST_SAMPLES / self.pixels[tiles].sum()))
+            pixels = self.pixels[tiles].sum()
+            spp[tile] = max(1.0, min(math.ceil(REQUEST_SAMPLES / pixels),
+                                     math.floor(REQUEST_SECONDS * self.samples_per_second / pixels)))
         region = (self.tiles[tiles[0]][0], self.tiles[tiles[0]][1], self.tiles[tiles[-1]][2], self.tiles[tiles[-1]][3])
         self.pending[tiles] += spp[tile]
         return region, int(spp[tile])

@@ -2,12 +2,12 @@
 correct the preview, and the corrections outlive a camera move.
 
 The corrections are projective layers, as the seed's corrective textures are projected
-from the viewpoint: one layer for every camera position the view rested at, holding per
-pixel the surface it saw (position, normal) and the Cycles samples received there,
-divided by the preview's albedo (lighting varies less than texture). A frame gathers
-every layer into its own pixels, a layer's pixel counting where the frame sees the same
-surface (within a pixel's footprint along the normal, normals alike) and a background
-pixel where the frame sees background the same way; older layers weigh less (aging).
+from the viewpoint: one layer for every camera position that got samples, holding per
+pixel the surface it saw (position, normal), its preview and the Cycles samples received
+there, divided by the preview's albedo (lighting varies less than texture). A frame
+looks every other layer up from its own pixels (`_project`: the same surface, within
+footprints along the normal, normals alike, or background for background) and carries
+over the samples' difference from that layer's preview; older layers weigh less (aging).
 
 The frame's residual (Cycles minus its own preview) is then rebuilt over the image by
 normalised convolutions at growing scales that follow the G-buffer's edges, each pixel
@@ -137,7 +137,7 @@ class Corrections:
     newest last."""
 
     def __init__(self):
-        self.views = {}  # key -> (gpu Camera, Guide)
+        self.views = {}  # key -> (gpu Camera, Guide, preview)
         self.layers = {}
 
     def view(self, key, camera, guide, preview):
@@ -145,6 +145,8 @@ class Corrections:
         layer is made when its first samples come."""
         self.views.pop(key, None)
         self.views[key] = (camera, guide, preview)
+        if key in self.layers:  # back at a view: its samples count fully again
+            self.layers[key].weight = 1.0
         while len(self.views) > MAX_LAYERS:
             self.views.pop(next(iter(self.views)))
 
@@ -214,7 +216,7 @@ def _project(layer, scatter, dof, target, preview, gathered):
     left, top = np.floor(x).astype(np.int64), np.floor(y).astype(np.int64)
     across, down = x - left, y - top
     residual = layer.sum - layer.samples[..., None] * layer.preview
-    flat = {name: values.reshape(len(points), -1) if values.ndim == 3 else values.reshape(-1)
+    flat = {name: values.reshape(-1, values.shape[-1]) if values.ndim == 3 else values.reshape(-1)
             for name, values in (("residual", residual), ("samples", layer.samples), ("scatter", scatter),
                                  ("dof", dof))}
     picked = {name: np.zeros_like(values, shape=(len(points),) + values.shape[1:]) for name, values in flat.items()}

@@ -6,3 +6,10 @@ class LPVError(Exception):
 
     Blender shows it in the status bar and the command line prints it without a traceback.
     """
+
+
+def first_line(error):
+    """An exception's first line without its full stop (its type's name when it says
+    nothing): the reason inside one of our sentences."""
+    text = str(error).strip()
+    return text.splitlines()[0].rstrip(".") if text else type(error).__name__

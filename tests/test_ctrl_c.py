@@ -102,10 +102,10 @@ def test_ctrl_c_stops_a_cycles_reference_and_leaves_the_scene_and_no_temporary_f
     argv = ["--methods", "cm", "--samples", "100000", "--out", str(tmp_path / "compare"), "--cache",
             str(tmp_path / "cache"), *SMALL]
     process, temporary = start([str(script), str(cornell_blend), *argv], tmp_path)
-    rendering = lambda: any(name.startswith("lpv_cycles_reference_") for name in os.listdir(temporary))
+    rendering = lambda: any(name.startswith("lpv_cycles_") for name in os.listdir(temporary))
     out, err, seconds = interrupt_once(process, rendering)
     assert_stopped_in_one_line(process, err)
     assert seconds < STOP_SECONDS, err[-3000:]
     assert "SCENE AS IT WAS True" in out, out[-3000:]
-    assert not [name for name in os.listdir(temporary) if name.startswith("lpv_cycles_reference_")]
+    assert not [name for name in os.listdir(temporary) if name.startswith("lpv_cycles_")]
     assert not (tmp_path / "cache").exists() or not os.listdir(tmp_path / "cache")  # no half-written reference

@@ -22,26 +22,10 @@ from lpv_preview.gpu.errors import LPVError  # noqa: E402
 from lpv_preview.gpu.image_io import read_exr  # noqa: E402
 from lpv_preview.gpu.metrics import relative_mse  # noqa: E402
 from lpv_preview.sample_tasks import SampleRequest  # noqa: E402
-from lpv_preview.addon.sync import record_updates  # noqa: E402
+
+from .depsgraph_updates import recorded_updates  # noqa: E402
 
 SIZE = (32, 24)
-
-
-def recorded_updates(edit):
-    """The updates Blender's depsgraph reports for `edit`, as the engine's view_update records them."""
-    records = []
-
-    def handler(scene, depsgraph):
-        records.extend(record_updates(depsgraph))
-
-    bpy.context.view_layer.update()
-    bpy.app.handlers.depsgraph_update_post.append(handler)
-    try:
-        edit()
-        bpy.context.view_layer.update()
-    finally:
-        bpy.app.handlers.depsgraph_update_post.remove(handler)
-    return records
 
 
 @pytest.fixture(scope="module")

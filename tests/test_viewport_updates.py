@@ -9,30 +9,15 @@ import lpv_preview  # noqa: E402
 from lpv_preview import demo  # noqa: E402
 from lpv_preview.addon.viewport import ViewportSession  # noqa: E402
 from lpv_preview.addon.extract import extract_camera  # noqa: E402
-from lpv_preview.addon.sync import CAMERA, EVERYTHING, GEOMETRY, LIGHTS, changed_parts, record_updates  # noqa: E402
+from lpv_preview.addon.sync import CAMERA, EVERYTHING, GEOMETRY, LIGHTS, changed_parts  # noqa: E402
 from lpv_preview.gpu.indirect import INDIRECT_STAGES  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
+
+from .depsgraph_updates import recorded_updates  # noqa: E402
 
 LIGHT_STAGES = ("rsm_ms", "vpl_ms")
 INDIRECT_STAGES_NOW = INDIRECT_STAGES[Settings().indirect_method]
 CAMERA_STAGES = ("gbuffer_ms", "direct_ms", "indirect_ms")
-
-
-def recorded_updates(edit):
-    """The updates Blender's depsgraph reports for `edit`, as our records."""
-    records = []
-
-    def handler(scene, depsgraph):
-        records.extend(record_updates(depsgraph))
-
-    bpy.context.view_layer.update()
-    bpy.app.handlers.depsgraph_update_post.append(handler)
-    try:
-        edit()
-        bpy.context.view_layer.update()
-    finally:
-        bpy.app.handlers.depsgraph_update_post.remove(handler)
-    return records
 
 
 @pytest.fixture(scope="module")

@@ -81,6 +81,25 @@ def _emitters_section(path, report, page_dir):
             f"Report [{relative}]({relative}).", "", emitter_report_markdown(report)]
 
 
+def _cycles_sections(reports, page_dir):
+    """The corrections toward Cycles and the Cycles sample workers: their reports' Markdown
+    (tables too wide for the page) and plots, linked."""
+    lines = []
+    for path, report in reports:
+        if "reference_samples" in report:
+            title, pattern = "Corrections toward Cycles (`bench --corrections`)", "corrections_*.png"
+            summary = "; docs/accuracy.md sums it up"
+        elif "costs" in report:
+            title, pattern, summary = "Cycles sample workers (`bench --sample-workers`)", "sample_workers.png", ""
+        else:
+            continue
+        markdown = os.path.relpath(Path(path).with_suffix(".md"), page_dir)
+        plots = sorted(Path(path).parent.glob(pattern))
+        lines += [f"## {title} on {report['machine']}", "", f"Report [{markdown}]({markdown}){summary}.", "",
+                  *[f"![{plot.stem}]({os.path.relpath(plot, page_dir)})" for plot in plots], ""]
+    return lines
+
+
 def read_reports(page_path):
     """(path, report) of every JSON report in the folder `bench` beside the page."""
     return [(path, read_report(path)) for path in sorted((Path(page_path).parent / "bench").rglob("*.json"))]
@@ -104,7 +123,7 @@ def benchmarks_page(page_path, reports=None):
              "the CPU. Analysis, and timings measured by scripts: docs/performance.md.", "",
              "Contents: presets; " + "; ".join(f"sweep `{r['sweep']}` ({machine_label(r['machine']['renderer'])})"
                                                for _, r in sweeps) + "; Table 1" +
-             ("; many emitters." if emitters else "."), "",
+             ("; many emitters" if emitters else "") + "; corrections toward Cycles and their sample workers.", "",
              "## Presets", "", *_presets_summary(sweeps)]
     for path, report in sweeps:
         lines += _sweep_section(path, report, page_dir) + [""]
@@ -112,6 +131,7 @@ def benchmarks_page(page_path, reports=None):
         lines += _table1_section(path, report, page_dir) + [""]
     for path, report in emitters:
         lines += _emitters_section(path, report, page_dir) + [""]
+    lines += _cycles_sections(reports, page_dir)
     return "\n".join(lines).rstrip() + "\n"
 
 

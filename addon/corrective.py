@@ -73,7 +73,10 @@ class Corrector:
         if now - self.capacity[0] >= CAPACITY_SECONDS:
             self.capacity = (now, REQUESTS_PER_WORKER * max(1, sum(self.workers.client.nthreads().values())))
         while len(self.in_flight) < self.capacity[1]:
-            region, spp = self.queue.next()
+            asked = self.queue.next()
+            if asked is None:  # every tile has its samples
+                return
+            region, spp = asked
             request = SampleRequest(region, self.resolution, spp, self.seed, self.camera_matrix, self.projection)
             self.seed += 1
             self.in_flight[self.workers.submit(request)] = (self.view_key, self.queue, region, spp)
@@ -84,6 +87,9 @@ class Corrector:
         is refused in one sentence."""
         from distributed import wait
         self.fill()
+        if not self.in_flight:
+            time.sleep(timeout or 0.0)
+            return 0
         done = [future for future in self.in_flight if future.done()]
         if not done and timeout != 0:
             try:

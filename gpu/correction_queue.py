@@ -18,6 +18,9 @@ import numpy as np
 TILES = 16
 """About how many tiles an image is cut into (their side a power of two, 16 to 128 pixels)."""
 REQUEST_SAMPLES = 16384
+PIXEL_SAMPLES = 4096
+"""Samples a pixel after which a tile is done (the references' count): a view at rest
+stops asking once every tile is."""
 REQUEST_SECONDS = 0.5
 """A request takes about this long at most (its samples a pixel stop doubling): a moved
 view's first requests never wait long behind the last view's."""
@@ -75,17 +78,19 @@ class RequestQueue:
                 for column in range(x0 // self.side, -(-x1 // self.side))]
 
     def next(self):
-        """The next request: (region, samples a pixel). A tile nothing was asked of yet is
-        asked for with the untouched tiles beside it in its row (one request, the fixed
-        cost once)."""
+        """The next request: (region, samples a pixel), or None when every tile has
+        PIXEL_SAMPLES. A tile nothing was asked of yet is asked for with the untouched tiles
+        beside it in its row (one request, the fixed cost once)."""
         held = self.samples + self.received + self.pending
         spp = np.maximum(np.ceil(REQUEST_SAMPLES / self.pixels), 2.0 ** np.floor(np.log2(np.maximum(held, 1.0))))
         spp = np.minimum(spp, np.maximum(1.0, np.floor(REQUEST_SECONDS * self.samples_per_second / self.pixels)))
         # the error falls as 1/samples: what remains of it now, and what the request takes away
         remaining = self.error * (self.samples + 1.0) / (held + 1.0)
-        gain = remaining * spp / (held + spp)
+        gain = np.where(held < PIXEL_SAMPLES, remaining * spp / (held + spp), -1.0)
         cost = FIXED_SECONDS + self.pixels * spp / self.samples_per_second
         tile = int(np.argmax(gain / cost))
+        if held[tile] >= PIXEL_SAMPLES:
+            return None
         tiles = [tile]
         if held[tile] == 0:
             first = last = tile

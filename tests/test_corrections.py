@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from lpv_preview.gpu.correction_queue import RequestQueue
+from lpv_preview.gpu.correction_queue import PIXEL_SAMPLES, RequestQueue
 from lpv_preview.gpu.corrections import LAYER_AGING, MAX_LAYERS, Corrections, Gathered, Guide, Layer, reconstruct
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.metrics import relative_mse
@@ -171,3 +171,14 @@ def test_the_queue_covers_the_view_first_then_follows_the_error():
     region, spp = queue.next()
     x0, y0, x1, y1 = region
     assert x1 > 96 and y1 > 64 and spp >= samples[y0:y1, x0:x1].mean()
+
+
+def test_the_queue_stops_when_every_tile_has_its_samples():
+    queue = RequestQueue((64, 64))
+    queue.update(np.full((64, 64), 0.25), np.full((64, 64), float(PIXEL_SAMPLES)))
+    assert queue.next() is None
+    samples = np.full((64, 64), float(PIXEL_SAMPLES))
+    samples[:16, :16] = 0.0
+    queue.update(np.full((64, 64), 0.25), samples)
+    region, _ = queue.next()
+    assert region[:2] == (0, 0)

@@ -21,6 +21,7 @@ blended Voronoi cells; where they are dense, their average over the pixel alone:
 resolution follows the samples.
 """
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -71,6 +72,11 @@ class Guide:
     @property
     def size(self):
         return self.seen.shape[1], self.seen.shape[0]
+
+    @cached_property
+    def edges(self):
+        """The à-trous filter's edge weights, made on the first reconstruction of this view."""
+        return _Edges(self)
 
 
 class Layer:
@@ -265,7 +271,7 @@ def reconstruct(gathered, preview, guide):
     lower, upper = np.where(sampled, -np.inf, -prior), np.where(sampled, np.inf, prior)
     active = np.ones((height, width), dtype=bool)
     chosen, chosen_variance = np.zeros((height, width, 3)), np.full((height, width), np.nan)
-    edges = _Edges(guide)
+    edges = guide.edges
     for level in range(SCALES + 1):
         if level:
             numerator, denominator, spread = edges.filter(numerator, denominator, spread, 2 ** (level - 1))
@@ -345,7 +351,8 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
 
 class _Edges:
     """The G-buffer's edges for the à-trous filter: a 3 × 3 B-spline kernel at a step,
-    neighbours weighted by plane distance and normals, surfaces and background apart."""
+    neighbours weighted by plane distance and normals, surfaces and background apart. The
+    weights depend on the guide alone: made once a view (Guide.edges), whatever the samples."""
 
     KERNEL = (0.25, 0.5, 0.25)
 
@@ -354,21 +361,28 @@ class _Edges:
         self.normal = guide.normal.astype(np.float32)
         self.seen = guide.seen
         self.footprint = guide.footprint.astype(np.float32)
+        self.taps = {}  # step -> [(target slices, source slices, weight)]
+
+    def _taps(self, step):
+        if step not in self.taps:
+            height, width = self.seen.shape
+            taps = []
+            for dy, ky in zip((-1, 0, 1), self.KERNEL):
+                for dx, kx in zip((-1, 0, 1), self.KERNEL):
+                    oy, ox = dy * step, dx * step
+                    target = (slice(max(0, -oy), height - max(0, oy)), slice(max(0, -ox), width - max(0, ox)))
+                    source = (slice(max(0, oy), height + min(0, oy)), slice(max(0, ox), width + min(0, ox)))
+                    if target[0].start < target[0].stop and target[1].start < target[1].stop:
+                        taps.append((target, source, ky * kx * self._edge(target, source, step)))
+            self.taps[step] = taps
+        return self.taps[step]
 
     def filter(self, numerator, denominator, spread, step):
-        height, width = denominator.shape
         sums = [np.zeros_like(numerator), np.zeros_like(denominator), np.zeros_like(spread)]
-        for dy, ky in zip((-1, 0, 1), self.KERNEL):
-            for dx, kx in zip((-1, 0, 1), self.KERNEL):
-                oy, ox = dy * step, dx * step
-                target = (slice(max(0, -oy), height - max(0, oy)), slice(max(0, -ox), width - max(0, ox)))
-                source = (slice(max(0, oy), height + min(0, oy)), slice(max(0, ox), width + min(0, ox)))
-                if target[0].start >= target[0].stop or target[1].start >= target[1].stop:
-                    continue
-                weight = ky * kx * self._edge(target, source, step)
-                sums[0][target] += weight[..., None] * numerator[source]
-                sums[1][target] += weight * denominator[source]
-                sums[2][target] += weight * weight * spread[source]
+        for target, source, weight in self._taps(step):
+            sums[0][target] += weight[..., None] * numerator[source]
+            sums[1][target] += weight * denominator[source]
+            sums[2][target] += weight * weight * spread[source]
         return sums
 
     def _edge(self, at, neighbour, step):

@@ -21,6 +21,10 @@ GEOMETRY_DATA = {"MESH", "MATERIAL", "NODETREE", "IMAGE", "CURVE", "METABALL", "
 EVERYTHING_DATA = {"COLLECTION", "SCENE"}
 """Edits that may show or hide anything: visibility, instancing, the active camera."""
 
+PART_DATA = {"OBJECT", "LIGHT", "CAMERA"} | GEOMETRY_DATA | EVERYTHING_DATA
+"""Data blocks whose edits `changed_parts` sorts into the parts (or leaves out, as the
+scene's own settings)."""
+
 INSTANCER_TYPES = MESH_LIKE_TYPES | {"EMPTY", "CURVE", "FONT", "CURVES", "POINTCLOUD", "VOLUME"}
 """Object types whose own edits move triangles (their own or their instances')."""
 
@@ -49,20 +53,9 @@ def record_updates(depsgraph):
 
 def edits_cycles_sees(updates):
     """Whether `updates` hold an edit that changes what Cycles renders beyond the camera:
-    an object's geometry, transform or shading (a camera's aside), any data block's but a
-    camera's and the scene's, and the scene's own where it may show or hide anything
-    (its settings, ours among them, are left out)."""
-    for update in updates:
-        changed = update.geometry or update.transform or update.shading
-        if update.id_type == "OBJECT":
-            if update.object_type != "CAMERA" and changed:
-                return True
-        elif update.id_type in EVERYTHING_DATA:
-            if update.geometry or update.transform:
-                return True
-        elif update.id_type != "CAMERA":
-            return True
-    return False
+    one that changes a part of the scene but the camera, or a data block no part reads
+    (the world, say), which Cycles renders all the same."""
+    return bool(changed_parts(updates) - {CAMERA}) or any(update.id_type not in PART_DATA for update in updates)
 
 
 def changed_parts(updates):

@@ -59,22 +59,14 @@ class SampleRenderer:
 
     def render(self, request, threads=None):
         """The SampleResult of `request`, Cycles on `threads` threads (None: all)."""
-        scene, render = self.scene, self.scene.render
+        scene = self.scene
         if scene.camera is None:
             raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
         exr_path = os.path.join(self._folder, "samples.exr")
         apply_render_settings(scene, self.view_layer, exr_path, SAMPLE_PASSES, request.samples, (0, request.samples),
                               request.resolution, request.seed, REFERENCE_BOUNCES["full_gi"], 0.0,
-                              REFERENCE_FILTER_WIDTH, request.denoise)
-        render.image_settings.exr_codec = "NONE"  # written and read at once: compression only costs
-        render.threads_mode = "AUTO" if threads is None else "FIXED"
-        if threads is not None:
-            render.threads = threads
+                              REFERENCE_FILTER_WIDTH, request.denoise, request.region, threads)
         x0, y0, x1, y1 = request.region
-        width, height = request.resolution
-        render.use_border, render.use_crop_to_border = True, True
-        render.border_min_x, render.border_max_x = x0 / width, x1 / width
-        render.border_min_y, render.border_max_y = 1 - y1 / height, 1 - y0 / height
         camera = request.camera if request.camera is not None else self._camera
         if camera is not None and tuple(map(tuple, scene.camera.matrix_world)) != camera:
             scene.camera.matrix_world = Matrix(camera)  # a nested list would be read as columns

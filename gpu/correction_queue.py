@@ -4,7 +4,8 @@ to ask for next, and how many samples a pixel.
 The image is cut into square tiles; a tile's priority is the error its next request is
 expected to remove for each second it costs. The error is the reconstruction's own
 estimate (gpu/corrections.py), so the seed's three sources are one rule: tiles no sample
-has reached yet carry the preview's assumed error and go first (the uniform requests),
+has reached yet carry the preview's assumed error and go first, a row of them at 1 sample
+a pixel in one request (the uniform requests),
 tiles the reprojected corrections of earlier views leave uncertain carry that (their
 largest errors), and a tile next to one with a large error shares part of it (its
 children). A tile's samples a pixel double from request to request, as progressive
@@ -79,10 +80,15 @@ class RequestQueue:
 
     def next(self):
         """The next request: (region, samples a pixel), or None when every tile has
-        PIXEL_SAMPLES. A tile nothing was asked of yet is asked for with the untouched tiles
-        beside it in its row (one request, the fixed cost once)."""
+        PIXEL_SAMPLES. A tile nothing was asked of yet is asked for at 1 sample a pixel with
+        the untouched tiles beside it in its row (one request, the fixed cost once): the
+        whole view is covered first, as soon as the workers can. A request whose doubled
+        samples stay under REQUEST_SAMPLES takes the tiles beside it in its row that hold
+        as many: requests of a pixel grow evenly (1, 1, 2, 4, ...), so the spread of their
+        means tells the noise (gpu/corrections.py)."""
         held = self.samples + self.received + self.pending
-        spp = np.maximum(np.ceil(REQUEST_SAMPLES / self.pixels), 2.0 ** np.floor(np.log2(np.maximum(held, 1.0))))
+        doubled = 2.0 ** np.floor(np.log2(np.maximum(held, 1.0)))
+        spp = np.maximum(np.ceil(REQUEST_SAMPLES / self.pixels), doubled)
         spp = np.minimum(spp, np.maximum(1.0, np.floor(REQUEST_SECONDS * self.samples_per_second / self.pixels)))
         # the error falls as 1/samples: what remains of it now, and what the request takes away
         remaining = self.error * (self.samples + 1.0) / (held + 1.0)
@@ -91,17 +97,20 @@ class RequestQueue:
         tile = int(np.argmax(gain / cost))
         if held[tile] >= PIXEL_SAMPLES:
             return None
-        tiles = [tile]
-        if held[tile] == 0:
-            first = last = tile
-            while first % self.grid[1] > 0 and held[first - 1] == 0:
+        untouched = held[tile] == 0
+        alike = (held == 0) if untouched else (doubled == doubled[tile]) & (held > 0) & (held < PIXEL_SAMPLES)
+        row = tile - tile % self.grid[1]
+        first = last = tile
+        while untouched or self.pixels[first:last + 1].sum() * doubled[tile] < REQUEST_SAMPLES:
+            if first > row and alike[first - 1]:
                 first -= 1
-            while (last + 1) % self.grid[1] > 0 and held[last + 1] == 0:
+            elif last + 1 < row + self.grid[1] and alike[last + 1]:
                 last += 1
-            tiles = list(range(first, last + 1))
-            pixels = self.pixels[tiles].sum()
-            spp[tile] = max(1.0, min(math.ceil(REQUEST_SAMPLES / pixels),
-                                     math.floor(REQUEST_SECONDS * self.samples_per_second / pixels)))
-        region = (self.tiles[tiles[0]][0], self.tiles[tiles[0]][1], self.tiles[tiles[-1]][2], self.tiles[tiles[-1]][3])
-        self.pending[tiles] += spp[tile]
-        return region, int(spp[tile])
+            else:
+                break
+        pixels = self.pixels[first:last + 1].sum()
+        count = 1.0 if untouched else max(doubled[tile], math.ceil(REQUEST_SAMPLES / pixels))
+        count = min(count, max(1.0, math.floor(REQUEST_SECONDS * self.samples_per_second / pixels)))
+        region = (self.tiles[first][0], self.tiles[first][1], self.tiles[last][2], self.tiles[last][3])
+        self.pending[first:last + 1] += count
+        return region, int(count)

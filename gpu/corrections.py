@@ -52,6 +52,8 @@ UNSAMPLED_ERROR = 0.25
 """Relative MSE assumed of the preview where no sample tells: what the first requests go for."""
 NOISE_DOF = 4
 """Repeated requests a pixel's window needs before their spread alone measures the noise."""
+RISK_RADIUS = 3
+"""The risk of a scale is averaged over (2 r + 1)² pixels: a pixel's own is too noisy to choose by."""
 OUTLIER = 4.0
 """A pixel whose own squared deviation from its window's mean passes this many times the window's
 variance (a firefly) is given its own: its samples then spread over a larger scale."""
@@ -271,10 +273,20 @@ def reconstruct(gathered, preview, guide):
     lower, upper = np.where(sampled, -np.inf, -prior), np.where(sampled, np.inf, prior)
     active = np.ones((height, width), dtype=bool)
     chosen, chosen_variance = np.zeros((height, width, 3)), np.full((height, width), np.nan)
+    # Stein's unbiased risk of each scale, averaged over a window of sampled pixels weighed
+    # as the relative MSE weighs them, and the scale of least risk with it
+    risk_weight = np.where(sampled, (scale @ LUMINANCE_WEIGHTS) ** 2
+                           / ((preview @ LUMINANCE_WEIGHTS) ** 2 + RELATIVE_EPSILON), 0.0)
+    risk_norm = _box_sum(risk_weight, RISK_RADIUS)
+    pixel_variance = variance / np.maximum(samples, 1e-30)
+    least_risk = np.full((height, width), np.inf)
+    least_risky, risk = np.zeros((height, width, 3)), np.full((height, width), np.nan)
+    own_weight = 1.0  # the cascade's weight of a pixel's own samples in its estimate
     edges = guide.edges
     for level in range(SCALES + 1):
         if level:
             numerator, denominator, spread = edges.filter(numerator, denominator, spread, 2 ** (level - 1))
+            own_weight *= _Edges.KERNEL[1] ** 2
         valid = denominator > 1e-12
         safe = np.where(valid, denominator, 1.0)
         estimate = numerator / safe[..., None]
@@ -287,13 +299,26 @@ def reconstruct(gathered, preview, guide):
         active &= ~valid | agrees
         chosen[agrees], chosen_variance[agrees] = estimate[agrees], estimate_variance[agrees]
         lower, upper = np.where(agrees, low, lower), np.where(agrees, high, upper)
+        # SURE of a normalised convolution: (estimate - own mean)² + 2 σ² d estimate / d own mean - σ²
+        own = np.where(sampled, (centre - luminance) ** 2 + 2 * variance * own_weight / safe - pixel_variance, 0.0)
+        level_risk = np.where(risk_norm > 0, _box_sum(own * risk_weight, RISK_RADIUS) / np.maximum(risk_norm, 1e-30),
+                              estimate_variance)
+        allowed = valid & (sampled | (np.abs(centre) <= prior))
+        better = allowed & (level_risk < least_risk)
+        least_risk = np.where(better, level_risk, least_risk)
+        least_risky[better], risk[better] = estimate[better], np.maximum(level_risk, estimate_variance)[better]
+    least_risky = np.where(np.isfinite(risk)[..., None], least_risky, chosen)
     known = np.isfinite(chosen_variance)
-    correction = chosen * scale
+    # the two rules' estimates averaged: no worse than their mean error, and either's
+    # misjudged pixels halved
+    correction = 0.5 * (chosen + least_risky) * scale
     image = preview + correction
     weight = scale @ LUMINANCE_WEIGHTS
     reference = np.maximum(image @ LUMINANCE_WEIGHTS, 0.0)
-    # the scale's noise and a bias as large as its interval allows
-    error = np.where(known & sampled, (1 + CONFIDENCE ** 2) * np.nan_to_num(chosen_variance) * weight * weight,
+    # the intervals' scale: its noise and a bias as large as its interval allows; the risk's: itself
+    kept = 0.5 * (1 + CONFIDENCE ** 2) * np.nan_to_num(chosen_variance)
+    kept += 0.5 * np.where(np.isfinite(risk), risk, (1 + CONFIDENCE ** 2) * np.nan_to_num(chosen_variance))
+    error = np.where(known & sampled, kept * weight * weight,
                      UNSAMPLED_ERROR * reference * reference) / (reference * reference + RELATIVE_EPSILON)
     return Reconstruction(image.astype(np.float32), correction.astype(np.float32), samples, error.astype(np.float32),
                           float(np.mean(error)))
@@ -328,8 +353,9 @@ def _box_sum(image, radius):
 def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     """A sample's variance at each pixel, pooled over its window: from the spread of the
     requests' means about their pixels' own means where the window holds at least
-    NOISE_DOF repeated requests (noise alone), a pixel whose own requests spread more (a
-    firefly among them) given its own; else, while one request a pixel is all there is,
+    NOISE_DOF repeated requests (noise alone), a pixel whose own requests spread more, or
+    that has fewer than NOISE_DOF of its own and stands out of its window (a firefly among
+    them), given its own; else, while one request a pixel is all there is,
     from the spread of the pixels' means about the window's (the residual's own variation
     counts too: conservative), a pixel far off it (a firefly) given its own."""
     repeated = _box_sum(dof, radius)
@@ -346,7 +372,10 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     pooled = np.where(np.isfinite(pooled), pooled, fallback)
     own = samples * (luminance - first / np.maximum(weights, 1e-30)) ** 2
     spatial = np.where(own > OUTLIER * pooled, own, pooled)
-    return np.where(repeated >= NOISE_DOF, measured, spatial)
+    # a firefly in one of a pixel's few requests hardly spreads their means (the larger
+    # request holds it and the mean): the pixel is judged against its window's then too
+    firefly = (dof < NOISE_DOF) & (own > OUTLIER * np.maximum(pooled, measured))
+    return np.where(repeated >= NOISE_DOF, np.where(firefly, own, measured), spatial)
 
 
 class _Edges:

@@ -74,7 +74,8 @@ def still_goals(curves, earlier=0.0):
         moments = sorted({point["seconds"] for curve in (corrected, curves[other]) for point in curve
                           if 0 <= point["seconds"] <= until})
         losing = [round(t, 2) for t in moments if error_at(corrected, t) >= error_at(curves[other], t)]
-        return {"met": not losing, "moments": len(moments), "losing_moments": losing[:8]}
+        return {"met": not losing, "moments": len(moments), "losing_moments": losing[:8],
+                "losing": len(losing), "last_losing": losing[-1] if losing else None}
     return {"below_cycles": below("cycles", STILL_SECONDS),
             "below_denoised": below("cycles_denoised", DENOISED_GOAL_SECONDS)}
 
@@ -145,10 +146,10 @@ def _scene_lines(scene, plots):
 def _goal_words(goals):
     below, denoised = goals["below_cycles"], goals["below_denoised"]
     return (f"below undenoised Cycles at every moment of {STILL_SECONDS:g} s **{'met' if below['met'] else 'not met'}**"
-            + ("" if below["met"] else f" (behind at {below['losing_moments']} s)")
+            + ("" if below["met"] else f" (behind at {_losing(below)})")
             + f"; below denoised Cycles for the first {DENOISED_GOAL_SECONDS:g} s "
             f"**{'met' if denoised['met'] else 'not met'}**"
-            + ("" if denoised["met"] else f" (behind at {denoised['losing_moments']} s)"))
+            + ("" if denoised["met"] else f" (behind at {_losing(denoised)})"))
 
 
 def _plots(report, out):
@@ -182,6 +183,14 @@ def _curves(scene):
 def _labels(scene):
     return {**LABELS, "corrected_gpu": f"preview on the GPU ({(scene.get('gpu_preview_seconds') or 0) * 1e3:.0f} ms) "
                                        f"+ corrections"}
+
+
+def _losing(goal):
+    """The moments a goal loses: the first 8 and, past them, how many more and the last."""
+    shown = f"{goal['losing_moments']} s"
+    more = goal.get("losing", 0) - len(goal["losing_moments"])
+    return shown + (f" and {more} more moment{'s' * (more > 1)}, the last at {goal['last_losing']} s" if more > 0
+                     else "")
 
 
 def _earlier(curve, seconds):

@@ -166,6 +166,7 @@ def measure_scene(name, build, resolution, reference_samples, blend_path, cores,
         corrector.cancel()
         turn = corrector.rest(views[-1].key, views[-1].scene.camera, views[-1].camera, views[-1].preview,
                               views[-1].guide).image
+        corrector.cancel()  # the turned view's first requests: not the path's
         log(f"{name}: corrected still done ({corrector.samples_received} samples)")
         corrector = None
         for view, frame in zip(views, path):

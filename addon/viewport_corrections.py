@@ -103,7 +103,6 @@ class ViewportCorrections:
             self.rested = self.shown
             self._write(self.corrector.rest(key, scene.camera, tuple(map(tuple, np.linalg.inv(camera.view))),
                                             self.preview, pipeline.read_guide(scene), projection), frame, display)
-            self.corrector.fill()
             return
         self.corrector.receive(timeout=0)
         if self.corrector.samples_received > self.received and time.perf_counter() - self.rebuilt >= REBUILD_SECONDS:

@@ -44,7 +44,8 @@ class RequestQueue:
         self.grid = (math.ceil(height / side), math.ceil(width / side))
         self.pixels = np.array([(x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in self.tiles], dtype=np.float64)
         self.side = side
-        self.error = np.zeros(len(self.tiles))  # summed over a tile's pixels, at the last update
+        # summed over a tile's pixels, at the last update; until the first, every pixel alike
+        self.error = self.pixels.copy()
         # a pixel's samples (earlier views' weighed by their age) at the last update, received
         # since, and asked but not received
         self.samples, self.received, self.pending = (np.zeros(len(self.tiles)) for _ in range(3))

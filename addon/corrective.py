@@ -54,7 +54,8 @@ class Corrector:
             self.view_key, self.camera_matrix, self.projection = key, camera_matrix, projection
             self.resolution = guide.size
             self.queue = RequestQueue(self.resolution)
-            self.fill()  # the first requests cover the view while its first frame is rebuilt
+            if not self.corrections.layers:  # nothing to gather: the first requests cover the view meanwhile
+                self.fill()
         self.preview = preview
         return self.frame()
 

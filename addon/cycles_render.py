@@ -80,11 +80,16 @@ def temporary_folder():
 
 
 def assign(holder, **values):
-    """Set those of `holder`'s properties that differ from `values`: a sample request
-    changes few, and a changed border, codec or pass makes Cycles sync the scene again with
-    persistent data too (90 ms a request in a scene of 125,000 triangles, whatever its size)."""
+    """Set those of `holder`'s properties that differ from `values` (floats as Blender
+    stores them, in single precision): a sample request changes few, and setting a border,
+    codec or pass anew makes Cycles sync the scene again, with persistent data too."""
     for name, value in values.items():
-        if getattr(holder, name) != value:
+        current = getattr(holder, name)
+        if isinstance(value, float):
+            differs = np.float32(current) != np.float32(value)
+        else:
+            differs = current != value
+        if differs:
             setattr(holder, name, value)
 
 

@@ -14,7 +14,7 @@ import numpy as np
 from mathutils import Matrix
 
 from ..gpu.errors import LPVError
-from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_render_settings,
+from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_render_settings, assign,
                             enable_cycles, read_exr_passes, render_to_file, view_layer_to_render)
 
 LENS_SETTINGS = ("type", "sensor_fit", "lens", "sensor_width", "sensor_height", "shift_x", "shift_y", "clip_start",
@@ -68,7 +68,7 @@ class SampleRenderer:
                               REFERENCE_FILTER_WIDTH, request.denoise, request.region, threads)
         x0, y0, x1, y1 = request.region
         camera = request.camera if request.camera is not None else self._camera
-        if camera is not None and tuple(map(tuple, scene.camera.matrix_world)) != camera:
+        if camera is not None and np.any(np.float32(scene.camera.matrix_world) != np.float32(camera)):
             scene.camera.matrix_world = Matrix(camera)  # a nested list would be read as columns
         self._set_lens(request.projection)
         started = time.perf_counter()
@@ -94,8 +94,6 @@ class SampleRenderer:
             wanted = {"type": "PERSP", "sensor_fit": "VERTICAL", "angle_y": 2 * math.atan(1 / p[1, 1]),
                       "shift_x": 0.0, "shift_y": 0.0, "clip_start": p[2, 3] / (p[2, 2] - 1),
                       "clip_end": p[2, 3] / (p[2, 2] + 1), "use_dof": False}
-        for name, value in wanted.items():
-            holder = data.dof if name == "use_dof" else data
-            if getattr(holder, name) != value:
-                setattr(holder, name, value)
+        assign(data, **{name: value for name, value in wanted.items() if name != "use_dof"})
+        assign(data.dof, use_dof=wanted["use_dof"])
 

@@ -49,6 +49,22 @@ def test_a_region_has_the_pixels_of_the_whole_image(cornell_blend):
     assert whole.passes["Combined"].mean() > 0
 
 
+def test_each_request_renders_its_own_seed_and_samples(cornell_blend):
+    """Cycles' own settings do not tag the scene for an update: a request that changed only
+    them must still be rendered with them, not as the request before."""
+    renderer = SampleRenderer(cornell_blend)
+    try:
+        one = [renderer.render(SampleRequest((0, 0, *SIZE), SIZE, 1, seed=seed)).passes["Combined"] for seed in (1, 2)]
+        many = [renderer.render(SampleRequest((0, 0, *SIZE), SIZE, 64, seed=seed)).passes["Combined"]
+                for seed in (3, 4)]
+        again = renderer.render(SampleRequest((0, 0, *SIZE), SIZE, 64, seed=4)).passes["Combined"]
+    finally:
+        renderer.close()
+    assert not np.array_equal(one[0], one[1])
+    assert np.abs(many[0] - many[1]).mean() < 0.3 * np.abs(one[0] - one[1]).mean()  # 64 samples: less noise
+    np.testing.assert_array_equal(again, many[1])
+
+
 def test_requests_out_of_the_image_are_refused():
     with pytest.raises(LPVError, match="out of range"):
         SampleRequest((0, 0, 40, 10), SIZE, 4)

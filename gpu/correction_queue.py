@@ -27,8 +27,8 @@ REQUEST_SECONDS = 0.5
 view's first requests never wait long behind the last view's."""
 CHILD_SHARE = 0.5
 """Share of its largest neighbour's error a tile takes on."""
-FIXED_SECONDS = 0.006
-"""A request's cost beyond its samples (docs/bench/cpu/sample_workers.md)."""
+FIXED_SECONDS = 0.0015
+"""A request's cost beyond its samples on its worker (docs/bench/cpu/sample_workers.md)."""
 SAMPLES_PER_SECOND = 250_000.0
 """A worker's samples a second until the requests' times tell."""
 
@@ -85,11 +85,11 @@ class RequestQueue:
         the untouched tiles beside it in its row (one request, the fixed cost once): the
         whole view is covered first, as soon as the workers can. A request whose doubled
         samples stay under REQUEST_SAMPLES takes the tiles beside it in its row that hold
-        as many: requests of a pixel grow evenly (1, 1, 2, 4, ...), so the spread of their
-        means tells the noise (gpu/corrections.py)."""
+        as many: a pixel's requests then grow by at most about 4 times what it holds, not
+        16, so the spread of their means tells the noise (gpu/corrections.py)."""
         held = self.samples + self.received + self.pending
-        doubled = 2.0 ** np.floor(np.log2(np.maximum(held, 1.0)))
-        spp = np.maximum(np.ceil(REQUEST_SAMPLES / self.pixels), doubled)
+        step = 2.0 ** np.floor(np.log2(np.maximum(held, 1.0)))
+        spp = np.maximum(np.ceil(REQUEST_SAMPLES / self.pixels), step)
         spp = np.minimum(spp, np.maximum(1.0, np.floor(REQUEST_SECONDS * self.samples_per_second / self.pixels)))
         # the error falls as 1/samples: what remains of it now, and what the request takes away
         remaining = self.error * (self.samples + 1.0) / (held + 1.0)
@@ -99,10 +99,10 @@ class RequestQueue:
         if held[tile] >= PIXEL_SAMPLES:
             return None
         untouched = held[tile] == 0
-        alike = (held == 0) if untouched else (doubled == doubled[tile]) & (held > 0) & (held < PIXEL_SAMPLES)
+        alike = (held == 0) if untouched else (step == step[tile]) & (held > 0) & (held < PIXEL_SAMPLES)
         row = tile - tile % self.grid[1]
         first = last = tile
-        while untouched or self.pixels[first:last + 1].sum() * doubled[tile] < REQUEST_SAMPLES:
+        while untouched or self.pixels[first:last + 1].sum() * step[tile] < REQUEST_SAMPLES:
             if first > row and alike[first - 1]:
                 first -= 1
             elif last + 1 < row + self.grid[1] and alike[last + 1]:
@@ -110,7 +110,7 @@ class RequestQueue:
             else:
                 break
         pixels = self.pixels[first:last + 1].sum()
-        count = 1.0 if untouched else max(doubled[tile], math.ceil(REQUEST_SAMPLES / pixels))
+        count = 1.0 if untouched else max(step[tile], math.ceil(REQUEST_SAMPLES / pixels))
         count = min(count, max(1.0, math.floor(REQUEST_SECONDS * self.samples_per_second / pixels)))
         region = (self.tiles[first][0], self.tiles[first][1], self.tiles[last][2], self.tiles[last][3])
         self.pending[first:last + 1] += count

@@ -10,15 +10,18 @@ footprints along the normal, normals alike, or background for background) and ca
 over the samples' difference from that layer's preview; older layers weigh less (aging).
 
 The frame's residual (Cycles minus its own preview) is then rebuilt over the image by
-normalised convolutions at growing scales that follow the G-buffer's edges, each pixel
-keeping the largest scale whose estimate agrees, within its noise, with every finer one
-(the intersection of confidence intervals). The intervals take each level's kernel as if
-its samples were fresh, narrower at coarse scales than the cascade's true noise
-(`CASCADE_VARIANCE`): that keeps finer scales where the preview errs in detail, at less
-error on the demo scenes than the true noise gives (docs/method.md). Where samples are
-sparse each pixel takes the nearest ones, blended where their regions meet, as the seed's
-blended Voronoi cells; where they are dense, their average over the pixel alone: the
-resolution follows the samples.
+normalised convolutions at growing scales that follow the G-buffer's edges. Two rules pick
+a scale per pixel and the frame takes the mean of their estimates: the largest scale whose
+estimate agrees, within its noise, with every finer one (the intersection of confidence
+intervals), and the scale of least risk (Stein's unbiased risk estimate, averaged over a
+window). The intervals take each level's kernel as if its samples were fresh, narrower at
+coarse scales than the cascade's true noise (`CASCADE_VARIANCE`): that keeps finer scales
+where the preview errs in detail. The intervals keep detail a small bias would cost but
+stop early on smooth surfaces; the risk smooths where that pays but is noisy where samples
+are few; their mean errs less than either (docs/method.md). Where samples are sparse each
+pixel takes the nearest ones, blended where their regions meet, as the seed's blended
+Voronoi cells; where they are dense, their average over the pixel alone: the resolution
+follows the samples.
 """
 from dataclasses import dataclass
 from functools import cached_property
@@ -281,8 +284,8 @@ def reconstruct(gathered, preview, guide):
                            / ((preview @ LUMINANCE_WEIGHTS) ** 2 + RELATIVE_EPSILON), 0.0)
     risk_norm = _box_sum(risk_weight, RISK_RADIUS)
     pixel_variance = variance / np.maximum(samples, 1e-30)
-    least_risk = np.full((height, width), np.inf)
-    least_risky, risk = np.zeros((height, width, 3)), np.full((height, width), np.nan)
+    best_risk = np.full((height, width), np.inf)
+    risk_choice, risk = np.zeros((height, width, 3)), np.full((height, width), np.nan)
     own_weight = 1.0  # the cascade's weight of a pixel's own samples in its estimate
     edges = guide.edges
     for level in range(SCALES + 1):
@@ -302,18 +305,18 @@ def reconstruct(gathered, preview, guide):
         chosen[agrees], chosen_variance[agrees] = estimate[agrees], estimate_variance[agrees]
         lower, upper = np.where(agrees, low, lower), np.where(agrees, high, upper)
         # SURE of a normalised convolution: (estimate - own mean)² + 2 σ² d estimate / d own mean - σ²
-        own = np.where(sampled, (centre - luminance) ** 2 + 2 * variance * own_weight / safe - pixel_variance, 0.0)
-        level_risk = np.where(risk_norm > 0, _box_sum(own * risk_weight, RISK_RADIUS) / np.maximum(risk_norm, 1e-30),
+        sure = np.where(sampled, (centre - luminance) ** 2 + 2 * variance * own_weight / safe - pixel_variance, 0.0)
+        level_risk = np.where(risk_norm > 0, _box_sum(sure * risk_weight, RISK_RADIUS) / np.maximum(risk_norm, 1e-30),
                               estimate_variance)
         allowed = valid & (sampled | (np.abs(centre) <= prior))
-        better = allowed & (level_risk < least_risk)
-        least_risk = np.where(better, level_risk, least_risk)
-        least_risky[better], risk[better] = estimate[better], np.maximum(level_risk, estimate_variance)[better]
-    least_risky = np.where(np.isfinite(risk)[..., None], least_risky, chosen)
+        better = allowed & (level_risk < best_risk)
+        best_risk = np.where(better, level_risk, best_risk)
+        risk_choice[better], risk[better] = estimate[better], np.maximum(level_risk, estimate_variance)[better]
+    risk_choice = np.where(np.isfinite(risk)[..., None], risk_choice, chosen)
     known = np.isfinite(chosen_variance)
     # the two rules' estimates averaged: no worse than their mean error, and either's
     # misjudged pixels halved
-    correction = 0.5 * (chosen + least_risky) * scale
+    correction = 0.5 * (chosen + risk_choice) * scale
     image = preview + correction
     weight = scale @ LUMINANCE_WEIGHTS
     reference = np.maximum(image @ LUMINANCE_WEIGHTS, 0.0)
@@ -356,8 +359,9 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     """A sample's variance at each pixel, pooled over its window: from the spread of the
     requests' means about their pixels' own means where the window holds at least
     NOISE_DOF repeated requests (noise alone), a pixel whose own requests spread more, or
-    that has fewer than NOISE_DOF of its own and stands out of its window (a firefly among
-    them), given its own; else, while one request a pixel is all there is,
+    that has fewer than NOISE_DOF repeated requests of its own and stands out of its window
+    more than OUTLIER times its spread (a firefly among them, or a lone detail), given its
+    own; else, while one request a pixel is all there is,
     from the spread of the pixels' means about the window's (the residual's own variation
     counts too: conservative), a pixel far off it (a firefly) given its own."""
     repeated = _box_sum(dof, radius)

@@ -91,6 +91,25 @@ def test_no_samples_leave_the_preview(camera):
     assert result.estimated_error > 0
 
 
+def test_a_firefly_in_the_larger_of_two_requests_is_not_kept(camera):
+    """One sample 400 times the light in a pixel's second request of 16 (after one of 1)
+    hardly spreads the two requests' means: the pixel is still judged a firefly against
+    its window and its samples spread, not shown as a speck."""
+    guide = corner_guide(camera)
+    truth = truth_of(guide)
+    preview = truth * 0.8
+    rng = np.random.default_rng(5)
+    first, second = noisy_requests(truth, 1, rng, requests=1)[0], noisy_requests(truth, 16, rng, requests=1)[0]
+    row, column = 30, 20  # on the floor, away from its stripe
+    second[row, column] += 400 * truth[row, column] / 16
+    layer = Layer(None, guide, np.zeros(guide.albedo.shape))
+    layer.add((0, 0, *guide.size), first, 1)
+    layer.add((0, 0, *guide.size), second, 16)
+    corrected = reconstruct(Gathered(layer.sum, layer.samples, *layer.scatter()), preview, guide).image
+    assert corrected[row, column].mean() < 3 * truth[row, column].mean()
+    assert relative_mse(corrected, truth) < relative_mse(preview, truth)
+
+
 def test_a_correction_stops_at_the_geometry_edges(camera):
     """Samples of the floor alone say nothing of the wall: it keeps its preview."""
     guide = corner_guide(camera)
@@ -172,6 +191,21 @@ def test_the_queue_covers_the_view_first_then_follows_the_error():
     region, spp = queue.next()
     x0, y0, x1, y1 = region
     assert x1 > 96 and y1 > 64 and 2 * spp > samples[y0:y1, x0:x1].mean()  # there, about doubling its samples
+
+
+def test_a_pixels_requests_grow_evenly():
+    """Whatever the errors, no request asks a tile for more than 4 times the samples it
+    holds: the spread of a pixel's requests then tells their noise (two of 1 and 16 did not)."""
+    queue = RequestQueue((128, 96))
+    rng = np.random.default_rng(6)
+    samples = np.zeros((96, 128))
+    for _ in range(40):
+        queue.update(rng.uniform(0.0, 1.0, (96, 128)), samples)
+        (x0, y0, x1, y1), spp = queue.next()
+        held = samples[y0:y1, x0:x1].max()
+        assert spp <= 4 * max(held, 1.0), (held, spp)
+        queue.done((x0, y0, x1, y1), spp, 0.05)
+        samples[y0:y1, x0:x1] += spp
 
 
 def test_the_queue_stops_when_every_tile_has_its_samples():

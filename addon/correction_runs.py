@@ -160,16 +160,15 @@ def measure_scene(name, build, resolution, reference_samples, blend_path, cores,
     log(f"{name}: Cycles timelines done ({samples} samples in {still[-1][0]:.1f} s)")
     with SampleWorkers(blend_path, workers=cores) as workers:
         workers.open_everywhere()
-        workers.client.gather([workers.submit(SampleRequest((0, 0, 1, 1), resolution, 1, 1 + i))
-                               for i in range(cores)])  # every worker's scene loaded
+        workers.settle(resolution)  # every worker's scene loaded
         ours, corrector = corrected(workers, views[:1], timing["still_seconds"], timing["frames_at"])
         corrector.cancel()
         turn = corrector.rest(views[-1].key, views[-1].scene.camera, views[-1].camera, views[-1].preview,
                               views[-1].guide).image
-        corrector.cancel()  # the turned view's first requests: not the path's
         log(f"{name}: corrected still done ({corrector.samples_received} samples)")
         corrector = None
         for view, frame in zip(views, path):
+            workers.settle(resolution)  # the last run's cancelled requests, rendered to their end
             frame["corrected"], corrector = corrected(workers, [view], timing["frame_seconds"], (), corrector)
             corrector.cancel()
     return {"views": views, "still": {"cycles": still, "cycles_denoised": denoised, "corrected": ours},

@@ -65,6 +65,15 @@ class SampleWorkers:
         """A Dask future of the SampleResult of `request`."""
         return self.client.submit(render_request, self.blend_path, request, self.threads, pure=False)
 
+    def settle(self, resolution):
+        """Wait until every worker has ended what it renders: a cancelled request runs to its
+        end, and a timed run after it would begin with busy workers. A 1-pixel request of
+        `resolution` is queued on each worker and waited for."""
+        futures = [self.client.submit(render_request, self.blend_path, SampleRequest((0, 0, 1, 1), resolution, 1),
+                                      self.threads, workers=[address], pure=False)
+                   for address in self.client.nthreads()]
+        self.client.gather(futures)
+
     def close(self):
         self.client.close()
         if self.cluster is not None:

@@ -1,0 +1,69 @@
+"""The corrections' reconstruction against raw and denoised Cycles at equal samples, on the
+demo scenes the corrections' benchmark uses (docs/method.md, "Corrections toward Cycles").
+
+    .venv/bin/python scripts/reconstruction_errors.py [cornell,atrium,city]
+
+builds each scene at its benchmark size, renders (or reads from the references' cache) its
+4,096-sample full-GI reference and its preview, then feeds the corrections whole-frame
+Cycles requests of 1, 1, 2, 4, ... 32 samples a pixel (64 in all, one renderer on every
+core) and prints, at each total, the relative MSE of the samples' mean, of the corrected
+frame and of Cycles denoised at as many samples, and their geometric means over the
+scenes at 1, 2, 4, 16 and 64 samples. Run it at another commit to compare reconstructions.
+"""
+import os
+import sys
+import tempfile
+
+import numpy as np
+
+from lpv_preview import demo
+from lpv_preview.addon.correction_runs import path_views, render_previews
+from lpv_preview.addon.cycles_samples import SampleRenderer
+from lpv_preview.bench.corrections import REFERENCE_SAMPLES, SCENES
+from lpv_preview.gpu.corrections import Corrections
+from lpv_preview.gpu.metrics import relative_mse
+from lpv_preview.gpu.settings import Settings
+from lpv_preview.sample_tasks import SampleRequest
+
+REQUESTS = (1, 1, 2, 4, 8, 16, 32)
+SUMMARISED = (1, 2, 4, 16, 64)
+
+
+def scene_errors(name, folder):
+    size = SCENES[name]
+    blend = os.path.join(folder, f"{name}.blend")
+    view = path_views(name, lambda: demo.build(name, resolution=size), size, (0.0,), REFERENCE_SAMPLES, blend,
+                      log=lambda *_: None)[0]
+    render_previews([view], Settings(width=size[0], height=size[1]))
+    renderer = SampleRenderer(blend)
+    corrections = Corrections()
+    corrections.view(view.key, view.scene.camera, view.guide, view.preview)
+    whole = (0, 0, *size)
+    total, count, rows = 0.0, 0, []
+    try:
+        for seed, samples in enumerate(REQUESTS, start=50):
+            image = renderer.render(SampleRequest(whole, size, samples, seed, view.camera)).passes["Combined"]
+            corrections.add(view.key, whole, image, samples)
+            total, count = total + image.astype(np.float64) * samples, count + samples
+            denoised = renderer.render(SampleRequest(whole, size, count, seed + 100, view.camera, denoise=True))
+            rows.append((count, relative_mse(total / count, view.reference),
+                         relative_mse(corrections.reconstruct(view.key).image, view.reference),
+                         relative_mse(denoised.passes["Combined"], view.reference)))
+            print(f"{name} {count:3d} samples: raw {rows[-1][1]:.4f}  corrected {rows[-1][2]:.4f}  "
+                  f"denoised {rows[-1][3]:.4f}", flush=True)
+    finally:
+        renderer.close()
+    return rows
+
+
+def main():
+    names = sys.argv[1].split(",") if len(sys.argv) > 1 else list(SCENES)
+    with tempfile.TemporaryDirectory(prefix="lpv_reconstruction_") as folder:
+        rows = [row for name in names for row in scene_errors(name, folder) if row[0] in SUMMARISED]
+    for column, label in ((1, "raw"), (2, "corrected"), (3, "denoised")):
+        print(f"geometric mean at {', '.join(map(str, SUMMARISED))} samples, {label}: "
+              f"{np.exp(np.mean(np.log([row[column] for row in rows]))):.5f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -153,11 +153,18 @@ class Corrections:
 
     def view(self, key, camera, guide, preview):
         """The view `key` (its gpu Camera, Guide and preview) is shown: remembered; its
-        layer is made when its first samples come."""
-        self.views.pop(key, None)
+        layer is made when its first samples come. A view shown again with another preview
+        (the preview's settings changed, the camera did not) leaves the other layers out:
+        what they carry over is their samples' difference from previews of the old settings."""
+        shown = self.views.pop(key, None)
+        if shown is not None and not np.array_equal(shown[2], preview):
+            self.views = {}  # the other views' previews are of the old settings too
+            self.layers = {layer_key: layer for layer_key, layer in self.layers.items() if layer_key == key}
         self.views[key] = (camera, guide, preview)
-        if key in self.layers:  # back at a view: its samples count fully again
-            self.layers[key].weight = 1.0
+        if key in self.layers:  # back at a view: its samples count fully again, against its preview now
+            layer = self.layers[key]
+            layer.weight = 1.0
+            layer.preview = preview / (layer.guide.albedo + ALBEDO_FLOOR)
         while len(self.views) > MAX_LAYERS:
             self.views.pop(next(iter(self.views)))
 

@@ -154,6 +154,24 @@ def test_layers_carry_corrections_over_a_turn(camera):
     assert corrections.layers["first"].weight == LAYER_AGING
 
 
+def test_a_changed_preview_drops_what_other_views_carry(camera):
+    """The preview's settings change while the camera rests: the view keeps its own samples
+    (Cycles' do not depend on the preview) but not what another view's layer carries over,
+    a difference from a preview of the old settings."""
+    guide = corner_guide(camera)
+    truth = truth_of(guide)
+    corrections = Corrections()
+    corrections.view("other", camera, guide, truth * 0.6)
+    corrections.add("other", (0, 0, *SIZE), truth, 64)
+    corrections.view("here", camera, guide, truth * 0.6)
+    corrections.add("here", (0, 0, *SIZE), truth, 64)
+    corrections.view("here", camera, guide, truth * 0.9)  # the same view, another preview
+    assert list(corrections.layers) == ["here"] and list(corrections.views) == ["here"]
+    assert relative_mse(corrections.reconstruct("here").image, truth) < 1e-4  # 'other' would carry 0.4 of it
+    corrections.view("here", camera, guide, truth * 0.9)  # shown again alike: nothing dropped
+    assert list(corrections.layers) == ["here"]
+
+
 def test_old_layers_are_dropped_and_bad_samples_left_out():
     corrections = Corrections()
     guide = Guide(*(np.zeros((4, 4, 3), np.float32) for _ in range(3)), np.zeros((4, 4), bool),

@@ -125,16 +125,18 @@ def cycles_progressive(renderer, view, seconds, threads, denoise=False):
 
 def corrected(workers, views, seconds, frames_at=(), corrector=None):
     """The preview of `views[0]` corrected for `seconds` of wall time counted from the
-    start of its preview's render (`frames_at`: when frames are rebuilt and shown); with
-    `corrector`, one that holds earlier views' corrections. Returns the timeline and the
-    Corrector."""
+    start of its preview's render (`frames_at`: when frames are rebuilt and shown, in
+    seconds after the preview is, as a viewport redraws from then on whatever the preview
+    took); with `corrector`, one that holds earlier views' corrections. Returns the
+    timeline and the Corrector."""
     view = views[0]
     corrector = corrector or Corrector(workers)
     began = time.perf_counter()
     first = corrector.rest(view.key, view.scene.camera, view.camera, view.preview, view.guide)
     offset = view.preview_seconds + time.perf_counter() - began
     timeline = [(view.preview_seconds, view.preview), (offset, first.image)]
-    for at, reconstruction in corrector.run(seconds - offset, [t - offset for t in frames_at if t > offset]):
+    frames = [view.preview_seconds + t - offset for t in frames_at if view.preview_seconds + t > offset]
+    for at, reconstruction in corrector.run(seconds - offset, frames):
         timeline.append((offset + at, reconstruction.image))
     return timeline, corrector
 

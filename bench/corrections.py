@@ -25,7 +25,8 @@ DENOISED_SECONDS = 8.0
 """Denoised Cycles is rendered anew for each sample count (1, 2, 4, ...) while the next fits here."""
 DENOISED_GOAL_SECONDS = 5.0
 FRAMES_AT = (0.1, 0.2, 0.3, 0.4, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 7.5, 10.0, 15.0, 20.0, 30.0, 40.0, 50.0)
-"""When the corrected frame is rebuilt and measured: seconds from the start of its preview's render."""
+"""When the corrected frame is rebuilt and measured: seconds after its preview is shown
+(the same moments whether the preview took llvmpipe's second or the GPU's milliseconds)."""
 PATH_DEGREES = (0.0, 2.5, 5.0)
 """The camera path: turns about the vertical axis through the camera, one frame each."""
 FRAME_SECONDS = 2.0

@@ -22,6 +22,10 @@ REQUEST_SAMPLES = 16384
 PIXEL_SAMPLES = 4096
 """Samples a pixel after which a tile is done (the references' count): a view at rest
 stops asking once every tile is."""
+DONE_ERROR = 1e-4
+"""A sampled tile whose pixels' estimated relative MSE averages below this (1 % RMS, the
+noise at which Cycles' adaptive sampling stops a pixel in renders) is done too, whatever
+its samples."""
 REQUEST_SECONDS = 0.5
 """A request takes about this long at most (its samples a pixel stop doubling): a moved
 view's first requests never wait long behind the last view's."""
@@ -81,7 +85,7 @@ class RequestQueue:
 
     def next(self):
         """The next request: (region, samples a pixel), or None when every tile has
-        PIXEL_SAMPLES. A tile nothing was asked of yet is asked for at 1 sample a pixel with
+        PIXEL_SAMPLES or an estimated error under DONE_ERROR. A tile nothing was asked of yet is asked for at 1 sample a pixel with
         the untouched tiles beside it in its row (one request, the fixed cost once): the
         whole view is covered first, as soon as the workers can. A request whose doubled
         samples stay under REQUEST_SAMPLES takes the tiles beside it in its row that hold
@@ -93,13 +97,14 @@ class RequestQueue:
         spp = np.minimum(spp, np.maximum(1.0, np.floor(REQUEST_SECONDS * self.samples_per_second / self.pixels)))
         # the error falls as 1/samples: what remains of it now, and what the request takes away
         remaining = self.error * (self.samples + 1.0) / (held + 1.0)
-        gain = np.where(held < PIXEL_SAMPLES, remaining * spp / (held + spp), -1.0)
+        wanted = (held < PIXEL_SAMPLES) & ((held == 0) | (remaining > DONE_ERROR * self.pixels))
+        gain = np.where(wanted, remaining * spp / (held + spp), -1.0)
         cost = FIXED_SECONDS + self.pixels * spp / self.samples_per_second
         tile = int(np.argmax(gain / cost))
-        if held[tile] >= PIXEL_SAMPLES:
+        if not wanted[tile]:
             return None
         untouched = held[tile] == 0
-        alike = (held == 0) if untouched else (step == step[tile]) & (held > 0) & (held < PIXEL_SAMPLES)
+        alike = (held == 0) if untouched else (step == step[tile]) & (held > 0) & wanted
         row = tile - tile % self.grid[1]
         first = last = tile
         while untouched or self.pixels[first:last + 1].sum() * step[tile] < REQUEST_SAMPLES:

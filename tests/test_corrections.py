@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from lpv_preview.gpu.correction_queue import PIXEL_SAMPLES, RequestQueue
+from lpv_preview.gpu.correction_queue import DONE_ERROR, PIXEL_SAMPLES, RequestQueue
 from lpv_preview.gpu.corrections import LAYER_AGING, MAX_LAYERS, Corrections, Gathered, Guide, Layer, reconstruct
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.metrics import relative_mse
@@ -226,7 +226,7 @@ def test_a_pixels_requests_grow_evenly():
         samples[y0:y1, x0:x1] += spp
 
 
-def test_the_queue_stops_when_every_tile_has_its_samples():
+def test_the_queue_stops_when_every_tile_has_its_samples_or_no_error_left():
     queue = RequestQueue((64, 64))
     queue.update(np.full((64, 64), 0.25), np.full((64, 64), float(PIXEL_SAMPLES)))
     assert queue.next() is None
@@ -235,3 +235,5 @@ def test_the_queue_stops_when_every_tile_has_its_samples():
     queue.update(np.full((64, 64), 0.25), samples)
     region, _ = queue.next()
     assert region[:2] == (0, 0)
+    queue.update(np.full((64, 64), 0.5 * DONE_ERROR), np.full((64, 64), 16.0))  # few samples, nothing left to see
+    assert queue.next() is None

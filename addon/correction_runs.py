@@ -126,7 +126,7 @@ def cycles_progressive(renderer, view, seconds, threads, denoise=False):
 def corrected(workers, views, seconds, frames_at=(), corrector=None):
     """The preview of `views[0]` corrected for `seconds` of wall time counted from the
     start of its preview's render (`frames_at`: when frames are rebuilt and shown, in
-    seconds after the preview is, as a viewport redraws from then on whatever the preview
+    seconds after the preview is shown, as a viewport redraws from then on whatever the preview
     took); with `corrector`, one that holds earlier views' corrections. Returns the
     timeline and the Corrector."""
     view = views[0]
@@ -167,6 +167,7 @@ def measure_scene(name, build, resolution, reference_samples, blend_path, cores,
         corrector.cancel()
         turn = corrector.rest(views[-1].key, views[-1].scene.camera, views[-1].camera, views[-1].preview,
                               views[-1].guide).image
+        corrector.cancel()  # the turned view's requests: not the path's
         log(f"{name}: corrected still done ({corrector.samples_received} samples)")
         corrector = None
         for view, frame in zip(views, path):

@@ -12,6 +12,7 @@ import time
 from contextlib import contextmanager
 
 import bpy
+import numpy as np
 
 from ..gpu.errors import LPVError, first_line
 from ..gpu.correction_queue import RequestQueue
@@ -44,12 +45,12 @@ class Corrector:
         self.updated = (0.0, 0)  # when the queue last learnt the errors, and the samples then
         self.capacity = (-CAPACITY_SECONDS, 1)  # (when asked, requests in flight wanted)
 
-    def rest(self, key, camera, camera_matrix, preview, guide, projection=None):
+    def rest(self, key, camera, camera_matrix, preview, guide, projection=None, settings=None):
         """The camera rests at the view `key`: its gpu Camera, the world matrix and the
         projection Cycles renders it with (4 × 4 nested tuples; None: the scene camera's),
-        its preview ((h, w, 3)) and Guide. Returns the frame corrected by what the
-        corrections hold already."""
-        self.corrections.view(key, camera, guide, preview)
+        its preview ((h, w, 3)) of the preview's `settings` and its Guide. Returns the
+        frame corrected by what the corrections hold already; requests go out."""
+        self.corrections.view(key, camera, guide, preview, settings)
         if key != self.view_key:
             self.view_key, self.camera_matrix, self.projection = key, camera_matrix, projection
             self.resolution = guide.size
@@ -57,13 +58,17 @@ class Corrector:
             if not self.corrections.layers:  # nothing to gather: the first requests cover the view meanwhile
                 self.fill()
         self.preview = preview
-        return self.frame()
+        frame = self.frame()
+        self.fill()
+        return frame
 
     def frame(self):
         """The corrected frame of the view at rest (a gpu.corrections Reconstruction); the
         queue learns its errors."""
         reconstruction = self.corrections.reconstruct(self.view_key)
-        self.queue.update(reconstruction.error, reconstruction.samples)
+        own = self.corrections.layers.get(self.view_key)
+        self.queue.update(reconstruction.error, reconstruction.samples,
+                          own.samples if own is not None else np.zeros_like(reconstruction.samples))
         self.updated = (time.perf_counter(), self.samples_received)
         return reconstruction
 
@@ -76,7 +81,7 @@ class Corrector:
             self.capacity = (now, REQUESTS_PER_WORKER * max(1, sum(self.workers.client.nthreads().values())))
         while len(self.in_flight) < self.capacity[1]:
             asked = self.queue.next()
-            if asked is None:  # every tile has its samples
+            if asked is None:  # every tile is done
                 return
             region, spp = asked
             request = SampleRequest(region, self.resolution, spp, self.seed, self.camera_matrix, self.projection)

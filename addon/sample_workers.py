@@ -68,10 +68,10 @@ class SampleWorkers:
     def settle(self, resolution):
         """Wait until every worker has ended what it renders: a cancelled request runs to its
         end, and a timed run after it would begin with busy workers. A 1-pixel request of
-        `resolution` is queued on each worker and waited for."""
+        `resolution` is queued on each worker's every thread and waited for."""
         futures = [self.client.submit(render_request, self.blend_path, SampleRequest((0, 0, 1, 1), resolution, 1),
                                       self.threads, workers=[address], pure=False)
-                   for address in self.client.nthreads()]
+                   for address, threads in self.client.nthreads().items() for _ in range(threads)]
         self.client.gather(futures)
 
     def close(self):

@@ -14,6 +14,7 @@ import os
 import shutil
 import tempfile
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -101,8 +102,10 @@ class ViewportCorrections:
             self._start(bpy_scene, workers)
         if not self._same(self.rested, self.shown):
             self.rested = self.shown
+            settings = replace(pipeline.settings, width=1, height=1)  # what the preview depends on but the size
             self._write(self.corrector.rest(key, scene.camera, tuple(map(tuple, np.linalg.inv(camera.view))),
-                                            self.preview, pipeline.read_guide(scene), projection), frame, display)
+                                            self.preview, pipeline.read_guide(scene), projection, settings), frame,
+                        display)
             return
         self.corrector.receive(timeout=0)
         if self.corrector.samples_received > self.received and time.perf_counter() - self.rebuilt >= REBUILD_SECONDS:

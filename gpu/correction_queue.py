@@ -21,11 +21,15 @@ TILES = 16
 REQUEST_SAMPLES = 16384
 PIXEL_SAMPLES = 4096
 """Samples a pixel after which a tile is done (the references' count): a view at rest
-stops asking once every tile is."""
+stops asking once every tile is done."""
 DONE_ERROR = 1e-4
-"""A sampled tile whose pixels' estimated relative MSE averages below this (1 % RMS, the
-noise at which Cycles' adaptive sampling stops a pixel in renders) is done too, whatever
-its samples."""
+"""A tile whose expected relative MSE (its pixels' estimate, the samples still to come and
+a share of its neighbours' counted) averages below this is done too (1 % RMS, chosen near
+Cycles' default adaptive-sampling threshold for renders, 0.01)..."""
+DONE_SAMPLES = 16
+"""...once it has this many samples a pixel of the view's own: the estimate counts the
+noise of samples carried over from other views, not the error of their resampling, and a
+tile's first samples may all agree by chance."""
 REQUEST_SECONDS = 0.5
 """A request takes about this long at most (its samples a pixel stop doubling): a moved
 view's first requests never wait long behind the last view's."""
@@ -52,19 +56,19 @@ class RequestQueue:
         self.error = self.pixels.copy()
         # a pixel's samples (earlier views' weighed by their age) at the last update, received
         # since, and asked but not received
-        self.samples, self.received, self.pending = (np.zeros(len(self.tiles)) for _ in range(3))
+        self.samples, self.received, self.pending, self.own = (np.zeros(len(self.tiles)) for _ in range(4))
         self.samples_per_second = SAMPLES_PER_SECOND
 
-    def update(self, error, samples):
-        """The reconstruction's per-pixel relative error and samples ((h, w) each), every
-        sample received so far in them."""
-        own = np.array([error[y0:y1, x0:x1].sum() for x0, y0, x1, y1 in self.tiles])
-        grid = own.reshape(self.grid)
+    def update(self, error, samples, own):
+        """The reconstruction's per-pixel relative error and samples, and the view's own
+        samples ((h, w) each), every sample received so far in them."""
+        grid = np.array([error[y0:y1, x0:x1].sum() for x0, y0, x1, y1 in self.tiles]).reshape(self.grid)
         padded = np.pad(grid, 1)
         neighbours = np.max([padded[1 + dy:1 + dy + grid.shape[0], 1 + dx:1 + dx + grid.shape[1]]
                              for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx], axis=0)
         self.error = np.maximum(grid, CHILD_SHARE * neighbours).reshape(-1)
         self.samples = np.array([samples[y0:y1, x0:x1].mean() for x0, y0, x1, y1 in self.tiles])
+        self.own = np.array([own[y0:y1, x0:x1].mean() for x0, y0, x1, y1 in self.tiles])
         self.received[:] = 0.0
 
     def done(self, region, spp, seconds=None):
@@ -84,9 +88,10 @@ class RequestQueue:
                 for column in range(x0 // self.side, -(-x1 // self.side))]
 
     def next(self):
-        """The next request: (region, samples a pixel), or None when every tile has
-        PIXEL_SAMPLES or an estimated error under DONE_ERROR. A tile nothing was asked of yet is asked for at 1 sample a pixel with
-        the untouched tiles beside it in its row (one request, the fixed cost once): the
+        """The next request: (region, samples a pixel), or None when every tile is done
+        (PIXEL_SAMPLES, or DONE_ERROR with DONE_SAMPLES). A tile nothing was asked of yet
+        is asked for at 1 sample a pixel with the untouched tiles beside it in its row (one
+        request, the fixed cost once): the
         whole view is covered first, as soon as the workers can. A request whose doubled
         samples stay under REQUEST_SAMPLES takes the tiles beside it in its row that hold
         as many: a pixel's requests then grow by at most about 4 times what it holds, not
@@ -97,7 +102,8 @@ class RequestQueue:
         spp = np.minimum(spp, np.maximum(1.0, np.floor(REQUEST_SECONDS * self.samples_per_second / self.pixels)))
         # the error falls as 1/samples: what remains of it now, and what the request takes away
         remaining = self.error * (self.samples + 1.0) / (held + 1.0)
-        wanted = (held < PIXEL_SAMPLES) & ((held == 0) | (remaining > DONE_ERROR * self.pixels))
+        own = self.own + self.received + self.pending
+        wanted = (held < PIXEL_SAMPLES) & ((own < DONE_SAMPLES) | (remaining > DONE_ERROR * self.pixels))
         gain = np.where(wanted, remaining * spp / (held + spp), -1.0)
         cost = FIXED_SECONDS + self.pixels * spp / self.samples_per_second
         tile = int(np.argmax(gain / cost))

@@ -150,16 +150,18 @@ class Corrections:
     def __init__(self):
         self.views = {}  # key -> (gpu Camera, Guide, preview)
         self.layers = {}
+        self.settings = None  # the previews' settings
 
-    def view(self, key, camera, guide, preview):
+    def view(self, key, camera, guide, preview, settings=None):
         """The view `key` (its gpu Camera, Guide and preview) is shown: remembered; its
-        layer is made when its first samples come. A view shown again with another preview
-        (the preview's settings changed, the camera did not) leaves the other layers out:
-        what they carry over is their samples' difference from previews of the old settings."""
-        shown = self.views.pop(key, None)
-        if shown is not None and not np.array_equal(shown[2], preview):
-            self.views = {}  # the other views' previews are of the old settings too
+        layer is made when its first samples come. Previews of other `settings` than the
+        last view's leave the other layers out: what they carry over is their samples'
+        difference from previews of the old settings (the view's own samples stay: Cycles'
+        do not depend on the preview)."""
+        if settings != self.settings:
+            self.settings, self.views = settings, {}
             self.layers = {layer_key: layer for layer_key, layer in self.layers.items() if layer_key == key}
+        self.views.pop(key, None)
         self.views[key] = (camera, guide, preview)
         if key in self.layers:  # back at a view: its samples count fully again, against its preview now
             layer = self.layers[key]

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from lpv_preview.gpu.correction_queue import DONE_ERROR, PIXEL_SAMPLES, RequestQueue
+from lpv_preview.gpu.correction_queue import DONE_ERROR, DONE_SAMPLES, PIXEL_SAMPLES, RequestQueue
 from lpv_preview.gpu.corrections import LAYER_AGING, MAX_LAYERS, Corrections, Gathered, Guide, Layer, reconstruct
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.metrics import relative_mse
@@ -154,22 +154,22 @@ def test_layers_carry_corrections_over_a_turn(camera):
     assert corrections.layers["first"].weight == LAYER_AGING
 
 
-def test_a_changed_preview_drops_what_other_views_carry(camera):
-    """The preview's settings change while the camera rests: the view keeps its own samples
-    (Cycles' do not depend on the preview) but not what another view's layer carries over,
-    a difference from a preview of the old settings."""
+def test_other_preview_settings_drop_what_other_views_carry(camera):
+    """The preview's settings change: a view keeps its own samples (Cycles' do not depend on
+    the preview) but not what another view's layer carries over, a difference from a
+    preview of the old settings."""
     guide = corner_guide(camera)
     truth = truth_of(guide)
     corrections = Corrections()
-    corrections.view("other", camera, guide, truth * 0.6)
+    corrections.view("other", camera, guide, truth * 0.6, "old")
     corrections.add("other", (0, 0, *SIZE), truth, 64)
-    corrections.view("here", camera, guide, truth * 0.6)
+    corrections.view("here", camera, guide, truth * 0.6, "old")
     corrections.add("here", (0, 0, *SIZE), truth, 64)
-    corrections.view("here", camera, guide, truth * 0.9)  # the same view, another preview
+    corrections.view("other", camera, guide, truth * 0.6, "old")  # the same settings: everything kept
+    assert list(corrections.layers) == ["other", "here"]
+    corrections.view("here", camera, guide, truth * 0.9, "new")
     assert list(corrections.layers) == ["here"] and list(corrections.views) == ["here"]
     assert relative_mse(corrections.reconstruct("here").image, truth) < 1e-4  # 'other' would carry 0.4 of it
-    corrections.view("here", camera, guide, truth * 0.9)  # shown again alike: nothing dropped
-    assert list(corrections.layers) == ["here"]
 
 
 def test_old_layers_are_dropped_and_bad_samples_left_out():
@@ -191,7 +191,7 @@ def test_old_layers_are_dropped_and_bad_samples_left_out():
 
 def test_the_queue_covers_the_view_first_then_follows_the_error():
     queue = RequestQueue((128, 96))
-    queue.update(np.full((96, 128), 0.25), np.zeros((96, 128)))  # no sample yet: the preview's assumed error
+    queue.update(np.full((96, 128), 0.25), np.zeros((96, 128)), np.zeros((96, 128)))  # the preview's assumed error
     first = [queue.next() for _ in range(len(queue.tiles))]
     covered = np.zeros((96, 128), bool)
     for (x0, y0, x1, y1), _ in first:
@@ -205,7 +205,7 @@ def test_the_queue_covers_the_view_first_then_follows_the_error():
     samples = np.zeros((96, 128))
     for (x0, y0, x1, y1), spp in first:
         samples[y0:y1, x0:x1] += spp
-    queue.update(error, samples)
+    queue.update(error, samples, samples)
     region, spp = queue.next()
     x0, y0, x1, y1 = region
     assert x1 > 96 and y1 > 64 and 2 * spp > samples[y0:y1, x0:x1].mean()  # there, about doubling its samples
@@ -218,7 +218,7 @@ def test_a_pixels_requests_grow_evenly():
     rng = np.random.default_rng(6)
     samples = np.zeros((96, 128))
     for _ in range(40):
-        queue.update(rng.uniform(0.0, 1.0, (96, 128)), samples)
+        queue.update(rng.uniform(0.0, 1.0, (96, 128)), samples, samples)
         (x0, y0, x1, y1), spp = queue.next()
         held = samples[y0:y1, x0:x1].max()
         assert spp <= 4 * max(held, 1.0), (held, spp)
@@ -228,12 +228,16 @@ def test_a_pixels_requests_grow_evenly():
 
 def test_the_queue_stops_when_every_tile_has_its_samples_or_no_error_left():
     queue = RequestQueue((64, 64))
-    queue.update(np.full((64, 64), 0.25), np.full((64, 64), float(PIXEL_SAMPLES)))
+    queue.update(np.full((64, 64), 0.25), *[np.full((64, 64), float(PIXEL_SAMPLES))] * 2)
     assert queue.next() is None
     samples = np.full((64, 64), float(PIXEL_SAMPLES))
     samples[:16, :16] = 0.0
-    queue.update(np.full((64, 64), 0.25), samples)
+    queue.update(np.full((64, 64), 0.25), samples, samples)
     region, _ = queue.next()
     assert region[:2] == (0, 0)
-    queue.update(np.full((64, 64), 0.5 * DONE_ERROR), np.full((64, 64), 16.0))  # few samples, nothing left to see
+    low = np.full((64, 64), 0.5 * DONE_ERROR)
+    queue.update(low, np.full((64, 64), 64.0), np.zeros((64, 64)))  # carried over from other views alone
+    assert queue.next() is not None  # their resampling's error is not in the estimate
+    queue = RequestQueue((64, 64))
+    queue.update(low, *[np.full((64, 64), float(DONE_SAMPLES))] * 2)  # its own, and nothing left to see
     assert queue.next() is None

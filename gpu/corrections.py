@@ -5,7 +5,7 @@ The corrections are projective layers, as the seed's corrective textures are pro
 from the viewpoint: one layer for every camera position that got samples, holding per
 pixel the surface it saw (position, normal), its preview and the Cycles samples received
 there, divided by the preview's albedo (lighting varies less than texture). A frame
-looks every other layer up from its own pixels (`_project`: the same surface, within
+looks every other layer up from its own pixels (`_lookup`: the same surface, within
 footprints along the normal, normals alike, or background for background) and carries
 over the samples' difference from that layer's preview; older layers weigh less (aging).
 
@@ -151,6 +151,7 @@ class Corrections:
         self.views = {}  # key -> (gpu Camera, Guide, preview)
         self.layers = {}
         self.settings = None  # the previews' settings
+        self.lookups = {}  # (layer key, view key) -> (the view's Guide, its _lookup of the layer)
 
     def view(self, key, camera, guide, preview, settings=None):
         """The view `key` (its gpu Camera, Guide and preview) is shown: remembered; its
@@ -203,8 +204,20 @@ class Corrections:
                 gathered.scatter += scatter
                 gathered.dof += dof
             else:
-                _project(layer, scatter, dof, guide, preview / (guide.albedo + ALBEDO_FLOOR), gathered)
+                _project(layer, self._taps(layer_key, key), scatter, dof, preview / (guide.albedo + ALBEDO_FLOOR),
+                         gathered)
         return gathered
+
+    def _taps(self, layer_key, key):
+        """The _lookup of the layer `layer_key` from the view `key`, made once for the pair
+        and its guide (a view rests many times while samples come)."""
+        layer, guide = self.layers[layer_key], self.views[key][1]
+        for pair in [pair for pair in self.lookups if pair[0] not in self.layers or pair[1] not in self.views]:
+            del self.lookups[pair]
+        made = self.lookups.get((layer_key, key))
+        if made is None or made[0] is not guide:
+            made = self.lookups[layer_key, key] = (guide, _lookup(layer, guide))
+        return made[1]
 
     def reconstruct(self, key):
         """The view `key`'s preview, corrected."""
@@ -212,16 +225,14 @@ class Corrections:
         return reconstruct(self.gathered(key), preview, guide)
 
 
-def _project(layer, scatter, dof, target, preview, gathered):
-    """Add to `gathered` `layer`'s samples (and their `scatter` and `dof`) of what each
-    pixel of the Guide `target` sees: its point projected into the layer's view, the four
-    pixels around it weighed bilinearly where they saw the same surface (within
-    SAME_SURFACE_FOOTPRINTS along the normal, normals alike) or, for background,
-    background. Looking up rather than splatting leaves no holes and keeps a sample's
-    surface point within a fraction of a pixel. What is carried over is the samples'
-    difference from the layer's preview, added to the target's own `preview`
-    (demodulated): the previews hold the detail (shadow edges, small geometry) that
-    resampling would blur, the difference is smooth."""
+def _lookup(layer, target):
+    """Where each pixel of the Guide `target` finds `layer`'s samples: its point projected
+    into the layer's view, the four pixels around it weighed bilinearly where they saw the
+    same surface (within SAME_SURFACE_FOOTPRINTS along the normal, normals alike) or, for
+    background, background; [(source pixel, weight)] for the four, flat. Looking up rather
+    than splatting leaves no holes and keeps a sample's surface point within a fraction of
+    a pixel. It depends on the two guides and the layer's camera alone: made once a view
+    (Corrections.gathered)."""
     source, camera = layer.guide, layer.camera
     height, width = source.seen.shape
     points = target.position.reshape(-1, 3).astype(np.float64)
@@ -235,14 +246,9 @@ def _project(layer, scatter, dof, target, preview, gathered):
     y = (0.5 - ndc[:, 1] * 0.5) * height - 0.5  # rows from the top
     left, top = np.floor(x).astype(np.int64), np.floor(y).astype(np.int64)
     across, down = x - left, y - top
-    residual = layer.sum - layer.samples[..., None] * layer.preview
-    flat = {name: values.reshape(-1, values.shape[-1]) if values.ndim == 3 else values.reshape(-1)
-            for name, values in (("residual", residual), ("samples", layer.samples), ("scatter", scatter),
-                                 ("dof", dof))}
-    picked = {name: np.zeros_like(values, shape=(len(points),) + values.shape[1:]) for name, values in flat.items()}
-    found = np.zeros(len(points))
     source_position = source.position.reshape(-1, 3)
     source_normal = source.normal.reshape(-1, 3)
+    taps = []
     for dy in (0, 1):
         for dx in (0, 1):
             column, row = left + dx, top + dy
@@ -254,10 +260,28 @@ def _project(layer, scatter, dof, target, preview, gathered):
             source_seen = source.seen.reshape(-1)[pixel]
             same = np.where(seen, source_seen & on_plane & facing, ~source_seen)
             weight = (across if dx else 1 - across) * (down if dy else 1 - down)
-            weight = np.where(inside & same & (flat["samples"][pixel] > 0), weight, 0.0)
-            found += weight
-            for name, values in flat.items():
-                picked[name] += (weight[:, None] if values.ndim == 2 else weight) * values[pixel]
+            taps.append((pixel, np.where(inside & same, weight, 0.0)))
+    return taps
+
+
+def _project(layer, taps, scatter, dof, preview, gathered):
+    """Add to `gathered` `layer`'s samples (and their `scatter` and `dof`) where the
+    `taps` (_lookup) find them, the pixels with samples alone, renormalised. What is
+    carried over is the samples' difference from the layer's preview, added to the
+    target's own `preview` (demodulated): the previews hold the detail (shadow edges, small
+    geometry) that resampling would blur, the difference is smooth."""
+    residual = layer.sum - layer.samples[..., None] * layer.preview
+    flat = {name: values.reshape(-1, values.shape[-1]) if values.ndim == 3 else values.reshape(-1)
+            for name, values in (("residual", residual), ("samples", layer.samples), ("scatter", scatter),
+                                 ("dof", dof))}
+    count = taps[0][0].shape[0]
+    picked = {name: np.zeros_like(values, shape=(count,) + values.shape[1:]) for name, values in flat.items()}
+    found = np.zeros(count)
+    for pixel, geometric in taps:
+        weight = np.where(flat["samples"][pixel] > 0, geometric, 0.0)
+        found += weight
+        for name, values in flat.items():
+            picked[name] += (weight[:, None] if values.ndim == 2 else weight) * values[pixel]
     share = np.where(found > 0, 1.0 / np.maximum(found, 1e-30), 0.0)  # the surface's neighbours alone, renormalised
     samples = picked["samples"] * share
     total = picked["residual"] * share[:, None] + samples[:, None] * preview.reshape(-1, 3)

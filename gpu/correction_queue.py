@@ -62,14 +62,17 @@ class RequestQueue:
     def update(self, error, samples, own):
         """The reconstruction's per-pixel relative error and samples, and the view's own
         samples ((h, w) each), every sample received so far in them."""
-        grid = np.array([error[y0:y1, x0:x1].sum() for x0, y0, x1, y1 in self.tiles]).reshape(self.grid)
+        grid = self._sums(error).reshape(self.grid)
         padded = np.pad(grid, 1)
         neighbours = np.max([padded[1 + dy:1 + dy + grid.shape[0], 1 + dx:1 + dx + grid.shape[1]]
                              for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx], axis=0)
         self.error = np.maximum(grid, CHILD_SHARE * neighbours).reshape(-1)
-        self.samples = np.array([samples[y0:y1, x0:x1].mean() for x0, y0, x1, y1 in self.tiles])
-        self.own = np.array([own[y0:y1, x0:x1].mean() for x0, y0, x1, y1 in self.tiles])
+        self.samples, self.own = self._sums(samples) / self.pixels, self._sums(own) / self.pixels
         self.received[:] = 0.0
+
+    def _sums(self, image):
+        """Each tile's sum of `image` ((h, w))."""
+        return np.array([image[y0:y1, x0:x1].sum() for x0, y0, x1, y1 in self.tiles])
 
     def done(self, region, spp, seconds=None):
         """The request of `region` at `spp` came back after `seconds` on its worker (None:

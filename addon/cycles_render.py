@@ -65,14 +65,19 @@ def enable_cycles():
         raise LPVError("The Cycles add-on could not be enabled; enable it in Preferences > Add-ons.")
 
 
-@contextmanager
-def temporary_folder():
-    """A temporary folder for a Cycles render's file, removed afterwards."""
+def make_temporary_folder(prefix):
+    """A new temporary folder named from `prefix` (the caller removes it), or one sentence."""
     try:
-        folder = tempfile.mkdtemp(prefix="lpv_cycles_")
+        return tempfile.mkdtemp(prefix=prefix)
     except OSError as error:
         raise LPVError(f"Cannot create a temporary folder for a Cycles render in "
                        f"'{tempfile.gettempdir()}' ({error.strerror}); set TMPDIR to a writable folder.") from error
+
+
+@contextmanager
+def temporary_folder():
+    """A temporary folder for a Cycles render's file, removed afterwards."""
+    folder = make_temporary_folder("lpv_cycles_")
     try:
         yield folder
     finally:

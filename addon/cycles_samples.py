@@ -5,7 +5,6 @@ A worker process holds one (addon/sample_workers.py)."""
 import math
 import os
 import shutil
-import tempfile
 import time
 from dataclasses import dataclass, field
 
@@ -15,7 +14,7 @@ from mathutils import Matrix
 
 from ..gpu.errors import LPVError
 from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_render_settings, assign,
-                            enable_cycles, read_exr_passes, render_to_file, view_layer_to_render)
+                            enable_cycles, make_temporary_folder, read_exr_passes, render_to_file, view_layer_to_render)
 
 LENS_SETTINGS = ("type", "sensor_fit", "lens", "sensor_width", "sensor_height", "shift_x", "shift_y", "clip_start",
                  "clip_end")
@@ -52,7 +51,7 @@ class SampleRenderer:
         self._lens = None if self.scene.camera is None else {
             **{name: getattr(self.scene.camera.data, name) for name in LENS_SETTINGS},
             "use_dof": self.scene.camera.data.dof.use_dof}
-        self._folder = tempfile.mkdtemp(prefix="lpv_cycles_samples_")  # one for every request: no setup each
+        self._folder = make_temporary_folder("lpv_cycles_samples_")  # one for every request: no setup each
 
     def close(self):
         shutil.rmtree(self._folder, ignore_errors=True)

@@ -12,7 +12,6 @@ background mode.
 """
 import os
 import shutil
-import tempfile
 import time
 from dataclasses import replace
 
@@ -21,6 +20,7 @@ import numpy as np
 from ..gpu.errors import LPVError, first_line
 from ..sample_tasks import check_projection
 from .corrective import Corrector, write_scene
+from .cycles_render import make_temporary_folder
 from .sample_workers import SampleWorkers
 
 REBUILD_SECONDS = 0.25
@@ -116,7 +116,7 @@ class ViewportCorrections:
         the corrections start empty."""
         if self.workers is None or self.worker_count != workers:
             self.stop()
-            self.folder = tempfile.mkdtemp(prefix="lpv_viewport_corrections_")
+            self.folder = make_temporary_folder("lpv_viewport_corrections_")
             try:
                 self.workers = SampleWorkers(self._copy(bpy_scene), workers=workers)
             except LPVError:

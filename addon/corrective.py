@@ -158,7 +158,11 @@ class Corrector:
 def write_scene(bpy_scene, path):
     """Write `bpy_scene` and what it uses to the .blend `path` as it is now, unsaved edits
     included, without touching the open file (no operator: callable while drawing)."""
-    bpy.data.libraries.write(path, {bpy_scene}, path_remap="ABSOLUTE", fake_user=True)
+    try:
+        bpy.data.libraries.write(path, {bpy_scene}, path_remap="ABSOLUTE", fake_user=True)
+    except (OSError, RuntimeError) as error:
+        raise LPVError(f"Cannot write the scene's copy for the Cycles sample workers to '{path}' "
+                       f"({first_line(error)}); free some disk space or set TMPDIR.") from None
 
 
 @contextmanager

@@ -17,7 +17,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..gpu.errors import LPVError, first_line
+from ..gpu.errors import LPVError
 from ..sample_tasks import check_projection
 from .corrective import Corrector, write_scene
 from .cycles_render import make_temporary_folder
@@ -131,11 +131,7 @@ class ViewportCorrections:
 
     def _copy(self, bpy_scene):
         path = os.path.join(self.folder, f"scene_{len(self.copies) + 1}.blend")
-        try:
-            write_scene(bpy_scene, path)
-        except (OSError, RuntimeError) as error:
-            raise LPVError(f"Cannot write the scene's copy for the Cycles sample workers to '{path}' "
-                           f"({first_line(error)}); free some disk space or set TMPDIR.") from None
+        write_scene(bpy_scene, path)
         self.copies.append(path)
         for old in self.copies[:-COPIES_KEPT]:
             if os.path.exists(old):

@@ -17,7 +17,7 @@ import numpy as np
 
 import addon_utils  # on the path only once bpy is imported
 
-from ..gpu.errors import LPVError
+from ..gpu.errors import LPVError, first_line
 from ..gpu.image_io import read_exr_channels
 from .interrupt import interrupt_after_render
 
@@ -181,7 +181,7 @@ def render_to_file(scene, exr_path, engine="Cycles"):
         with interrupt_after_render():
             bpy.ops.render.render(write_still=True, scene=scene.name)
     except RuntimeError as error:
-        reason = str(error).splitlines()[0].removeprefix("Error: ").rstrip(".")
+        reason = first_line(error).removeprefix("Error: ")
         raise LPVError(f"{engine} could not render or save its image: {reason}.") from error
     if not os.path.isfile(exr_path):
         raise LPVError(f"{engine} rendered but wrote no image to '{exr_path}'.")

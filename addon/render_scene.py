@@ -13,7 +13,7 @@ from contextlib import contextmanager
 
 import bpy
 
-from ..gpu.errors import LPVError
+from ..gpu.errors import LPVError, first_line
 from .cycles_render import view_layer_to_render
 from .engine import ENGINE_ID, LPVPreviewEngine
 from .final_render import ExtractionRequest, pending_extractions
@@ -48,7 +48,7 @@ def scene_to_render(scene, resolution=None):
         except RuntimeError as error:  # Blender refused to start: no camera, say
             if scene.camera is None:
                 raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
-            reason = str(error).splitlines()[0].removeprefix("Error: ").rstrip(".")
+            reason = first_line(error).removeprefix("Error: ")
             raise LPVError(f"Blender cannot render scene '{scene.name}': {reason}.") from None
         finally:
             pending_extractions.remove(request)

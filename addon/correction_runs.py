@@ -123,13 +123,12 @@ def cycles_progressive(renderer, view, seconds, threads, denoise=False):
     return timeline, samples
 
 
-def corrected(workers, views, seconds, frames_at=(), corrector=None):
-    """The preview of `views[0]` corrected for `seconds` of wall time counted from the
-    start of its preview's render (`frames_at`: when frames are rebuilt and shown, in
-    seconds after the preview is shown, as a viewport redraws from then on whatever the preview
-    took); with `corrector`, one that holds earlier views' corrections. Returns the
-    timeline and the Corrector."""
-    view = views[0]
+def corrected(workers, view, seconds, frames_at=(), corrector=None):
+    """The preview of the View `view` corrected for `seconds` of wall time counted from
+    the start of its preview's render (`frames_at`: when frames are rebuilt and shown, in
+    seconds after the preview is shown, as a viewport redraws from then on whatever the
+    preview took); with `corrector`, one that holds earlier views' corrections. Returns
+    the timeline and the Corrector."""
     corrector = corrector or Corrector(workers)
     began = time.perf_counter()
     first = corrector.rest(view.key, view.scene.camera, view.camera, view.preview, view.guide)
@@ -163,7 +162,7 @@ def measure_scene(name, build, resolution, reference_samples, blend_path, cores,
     with SampleWorkers(blend_path, workers=cores) as workers:
         workers.open_everywhere()
         workers.settle(resolution)  # every worker's scene loaded
-        ours, corrector = corrected(workers, views[:1], timing["still_seconds"], timing["frames_at"])
+        ours, corrector = corrected(workers, views[0], timing["still_seconds"], timing["frames_at"])
         corrector.cancel()
         turn = corrector.rest(views[-1].key, views[-1].scene.camera, views[-1].camera, views[-1].preview,
                               views[-1].guide).image
@@ -172,7 +171,7 @@ def measure_scene(name, build, resolution, reference_samples, blend_path, cores,
         corrector = None
         for view, frame in zip(views, path):
             workers.settle(resolution)  # the last run's cancelled requests, rendered to their end
-            frame["corrected"], corrector = corrected(workers, [view], timing["frame_seconds"], (), corrector)
+            frame["corrected"], corrector = corrected(workers, view, timing["frame_seconds"], (), corrector)
             corrector.cancel()
     return {"views": views, "still": {"cycles": still, "cycles_denoised": denoised, "corrected": ours},
             "cycles_samples": samples, "turn": turn, "path": path}

@@ -38,7 +38,7 @@ class Corrector:
         self.corrections = Corrections()
         self.in_flight = {}  # future -> (view key, the queue that asked, region, samples a pixel)
         self.seed = FIRST_SEED
-        self.view_key = self.queue = self.preview = self.camera_matrix = self.projection = None
+        self.view_key = self.queue = self.camera_matrix = self.projection = None
         self.resolution = None
         self.samples_received = self.requests_received = 0
         self.started = None
@@ -57,7 +57,6 @@ class Corrector:
             self.queue = RequestQueue(self.resolution)
             if not self.corrections.layers:  # nothing to gather: the first requests cover the view meanwhile
                 self.fill()
-        self.preview = preview
         frame = self.frame()
         self.fill()
         return frame

@@ -51,11 +51,12 @@ def record_updates(depsgraph):
     return [RecordedUpdate.record(update) for update in depsgraph.updates]
 
 
-def edits_cycles_sees(updates):
-    """Whether `updates` hold an edit that changes what Cycles renders beyond the camera:
-    one that changes a part of the scene but the camera, or a data block no part reads
-    (the world, say), which Cycles renders all the same."""
-    return bool(changed_parts(updates) - {CAMERA}) or any(update.id_type not in PART_DATA for update in updates)
+def edits_cycles_sees(updates, parts):
+    """Whether `updates`, which changed the `parts` (changed_parts), hold an edit that
+    changes what Cycles renders beyond the camera: one that changes a part of the scene
+    but the camera, or a data block no part reads (the world, say), which Cycles renders
+    all the same."""
+    return bool(parts - {CAMERA}) or any(update.id_type not in PART_DATA for update in updates)
 
 
 def changed_parts(updates):

@@ -64,8 +64,9 @@ class ViewportSession:
         self._shown = None  # (what the last drawn frame depends on, that frame)
 
     def note_updates(self, updates):
-        self.pending |= changed_parts(updates)
-        self.edited |= edits_cycles_sees(updates)
+        parts = changed_parts(updates)
+        self.pending |= parts
+        self.edited |= edits_cycles_sees(updates, parts)
 
     def frame(self, depsgraph, camera, size, view3d=None, settings=None, accumulate=False):
         """Render the current scene from `camera` at `size` (width, height), with the

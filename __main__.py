@@ -202,8 +202,6 @@ def command_render(args):
     check_writable(args.out)
     check_setting_flags(args)
     correction = correction_from(args)
-    if frames is not None and correction.correct_seconds > 0:
-        raise LPVError("--correct-seconds corrects one frame; render the animation without it.")
     start = time.perf_counter()
     bpy_scene = open_blend(args.file)
     settings, file = settings_for_blend(bpy_scene, args), os.path.abspath(args.file)
@@ -212,7 +210,7 @@ def command_render(args):
                                 args.scheduler)
     else:
         stats = {"file": file, **render_animation(bpy_scene, frames, settings, pass_names(args), args.out,
-                                                  args.overwrite)}
+                                                  args.overwrite, correction, file, args.scheduler)}
     stats["command_ms"] = (time.perf_counter() - start) * 1000
     return stats
 

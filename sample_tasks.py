@@ -21,8 +21,9 @@ class SampleRequest:
     world matrix is `camera` (4 × 4 nested tuples; None: the scene's own) through the
     OpenGL perspective `projection` (4 × 4 nested tuples, unshifted, the image's aspect;
     None: the scene camera's own lens), `samples` a pixel with the sampling pattern of
-    `seed`; `denoise`d by OpenImageDenoise as Cycles' viewport denoises (what the
-    corrections are measured against)."""
+    `seed`, at the animation's frame `scene_frame` (None: the file's current one);
+    `denoise`d by OpenImageDenoise as Cycles' viewport denoises (what the corrections are
+    measured against)."""
 
     region: tuple
     resolution: tuple
@@ -31,6 +32,7 @@ class SampleRequest:
     camera: tuple = None
     projection: tuple = None
     denoise: bool = False
+    scene_frame: int = None
 
     def __post_init__(self):
         x0, y0, x1, y1 = self.region

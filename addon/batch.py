@@ -5,6 +5,7 @@ import json
 import os
 import sys
 import time
+from contextlib import nullcontext
 from dataclasses import asdict
 
 import bpy
@@ -12,7 +13,7 @@ import bpy
 from ..gpu.errors import LPVError
 from ..gpu.image_io import read_exr_metadata, write_exr, write_png
 from ..gpu.pipeline import Pipeline, render_once
-from .corrective import corrected_frame
+from .corrective import correct, corrected_frame, workers_for
 from .render_scene import scene_to_render
 
 
@@ -64,9 +65,10 @@ FRAME_RECORD = "lpv_preview_frame"
 with (`frame_record`), so that a rerun knows which frames it can keep."""
 
 
-def frame_record(settings, passes):
-    """What a frame is made with: every setting (the image size among them) and the passes."""
-    return {"settings": asdict(settings), "passes": list(passes)}
+def frame_record(settings, passes, correct_seconds=0.0):
+    """What a frame is made with: every setting (the image size among them), the passes
+    and the seconds it was corrected toward Cycles."""
+    return {"settings": asdict(settings), "passes": list(passes), "correct_seconds": correct_seconds}
 
 
 def recorded_frame(path):
@@ -88,6 +90,9 @@ def why_render_again(recorded, wanted):
     changed = [name for name in new if old.get(name) != new[name]]
     if changed:
         return f"with other settings ({', '.join(changed)})"
+    seconds = recorded.get("correct_seconds", 0.0)
+    if seconds != wanted["correct_seconds"]:
+        return f"corrected for another time ({seconds:g} s)" if seconds else "uncorrected"
     return None if recorded.get("passes") == wanted["passes"] else "with other passes"
 
 
@@ -104,15 +109,26 @@ def write_frame(path, passes, record):
             os.remove(partial)
 
 
-def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=False):
-    """One EXR per frame of `frames` (a range) in `out_dir`, with a progress bar.
+CORRECTION_STATS = ("correction_samples", "correction_samples_per_second", "correction_estimated_error")
+"""What an animation's statistics keep of each corrected frame's."""
 
-    A frame whose EXR exists and was made with these settings, size and passes is kept
-    unless `overwrite`, so a rerun resumes where an interrupted one stopped (`write_frame`
-    never leaves a half-written frame); one made otherwise is rendered again, and the
-    statistics and a line on stderr say how many and why.
+
+def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=False, correction=None,
+                     blend_path=None, scheduler=None):
+    """One EXR per frame of `frames` (a range) in `out_dir`, with a progress bar; with
+    `correction` (CorrectionSettings) asking for seconds, each frame's combined image is
+    corrected toward Cycles for that long, as `render_to_files` corrects one, by workers
+    started once for the whole animation.
+
+    A frame whose EXR exists and was made with these settings, size, passes and
+    correction is kept unless `overwrite`, so a rerun resumes where an interrupted one
+    stopped (`write_frame` never leaves a half-written frame); one made otherwise is
+    rendered again, and the statistics and a line on stderr say how many and why.
     """
-    record = frame_record(settings, passes)
+    seconds = correction.correct_seconds if correction is not None else 0.0
+    if seconds > 0:
+        passes = tuple(dict.fromkeys(("combined", *passes, "preview")))
+    record = frame_record(settings, passes, seconds)
     todo, again = [], {}
     for frame in frames:
         path = frame_path(out_dir, frame)
@@ -127,22 +143,29 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
         made = ", ".join(f"{count} {reason}" for reason, count in again.items())
         print(f"lpv_preview: rendering again {sum(again.values())} frames already in '{out_dir}', made {made}.",
               file=sys.stderr, flush=True)
-    pipeline = Pipeline(settings)
-    timings = []
-    try:
-        for done, frame in enumerate(todo):
-            started = time.perf_counter()
-            bpy_scene.frame_set(frame)
-            scene = scene_to_render(bpy_scene, (settings.width, settings.height))
-            result = pipeline.render_converged(scene, passes=passes)
-            write_frame(frame_path(out_dir, frame), result.passes, record)
-            timings.append(time.perf_counter() - started)
-            print_progress(done + 1, len(todo), frame, timings)
-    finally:
-        pipeline.release()
-    return {"out": os.path.abspath(out_dir), "frames": [frames.start, frames[-1]], "rendered": len(todo),
-            "skipped": len(frames) - len(todo), "rendered_again": again,
-            "seconds_per_frame": sum(timings) / len(timings) if timings else 0.0}
+    timings, corrected = [], {}
+    correcting = workers_for(bpy_scene, correction, blend_path, scheduler) if seconds > 0 and todo else nullcontext()
+    with correcting as workers:
+        pipeline = Pipeline(settings)
+        try:
+            for done, frame in enumerate(todo):
+                started = time.perf_counter()
+                bpy_scene.frame_set(frame)
+                scene = scene_to_render(bpy_scene, (settings.width, settings.height))
+                result = pipeline.render_converged(scene, passes=tuple(name for name in passes if name != "preview"))
+                if workers is not None:
+                    correct(workers, pipeline, scene, result, seconds, frame)
+                    corrected[frame] = {name: result.stats[name] for name in CORRECTION_STATS}
+                write_frame(frame_path(out_dir, frame), result.passes, record)
+                timings.append(time.perf_counter() - started)
+                print_progress(done + 1, len(todo), frame, timings)
+        finally:
+            pipeline.release()
+    stats = {"out": os.path.abspath(out_dir), "frames": [frames.start, frames[-1]], "rendered": len(todo),
+             "skipped": len(frames) - len(todo), "rendered_again": again,
+             "seconds_per_frame": sum(timings) / len(timings) if timings else 0.0}
+    return {**stats, "corrections": corrected} if seconds > 0 else stats
+
 
 
 def print_progress(done, total, frame, timings, width=30):

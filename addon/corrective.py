@@ -31,10 +31,12 @@ CAPACITY_SECONDS = 10.0
 
 
 class Corrector:
-    """Corrections of one scene from `workers` (addon/sample_workers.py SampleWorkers)."""
+    """Corrections of one scene from `workers` (addon/sample_workers.py SampleWorkers), at
+    the animation's frame `scene_frame` (None: the .blend's current one)."""
 
-    def __init__(self, workers):
+    def __init__(self, workers, scene_frame=None):
         self.workers = workers
+        self.scene_frame = scene_frame
         self.corrections = Corrections()
         self.in_flight = {}  # future -> (view key, the queue that asked, region, samples a pixel)
         self.seed = FIRST_SEED
@@ -83,7 +85,8 @@ class Corrector:
             if asked is None:  # every tile is done
                 return
             region, spp = asked
-            request = SampleRequest(region, self.resolution, spp, self.seed, self.camera_matrix, self.projection)
+            request = SampleRequest(region, self.resolution, spp, self.seed, self.camera_matrix, self.projection,
+                                    scene_frame=self.scene_frame)
             self.seed += 1
             self.in_flight[self.workers.submit(request)] = (self.view_key, self.queue, region, spp)
 
@@ -166,10 +169,12 @@ def write_scene(bpy_scene, path):
 
 @contextmanager
 def blend_for_workers(bpy_scene, path=None, remote=False):
-    """The .blend the workers open: `path` when it is the open file with nothing unsaved,
-    else `bpy_scene` written to a temporary folder for the while (for local workers only:
-    a `remote` cluster's cannot read it)."""
-    if path is not None and not bpy.data.is_dirty and os.path.abspath(bpy.data.filepath) == os.path.abspath(path):
+    """The .blend the workers open: `path`, the file `bpy_scene` was opened from and not
+    edited since (the command line's `render`), else `bpy_scene` written to a temporary
+    folder for the while (for local workers only: a `remote` cluster's cannot read it).
+    Blender as a module counts every file as edited (`bpy.data.is_dirty`), so the caller
+    vouches for it."""
+    if path is not None and os.path.abspath(bpy.data.filepath) == os.path.abspath(path):
         yield path
         return
     if remote:
@@ -181,29 +186,43 @@ def blend_for_workers(bpy_scene, path=None, remote=False):
         yield copy
 
 
-def corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path=None, scheduler=None):
-    """A frame of the gpu Scene `scene` (extracted from `bpy_scene`) whose combined
-    pass is corrected toward Cycles for `correction.correct_seconds` by
-    `correction.correction_workers` local workers (or the Dask cluster at `scheduler`,
-    its TLS certificates from Dask's configuration); the uncorrected image is the pass
-    `preview`, the statistics say what came. The workers start first: a cluster that
-    cannot be reached stops it before the preview's work."""
+@contextmanager
+def workers_for(bpy_scene, correction, blend_path=None, scheduler=None):
+    """The SampleWorkers of `correction` (CorrectionSettings): `correction_workers` local
+    ones, or the Dask cluster at `scheduler` (its TLS certificates from Dask's
+    configuration), every one with the .blend of `bpy_scene` open (`blend_for_workers`).
+    They start first: a cluster that cannot be reached stops a render before its work."""
     with blend_for_workers(bpy_scene, blend_path, remote=scheduler is not None) as path:
         with SampleWorkers(path, workers=None if scheduler else correction.correction_workers,
                            scheduler=scheduler) as workers:
             workers.open_everywhere()
-            pipeline = Pipeline(settings)
-            try:
-                frame = pipeline.render_converged(scene, passes=tuple(dict.fromkeys(("combined", *passes))))
-                guide = pipeline.read_guide(scene)
-            finally:
-                pipeline.release()
-            corrector = Corrector(workers)
-            corrector.rest(scene.camera.key(), scene.camera, None, frame.passes["combined"], guide)
-            for _, reconstruction in corrector.run(correction.correct_seconds):
-                pass
-            corrector.cancel()
+            yield workers
+
+
+def correct(workers, pipeline, scene, frame, seconds, scene_frame=None):
+    """Correct the combined pass of `frame`, which `pipeline` rendered last from the gpu
+    Scene `scene` (at the animation's frame `scene_frame`), toward Cycles for `seconds`
+    with `workers`; the uncorrected image becomes the pass `preview`, the statistics say
+    what came. Returns `frame`."""
+    guide = pipeline.read_guide(scene)
+    corrector = Corrector(workers, scene_frame)
+    corrector.rest(scene.camera.key(), scene.camera, None, frame.passes["combined"], guide)
+    for _, reconstruction in corrector.run(seconds):
+        pass
+    corrector.cancel()
     frame.passes["preview"] = frame.passes["combined"]
     frame.passes["combined"] = reconstruction.image
     frame.stats.update(corrector.stats(reconstruction))
     return frame
+
+
+def corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path=None, scheduler=None):
+    """A frame of the gpu Scene `scene` (extracted from `bpy_scene`) corrected toward
+    Cycles for `correction.correct_seconds` by the workers of `workers_for`."""
+    with workers_for(bpy_scene, correction, blend_path, scheduler) as workers:
+        pipeline = Pipeline(settings)
+        try:
+            frame = pipeline.render_converged(scene, passes=tuple(dict.fromkeys(("combined", *passes))))
+            return correct(workers, pipeline, scene, frame, correction.correct_seconds)
+        finally:
+            pipeline.release()

@@ -47,10 +47,9 @@ class SampleRenderer:
         self.scene = bpy.context.scene
         self.view_layer = view_layer_to_render(self.scene)
         self.scene.render.use_persistent_data = True
-        self._camera = None if self.scene.camera is None else tuple(map(tuple, self.scene.camera.matrix_world))
-        self._lens = None if self.scene.camera is None else {
-            **{name: getattr(self.scene.camera.data, name) for name in LENS_SETTINGS},
-            "use_dof": self.scene.camera.data.dof.use_dof}
+        self._camera, self._lens = self._own_camera()
+        self._file_camera = (self.scene.camera, self._camera, self._lens)
+        self.scene_frame = self.scene.frame_current
         self._folder = make_temporary_folder("lpv_cycles_samples_")  # one for every request: no setup each
 
     def close(self):
@@ -59,6 +58,7 @@ class SampleRenderer:
     def render(self, request, threads=None):
         """The SampleResult of `request`, Cycles on `threads` threads (None: all)."""
         scene = self.scene
+        self._go_to_frame(request.scene_frame)  # first: the animation may set what follows
         if scene.camera is None:
             raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
         exr_path = os.path.join(self._folder, "samples.exr")
@@ -81,6 +81,29 @@ class SampleRenderer:
                                f"{size[1]} x {size[0]} pixels.")
         return SampleResult(request, {name: np.ascontiguousarray(image, np.float32) for name, image in passes.items()},
                             time.perf_counter() - started)
+
+    def _own_camera(self):
+        """The scene camera's world matrix and lens as they are now (None, None: no camera)."""
+        camera = self.scene.camera
+        if camera is None:
+            return None, None
+        return (tuple(map(tuple, camera.matrix_world)),
+                {**{name: getattr(camera.data, name) for name in LENS_SETTINGS}, "use_dof": camera.data.dof.use_dof})
+
+    def _go_to_frame(self, scene_frame):
+        """Set the animation at `scene_frame` (None: stay), the file's camera put back first
+        so that what the animation leaves alone is the file's, not an earlier request's;
+        the camera as the animation sets it there is then the frame's own."""
+        if scene_frame is None or scene_frame == self.scene_frame:
+            return
+        file_camera, camera, lens = self._file_camera
+        if file_camera is not None and self.scene.camera == file_camera:  # markers may bind another
+            self.scene.camera.matrix_world = Matrix(camera)
+            self._camera, self._lens = camera, lens
+            self._set_lens(None)
+        self.scene.frame_set(scene_frame)
+        self.scene_frame = scene_frame
+        self._camera, self._lens = self._own_camera()
 
     def _set_lens(self, projection):
         """The camera's lens as `projection` (an unshifted OpenGL perspective, a 3D view's:

@@ -98,6 +98,14 @@ def assign(holder, **values):
             setattr(holder, name, value)
 
 
+def _edge(pixel, size):
+    """The border fraction Blender turns into the pixel edge `pixel` of `size`: it truncates
+    fraction × size, and the fraction is single precision, so an exact `pixel / size` may
+    land a pixel short (at 1080 rows, one border in five had a row too many or too few);
+    half a pixel on is safe."""
+    return min((pixel + 0.5) / size, 1.0)
+
+
 def apply_output_settings(scene, view_layer, exr_path, resolution, border=None):
     """Render `view_layer` alone at `resolution` (None: the scene's) into a float multilayer
     EXR at `exr_path` (uncompressed with a `border`), with no compositor, sequencer or
@@ -111,8 +119,9 @@ def apply_output_settings(scene, view_layer, exr_path, resolution, border=None):
     else:
         x0, y0, x1, y1 = border
         width, height = render.resolution_x, render.resolution_y
-        assign(render, use_border=True, use_crop_to_border=True, border_min_x=x0 / width, border_max_x=x1 / width,
-               border_min_y=1 - y1 / height, border_max_y=1 - y0 / height)
+        assign(render, use_border=True, use_crop_to_border=True, border_min_x=_edge(x0, width),
+               border_max_x=_edge(x1, width), border_min_y=_edge(height - y1, height),
+               border_max_y=_edge(height - y0, height))
     assign(render, use_multiview=False, use_file_extension=False, use_compositing=False, use_sequencer=False,
            use_freestyle=False)
     # set even when it is the same: a render property tags the scene for an update, the

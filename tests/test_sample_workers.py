@@ -49,6 +49,23 @@ def test_a_region_has_the_pixels_of_the_whole_image(cornell_blend):
     assert whole.passes["Combined"].mean() > 0
 
 
+@pytest.mark.parametrize("size, regions", [
+    ((6, 1080), [(0, 995, 6, 1024), (1, 1073, 5, 1080), (0, 128, 6, 256), (2, 0, 3, 7)]),
+    ((1279, 4), [(7, 0, 14, 4), (25, 1, 31, 3), (0, 0, 1279, 2), (1270, 2, 1279, 4)]),
+])
+def test_a_region_of_a_large_image_has_its_pixels(cornell_blend, size, regions):
+    """Blender truncates a border's single-precision fraction × size: every region still
+    renders its own pixels, not a row or column more, less or beside them."""
+    renderer = SampleRenderer(cornell_blend)
+    try:
+        whole = renderer.render(SampleRequest((0, 0, *size), size, 2, seed=3)).passes["Combined"]
+        for x0, y0, x1, y1 in regions:
+            part = renderer.render(SampleRequest((x0, y0, x1, y1), size, 2, seed=3)).passes["Combined"]
+            np.testing.assert_allclose(part, whole[y0:y1, x0:x1], rtol=1e-4, atol=1e-6, err_msg=str((x0, y0, x1, y1)))
+    finally:
+        renderer.close()
+
+
 def test_each_request_renders_its_own_seed_and_samples(cornell_blend):
     """Cycles' own settings do not tag the scene for an update: a request that changed only
     them must still be rendered with them, not as the request before."""

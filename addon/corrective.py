@@ -25,7 +25,14 @@ REQUESTS_PER_WORKER = 2
 FIRST_SEED = 1000
 """Seeds of the requests count up from here, apart from the references' (0) and the peers' (1)."""
 QUEUE_SECONDS = 0.5
-"""While samples come, the queue learns the reconstruction's errors at least this often."""
+"""While samples come, the queue learns the reconstruction's errors this often..."""
+QUEUE_SHARE = 0.1
+"""...or less, so that its rebuilds take at most this share of the master's time (a rebuild
+at 1080p takes seconds)."""
+REBUILD_PIXEL_SECONDS = 5e-6
+"""A view's first rebuild's seconds a pixel, its edges made too, until one is timed (numpy on
+one core of the 2-core machine of docs/bench/cpu: 11 s at 1920×1080): a timed run stops
+receiving that much before its time, so that its last frame is ready as the time is up."""
 CAPACITY_SECONDS = 10.0
 """How often the cluster is asked how many workers it has (a studio's may grow)."""
 
@@ -45,6 +52,7 @@ class Corrector:
         self.samples_received = self.requests_received = 0
         self.started = None
         self.updated = (0.0, 0)  # when the queue last learnt the errors, and the samples then
+        self.rebuild_seconds = None  # how long the last rebuild of a frame took
         self.capacity = (-CAPACITY_SECONDS, 1)  # (when asked, requests in flight wanted)
 
     def rest(self, key, camera, camera_matrix, preview, guide, projection=None, settings=None):
@@ -66,12 +74,20 @@ class Corrector:
     def frame(self):
         """The corrected frame of the view at rest (a gpu.corrections Reconstruction); the
         queue learns its errors."""
+        started = time.perf_counter()
         reconstruction = self.corrections.reconstruct(self.view_key)
         own = self.corrections.layers.get(self.view_key)
         self.queue.update(reconstruction.error, reconstruction.samples,
                           own.samples if own is not None else np.zeros_like(reconstruction.samples))
         self.updated = (time.perf_counter(), self.samples_received)
+        if reconstruction.samples.any():  # not the preview alone
+            self.rebuild_seconds = self.updated[0] - started
         return reconstruction
+
+    def _rebuild_estimate(self):
+        if self.rebuild_seconds is not None:
+            return self.rebuild_seconds
+        return REBUILD_PIXEL_SECONDS * self.resolution[0] * self.resolution[1]
 
     def fill(self):
         """Send requests until every worker has REQUESTS_PER_WORKER."""
@@ -120,22 +136,24 @@ class Corrector:
     def run(self, seconds, frames_at=()):
         """Receive for `seconds`, rebuilding the frame at each of the times `frames_at`
         (seconds from now; what a viewport redraw would show then) and, for the queue,
-        every QUEUE_SECONDS while samples come; yields (seconds since the start,
-        Reconstruction) for each of `frames_at` and at the end."""
+        every QUEUE_SECONDS while samples come (QUEUE_SHARE); yields (seconds since the
+        start, Reconstruction) for each of `frames_at` and at the end, the last as the time
+        is up (receiving stops a rebuild's time before)."""
         start = time.perf_counter()
         pending = sorted(at for at in frames_at if at < seconds)
         while True:
-            elapsed = time.perf_counter() - start
-            if elapsed >= seconds:
+            elapsed, until = time.perf_counter() - start, seconds - self._rebuild_estimate()
+            if elapsed >= until:
                 break
-            until = min([seconds, *pending[:1]]) - elapsed
-            self.receive(timeout=max(0.0, min(until, 0.05)))  # the workers are kept busy first
+            next_stop = min([until, *pending[:1]]) - elapsed
+            self.receive(timeout=max(0.0, min(next_stop, 0.05)))  # the workers are kept busy first
             elapsed = time.perf_counter() - start
             if pending and elapsed >= pending[0]:
                 pending = [at for at in pending if at > elapsed]
                 frame = self.frame()
                 yield time.perf_counter() - start, frame
-            elif time.perf_counter() - self.updated[0] >= QUEUE_SECONDS and self.samples_received > self.updated[1]:
+            elif (time.perf_counter() - self.updated[0] >= max(QUEUE_SECONDS, self._rebuild_estimate() / QUEUE_SHARE)
+                  and self.samples_received > self.updated[1]):
                 self.frame()
         frame = self.frame()
         yield time.perf_counter() - start, frame

@@ -89,6 +89,11 @@ def test_no_samples_leave_the_preview(camera):
     result = reconstruct(Gathered.empty(*preview.shape[:2]), preview, guide)
     np.testing.assert_array_equal(result.image, preview.astype(np.float32))
     assert result.estimated_error > 0
+    corrections = Corrections()  # a view before any sample: the same, without the rebuild
+    corrections.view("view", camera, guide, preview)
+    shortcut = corrections.reconstruct("view")
+    for name in ("image", "correction", "samples", "error", "estimated_error"):
+        np.testing.assert_allclose(getattr(shortcut, name), getattr(result, name), rtol=1e-6, err_msg=name)
 
 
 def test_a_firefly_in_the_larger_of_two_requests_is_not_kept(camera):

@@ -144,7 +144,8 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
         print(f"lpv_preview: rendering again {sum(again.values())} frames already in '{out_dir}', made {made}.",
               file=sys.stderr, flush=True)
     timings, corrected = [], {}
-    correcting = workers_for(bpy_scene, correction, blend_path, scheduler) if seconds > 0 and todo else nullcontext()
+    correcting = (workers_for(bpy_scene, correction, (settings.width, settings.height), blend_path, scheduler)
+                  if seconds > 0 and todo else nullcontext())
     with correcting as workers:
         pipeline = Pipeline(settings)
         try:

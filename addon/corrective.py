@@ -35,6 +35,9 @@ one core of the 2-core machine of docs/bench/cpu: 11 s at 1920×1080): a timed r
 receiving that much before its time, so that its last frame is ready as the time is up."""
 CAPACITY_SECONDS = 10.0
 """How often the cluster is asked how many workers it has (a studio's may grow)."""
+MASTER_BYTES_PER_PIXEL = 1000
+"""Memory the corrections take a pixel in this process (its layers, the filter's edges and
+the rebuild's arrays; 2.5 GB at 1920×1080, 1.0 GB at 960×540, with the preview's)."""
 
 
 class Corrector:
@@ -204,12 +207,28 @@ def blend_for_workers(bpy_scene, path=None, remote=False):
         yield copy
 
 
+def check_memory(resolution):
+    """Refuse corrections of a `resolution` (width, height) whose rebuilds would not fit in
+    the memory free now (MASTER_BYTES_PER_PIXEL), before any work."""
+    try:
+        import psutil  # Dask's own dependency
+    except ImportError:
+        return  # no Dask either: SampleWorkers says so
+    width, height = resolution
+    needed, free = width * height * MASTER_BYTES_PER_PIXEL, psutil.virtual_memory().available
+    if needed > free:
+        raise LPVError(f"Corrections of a {width} x {height} image take about {needed / 1e9:.1f} GB of memory and "
+                       f"{free / 1e9:.1f} GB are free; render it smaller, or without --correct-seconds.")
+
+
 @contextmanager
-def workers_for(bpy_scene, correction, blend_path=None, scheduler=None):
+def workers_for(bpy_scene, correction, resolution, blend_path=None, scheduler=None):
     """The SampleWorkers of `correction` (CorrectionSettings): `correction_workers` local
     ones, or the Dask cluster at `scheduler` (its TLS certificates from Dask's
     configuration), every one with the .blend of `bpy_scene` open (`blend_for_workers`).
-    They start first: a cluster that cannot be reached stops a render before its work."""
+    They start first: a cluster that cannot be reached, or corrections of a `resolution`
+    (width, height) that would not fit in memory, stop a render before its work."""
+    check_memory(resolution)
     with blend_for_workers(bpy_scene, blend_path, remote=scheduler is not None) as path:
         with SampleWorkers(path, workers=None if scheduler else correction.correction_workers,
                            scheduler=scheduler) as workers:
@@ -237,7 +256,7 @@ def correct(workers, pipeline, scene, frame, seconds, scene_frame=None):
 def corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path=None, scheduler=None):
     """A frame of the gpu Scene `scene` (extracted from `bpy_scene`) corrected toward
     Cycles for `correction.correct_seconds` by the workers of `workers_for`."""
-    with workers_for(bpy_scene, correction, blend_path, scheduler) as workers:
+    with workers_for(bpy_scene, correction, (settings.width, settings.height), blend_path, scheduler) as workers:
         pipeline = Pipeline(settings)
         try:
             frame = pipeline.render_converged(scene, passes=tuple(dict.fromkeys(("combined", *passes))))

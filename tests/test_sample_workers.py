@@ -219,6 +219,7 @@ def test_each_frame_of_an_animation_is_corrected_toward_its_own_cycles_render(tm
     (["render", "missing.blend", "--correct-seconds", "2", "--scheduler", "tls://192.0.2.1:8786", "--workers", "2"],
      "give one of them"),
     (["demo", "--correct-seconds", "-1"], "correct_seconds"),
+    (["demo", "--correct-seconds", "1", "--width", "16384", "--height", "16384"], "GB of memory"),
     (["bench", "--corrections", "--gpu-previews", "missing.json"], "Cannot read the GPU's preview times"),
 ])
 def test_bad_correction_flags_are_refused_before_any_work(argv, words, tmp_path, capsys):

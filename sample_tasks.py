@@ -3,6 +3,7 @@ result, importable without bpy:
 a Dask worker process unpickles it before anything else, and `lpv_preview.addon` imports
 bpy, which must first find the module, not Blender's own scripts' package of that name
 (a worker process starts with its parent's sys.path, where `import bpy` put them)."""
+import os
 import re
 import sys
 from dataclasses import dataclass
@@ -11,7 +12,7 @@ from .gpu.errors import LPVError
 
 BLENDER_SCRIPTS = re.compile(r"[/\\]bpy[/\\][0-9.]+[/\\]scripts")
 """The folders of Blender's own scripts, which `import bpy` puts on sys.path."""
-_RENDERERS = {}  # in a worker process: .blend path -> SampleRenderer
+_RENDERERS = {}  # in a worker process: (.blend path, its modification time and size) -> SampleRenderer
 
 
 @dataclass(frozen=True)
@@ -21,7 +22,8 @@ class SampleRequest:
     world matrix is `camera` (4 × 4 nested tuples; None: the scene's own) through the
     OpenGL perspective `projection` (4 × 4 nested tuples, unshifted, the image's aspect;
     None: the scene camera's own lens), `samples` a pixel with the sampling pattern of
-    `seed`, at the animation's frame `scene_frame` (None: the file's current one);
+    `seed`, at the animation's frame `scene_frame` (None: where the worker's scene is, the
+    file's own frame until a request sets another);
     `denoise`d by OpenImageDenoise as Cycles' viewport denoises (what the corrections are
     measured against)."""
 
@@ -61,12 +63,17 @@ def renderer(blend_path):
     if "bpy" not in sys.modules:
         sys.path.sort(key=lambda folder: bool(BLENDER_SCRIPTS.search(folder)))  # the module's folder first
     from .addon.cycles_samples import SampleRenderer
-    if blend_path not in _RENDERERS:
+    try:
+        saved = os.stat(blend_path)
+        key = (blend_path, saved.st_mtime_ns, saved.st_size)  # a file saved again is opened again
+    except OSError:
+        key = (blend_path,)  # SampleRenderer says there is none
+    if key not in _RENDERERS:
         for opened in _RENDERERS.values():
             opened.close()
         _RENDERERS.clear()
-        _RENDERERS[blend_path] = SampleRenderer(blend_path)
-    return _RENDERERS[blend_path]
+        _RENDERERS[key] = SampleRenderer(blend_path)
+    return _RENDERERS[key]
 
 
 def open_blend(blend_path):

@@ -13,7 +13,7 @@ import bpy
 from ..gpu.errors import LPVError
 from ..gpu.image_io import read_exr_metadata, write_exr, write_png
 from ..gpu.pipeline import Pipeline, render_once
-from .corrective import correct, corrected_frame, workers_for
+from .corrective import correct, corrected_frame, rendered_passes, workers_for
 from .render_scene import scene_to_render
 
 
@@ -109,10 +109,6 @@ def write_frame(path, passes, record):
             os.remove(partial)
 
 
-CORRECTION_STATS = ("correction_samples", "correction_samples_per_second", "correction_estimated_error")
-"""What an animation's statistics keep of each corrected frame's."""
-
-
 def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=False, correction=None,
                      blend_path=None, scheduler=None):
     """One EXR per frame of `frames` (a range) in `out_dir`, with a progress bar; with
@@ -126,9 +122,8 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
     rendered again, and the statistics and a line on stderr say how many and why.
     """
     seconds = correction.correct_seconds if correction is not None else 0.0
-    if seconds > 0:
-        passes = tuple(dict.fromkeys(("combined", *passes, "preview")))
-    record = frame_record(settings, passes, seconds)
+    rendered, written = rendered_passes(passes) if seconds > 0 else (passes, passes)
+    record = frame_record(settings, written, seconds)
     todo, again = [], {}
     for frame in frames:
         path = frame_path(out_dir, frame)
@@ -143,7 +138,7 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
         made = ", ".join(f"{count} {reason}" for reason, count in again.items())
         print(f"lpv_preview: rendering again {sum(again.values())} frames already in '{out_dir}', made {made}.",
               file=sys.stderr, flush=True)
-    timings, corrected = [], {}
+    timings, corrected, rebuild = [], {}, None
     correcting = (workers_for(bpy_scene, correction, (settings.width, settings.height), blend_path, scheduler)
                   if seconds > 0 and todo else nullcontext())
     with correcting as workers:
@@ -153,19 +148,18 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
                 started = time.perf_counter()
                 bpy_scene.frame_set(frame)
                 scene = scene_to_render(bpy_scene, (settings.width, settings.height))
-                result = pipeline.render_converged(scene, passes=tuple(name for name in passes if name != "preview"))
+                result = pipeline.render_converged(scene, passes=rendered)
                 if workers is not None:
-                    correct(workers, pipeline, scene, result, seconds, frame)
-                    corrected[frame] = {name: result.stats[name] for name in CORRECTION_STATS}
+                    corrected[frame] = correct(workers, pipeline, scene, result, seconds, frame, rebuild)
+                    rebuild = corrected[frame]["correction_rebuild_seconds"]
                 write_frame(frame_path(out_dir, frame), result.passes, record)
                 timings.append(time.perf_counter() - started)
                 print_progress(done + 1, len(todo), frame, timings)
         finally:
             pipeline.release()
-    stats = {"out": os.path.abspath(out_dir), "frames": [frames.start, frames[-1]], "rendered": len(todo),
-             "skipped": len(frames) - len(todo), "rendered_again": again,
-             "seconds_per_frame": sum(timings) / len(timings) if timings else 0.0}
-    return {**stats, "corrections": corrected} if seconds > 0 else stats
+    return {"out": os.path.abspath(out_dir), "frames": [frames.start, frames[-1]], "rendered": len(todo),
+            "skipped": len(frames) - len(todo), "rendered_again": again,
+            "seconds_per_frame": sum(timings) / len(timings) if timings else 0.0, "corrections": corrected}
 
 
 

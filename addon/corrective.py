@@ -14,6 +14,7 @@ from contextlib import contextmanager
 import bpy
 import numpy as np
 
+from ..gpu.capacity import check_corrections_fit
 from ..gpu.errors import LPVError, first_line
 from ..gpu.correction_queue import RequestQueue
 from ..gpu.corrections import Corrections
@@ -30,21 +31,21 @@ QUEUE_SHARE = 0.1
 """...or less, so that its rebuilds take at most this share of the master's time (a rebuild
 at 1080p takes seconds)."""
 REBUILD_PIXEL_SECONDS = 5e-6
-"""A view's first rebuild's seconds a pixel, its edges made too, until one is timed (numpy on
-one core of the 2-core machine of docs/bench/cpu: 11 s at 1920×1080): a timed run stops
-receiving that much before its time, so that its last frame is ready as the time is up."""
+"""A view's first rebuild's seconds a pixel (its edges made too; numpy on one core) until one
+is timed: a timed run stops receiving that much before its time, so that its last frame is
+ready as the time is up..."""
+RECEIVE_SHARE = 0.5
+"""...but receives for at least this share of its time, however long a rebuild."""
 CAPACITY_SECONDS = 10.0
 """How often the cluster is asked how many workers it has (a studio's may grow)."""
-MASTER_BYTES_PER_PIXEL = 1000
-"""Memory the corrections take a pixel in this process (its layers, the filter's edges and
-the rebuild's arrays; 2.5 GB at 1920×1080, 1.0 GB at 960×540, with the preview's)."""
 
 
 class Corrector:
     """Corrections of one scene from `workers` (addon/sample_workers.py SampleWorkers), at
-    the animation's frame `scene_frame` (None: the .blend's current one)."""
+    the animation's frame `scene_frame` (None: where the workers' scene is); `rebuild_seconds`:
+    how long a rebuild of such a view took before (None: not known)."""
 
-    def __init__(self, workers, scene_frame=None):
+    def __init__(self, workers, scene_frame=None, rebuild_seconds=None):
         self.workers = workers
         self.scene_frame = scene_frame
         self.corrections = Corrections()
@@ -55,7 +56,7 @@ class Corrector:
         self.samples_received = self.requests_received = 0
         self.started = None
         self.updated = (0.0, 0)  # when the queue last learnt the errors, and the samples then
-        self.rebuild_seconds = None  # how long the last rebuild of a frame took
+        self.rebuild_seconds = rebuild_seconds  # how long the last rebuild of a frame took
         self.capacity = (-CAPACITY_SECONDS, 1)  # (when asked, requests in flight wanted)
 
     def rest(self, key, camera, camera_matrix, preview, guide, projection=None, settings=None):
@@ -83,11 +84,12 @@ class Corrector:
         self.queue.update(reconstruction.error, reconstruction.samples,
                           own.samples if own is not None else np.zeros_like(reconstruction.samples))
         self.updated = (time.perf_counter(), self.samples_received)
-        if reconstruction.samples.any():  # not the preview alone
+        if self.corrections.layers:  # a rebuild, not the preview alone
             self.rebuild_seconds = self.updated[0] - started
         return reconstruction
 
     def _rebuild_estimate(self):
+        """How long the next rebuild is expected to take."""
         if self.rebuild_seconds is not None:
             return self.rebuild_seconds
         return REBUILD_PIXEL_SECONDS * self.resolution[0] * self.resolution[1]
@@ -140,12 +142,14 @@ class Corrector:
         """Receive for `seconds`, rebuilding the frame at each of the times `frames_at`
         (seconds from now; what a viewport redraw would show then) and, for the queue,
         every QUEUE_SECONDS while samples come (QUEUE_SHARE); yields (seconds since the
-        start, Reconstruction) for each of `frames_at` and at the end, the last as the time
-        is up (receiving stops a rebuild's time before)."""
+        start, Reconstruction) for each of `frames_at` before the last and at the end, the
+        last as the time is up: receiving stops a rebuild's time before (RECEIVE_SHARE)."""
         start = time.perf_counter()
-        pending = sorted(at for at in frames_at if at < seconds)
+        pending = sorted(frames_at)
         while True:
-            elapsed, until = time.perf_counter() - start, seconds - self._rebuild_estimate()
+            elapsed, estimate = time.perf_counter() - start, self._rebuild_estimate()
+            until = max(seconds - estimate, RECEIVE_SHARE * seconds)
+            pending = [at for at in pending if at < until]
             if elapsed >= until:
                 break
             next_stop = min([until, *pending[:1]]) - elapsed
@@ -155,8 +159,8 @@ class Corrector:
                 pending = [at for at in pending if at > elapsed]
                 frame = self.frame()
                 yield time.perf_counter() - start, frame
-            elif (time.perf_counter() - self.updated[0] >= max(QUEUE_SECONDS, self._rebuild_estimate() / QUEUE_SHARE)
-                  and self.samples_received > self.updated[1]):
+            elif (elapsed + estimate < until and self.samples_received > self.updated[1]
+                  and time.perf_counter() - self.updated[0] >= max(QUEUE_SECONDS, estimate / QUEUE_SHARE)):
                 self.frame()
         frame = self.frame()
         yield time.perf_counter() - start, frame
@@ -207,20 +211,6 @@ def blend_for_workers(bpy_scene, path=None, remote=False):
         yield copy
 
 
-def check_memory(resolution):
-    """Refuse corrections of a `resolution` (width, height) whose rebuilds would not fit in
-    the memory free now (MASTER_BYTES_PER_PIXEL), before any work."""
-    try:
-        import psutil  # Dask's own dependency
-    except ImportError:
-        return  # no Dask either: SampleWorkers says so
-    width, height = resolution
-    needed, free = width * height * MASTER_BYTES_PER_PIXEL, psutil.virtual_memory().available
-    if needed > free:
-        raise LPVError(f"Corrections of a {width} x {height} image take about {needed / 1e9:.1f} GB of memory and "
-                       f"{free / 1e9:.1f} GB are free; render it smaller, or without --correct-seconds.")
-
-
 @contextmanager
 def workers_for(bpy_scene, correction, resolution, blend_path=None, scheduler=None):
     """The SampleWorkers of `correction` (CorrectionSettings): `correction_workers` local
@@ -228,7 +218,7 @@ def workers_for(bpy_scene, correction, resolution, blend_path=None, scheduler=No
     configuration), every one with the .blend of `bpy_scene` open (`blend_for_workers`).
     They start first: a cluster that cannot be reached, or corrections of a `resolution`
     (width, height) that would not fit in memory, stop a render before its work."""
-    check_memory(resolution)
+    check_corrections_fit(*resolution)
     with blend_for_workers(bpy_scene, blend_path, remote=scheduler is not None) as path:
         with SampleWorkers(path, workers=None if scheduler else correction.correction_workers,
                            scheduler=scheduler) as workers:
@@ -236,30 +226,41 @@ def workers_for(bpy_scene, correction, resolution, blend_path=None, scheduler=No
             yield workers
 
 
-def correct(workers, pipeline, scene, frame, seconds, scene_frame=None):
+def rendered_passes(passes):
+    """The passes a corrected frame is rendered with (the combined one is corrected), and
+    those it is written with: its preview beside them."""
+    rendered = tuple(dict.fromkeys(("combined", *passes)))
+    return rendered, (*rendered, "preview")
+
+
+def correct(workers, pipeline, scene, frame, seconds, scene_frame, rebuild_seconds=None):
     """Correct the combined pass of `frame`, which `pipeline` rendered last from the gpu
-    Scene `scene` (at the animation's frame `scene_frame`), toward Cycles for `seconds`
-    with `workers`; the uncorrected image becomes the pass `preview`, the statistics say
-    what came. Returns `frame`."""
+    Scene `scene` at the animation's frame `scene_frame`, toward Cycles for `seconds` with
+    `workers` (`rebuild_seconds`: as the last corrected frame's rebuild took, if known);
+    the uncorrected image becomes the pass `preview`. Returns the statistics of what came,
+    also added to the frame's."""
     guide = pipeline.read_guide(scene)
-    corrector = Corrector(workers, scene_frame)
+    corrector = Corrector(workers, scene_frame, rebuild_seconds)
     corrector.rest(scene.camera.key(), scene.camera, None, frame.passes["combined"], guide)
     for _, reconstruction in corrector.run(seconds):
         pass
     corrector.cancel()
     frame.passes["preview"] = frame.passes["combined"]
     frame.passes["combined"] = reconstruction.image
-    frame.stats.update(corrector.stats(reconstruction))
-    return frame
+    stats = {**corrector.stats(reconstruction), "correction_rebuild_seconds": corrector.rebuild_seconds}
+    frame.stats.update(stats)
+    return stats
 
 
 def corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path=None, scheduler=None):
-    """A frame of the gpu Scene `scene` (extracted from `bpy_scene`) corrected toward
-    Cycles for `correction.correct_seconds` by the workers of `workers_for`."""
+    """A frame of the gpu Scene `scene` (extracted from `bpy_scene` at its current frame)
+    corrected toward Cycles for `correction.correct_seconds` by the workers of
+    `workers_for`."""
     with workers_for(bpy_scene, correction, (settings.width, settings.height), blend_path, scheduler) as workers:
         pipeline = Pipeline(settings)
         try:
-            frame = pipeline.render_converged(scene, passes=tuple(dict.fromkeys(("combined", *passes))))
-            return correct(workers, pipeline, scene, frame, correction.correct_seconds)
+            frame = pipeline.render_converged(scene, passes=rendered_passes(passes)[0])
+            correct(workers, pipeline, scene, frame, correction.correct_seconds, bpy_scene.frame_current)
+            return frame
         finally:
             pipeline.release()

@@ -101,8 +101,7 @@ def assign(holder, **values):
 def _edge(pixel, size):
     """The border fraction Blender turns into the pixel edge `pixel` of `size`: it truncates
     fraction × size, and the fraction is single precision, so an exact `pixel / size` may
-    land a pixel short (at 1080 rows, one border in five had a row too many or too few);
-    half a pixel on is safe."""
+    land a pixel short; half a pixel on is safe."""
     return min((pixel + 0.5) / size, 1.0)
 
 

@@ -48,7 +48,6 @@ class SampleRenderer:
         self.view_layer = view_layer_to_render(self.scene)
         self.scene.render.use_persistent_data = True
         self._camera, self._lens = self._own_camera()
-        self._file_camera = (self.scene.camera, self._camera, self._lens)
         self.scene_frame = self.scene.frame_current
         self._folder = make_temporary_folder("lpv_cycles_samples_")  # one for every request: no setup each
 
@@ -91,16 +90,10 @@ class SampleRenderer:
                 {**{name: getattr(camera.data, name) for name in LENS_SETTINGS}, "use_dof": camera.data.dof.use_dof})
 
     def _go_to_frame(self, scene_frame):
-        """Set the animation at `scene_frame` (None: stay), the file's camera put back first
-        so that what the animation leaves alone is the file's, not an earlier request's;
-        the camera as the animation sets it there is then the frame's own."""
+        """Set the animation at `scene_frame` (None: stay); the camera as the animation sets
+        it there (markers may bind another) is then the frame's own."""
         if scene_frame is None or scene_frame == self.scene_frame:
             return
-        file_camera, camera, lens = self._file_camera
-        if file_camera is not None and self.scene.camera == file_camera:  # markers may bind another
-            self.scene.camera.matrix_world = Matrix(camera)
-            self._camera, self._lens = camera, lens
-            self._set_lens(None)
         self.scene.frame_set(scene_frame)
         self.scene_frame = scene_frame
         self._camera, self._lens = self._own_camera()

@@ -228,15 +228,14 @@ class Corrections:
         return reconstruct(self.gathered(key), preview, guide)
 
 
-def _unsampled_error(image):
-    """The relative MSE assumed of pixels of `image` no sample tells of."""
-    reference = np.maximum(image @ LUMINANCE_WEIGHTS, 0.0)
-    return UNSAMPLED_ERROR * reference * reference / (reference * reference + RELATIVE_EPSILON)
+def _unsampled_error(luminance):
+    """The relative MSE assumed of pixels of this (non-negative) `luminance` no sample tells of."""
+    return UNSAMPLED_ERROR * luminance * luminance / (luminance * luminance + RELATIVE_EPSILON)
 
 
 def uncorrected(preview):
     """The Reconstruction of a view no sample reached: its preview."""
-    error = _unsampled_error(preview).astype(np.float32)
+    error = _unsampled_error(np.maximum(preview @ LUMINANCE_WEIGHTS, 0.0)).astype(np.float32)
     height, width = preview.shape[:2]
     return Reconstruction(np.asarray(preview, np.float32), np.zeros((height, width, 3), np.float32),
                           np.zeros((height, width)), error, float(np.mean(error)))
@@ -374,7 +373,7 @@ def reconstruct(gathered, preview, guide):
     kept = 0.5 * (1 + CONFIDENCE ** 2) * np.nan_to_num(chosen_variance)
     kept += 0.5 * np.where(np.isfinite(risk), risk, (1 + CONFIDENCE ** 2) * np.nan_to_num(chosen_variance))
     error = np.where(known & sampled, kept * weight * weight / (reference * reference + RELATIVE_EPSILON),
-                     _unsampled_error(image))
+                     _unsampled_error(reference))
     return Reconstruction(image.astype(np.float32), correction.astype(np.float32), samples, error.astype(np.float32),
                           float(np.mean(error)))
 

@@ -89,9 +89,11 @@ def test_no_samples_leave_the_preview(camera):
     result = reconstruct(Gathered.empty(*preview.shape[:2]), preview, guide)
     np.testing.assert_array_equal(result.image, preview.astype(np.float32))
     assert result.estimated_error > 0
-    corrections = Corrections()  # a view before any sample: the same, without the rebuild
-    corrections.view("view", camera, guide, preview)
+    fresh = corner_guide(camera)  # a view before any sample: the same, without the rebuild
+    corrections = Corrections()
+    corrections.view("view", camera, fresh, preview)
     shortcut = corrections.reconstruct("view")
+    assert "edges" not in fresh.__dict__  # no filter was made
     for name in ("image", "correction", "samples", "error", "estimated_error"):
         np.testing.assert_allclose(getattr(shortcut, name), getattr(result, name), rtol=1e-6, err_msg=name)
 

@@ -120,6 +120,45 @@ def test_a_saved_file_is_corrected_by_a_remote_cluster_over_tls(cornell_blend, t
     assert stats["correction_samples"] > 0
 
 
+def test_corrections_too_large_for_the_free_memory_are_refused(tmp_path, capsys, monkeypatch):
+    from lpv_preview.gpu import capacity
+    monkeypatch.setattr(capacity, "available_host_bytes", lambda: 2 ** 30)
+    argv = ["demo", "--out", str(tmp_path), "--width", "2048", "--height", "2048", "--correct-seconds", "1"]
+    assert main(argv) == 2
+    error = capsys.readouterr().err.strip().splitlines()
+    assert len(error) == 1 and "need about 3.9 GiB of memory but 1.0 GiB is free" in error[0]
+    assert not os.listdir(tmp_path)
+
+
+def test_a_timed_correction_stops_receiving_a_rebuild_before_its_end(cornell_blend, monkeypatch):
+    """The last frame is ready as the time is up: receiving stops as long before the end as
+    a rebuild is expected to take (here made 0.4 s), yet takes at least half the time."""
+    from lpv_preview.addon import corrective
+    from lpv_preview.addon.render_scene import scene_to_render
+    from lpv_preview.gpu.pipeline import Pipeline
+    from lpv_preview.gpu.settings import Settings
+    bpy.ops.wm.open_mainfile(filepath=cornell_blend)
+    scene = scene_to_render(bpy.context.scene, SIZE)
+    pipeline = Pipeline(Settings(width=SIZE[0], height=SIZE[1]))
+    try:
+        preview = pipeline.render_converged(scene, passes=("combined",)).passes["combined"]
+        guide = pipeline.read_guide(scene)
+    finally:
+        pipeline.release()
+    monkeypatch.setattr(corrective, "REBUILD_PIXEL_SECONDS", 0.4 / (SIZE[0] * SIZE[1]))
+    with SampleWorkers(cornell_blend, workers=2) as workers:
+        workers.open_everywhere()
+        for seconds, receiving in ((1.0, 0.6), (0.5, 0.25)):
+            corrector = corrective.Corrector(workers)
+            corrector.rest(scene.camera.key(), scene.camera, None, preview, guide)
+            started = time.perf_counter()
+            timeline = list(corrector.run(seconds))
+            ended = time.perf_counter() - started
+            corrector.cancel()
+            assert receiving - 0.05 <= ended <= receiving + 0.3, (seconds, ended)
+            assert len(timeline) == 1 and corrector.samples_received > 0
+
+
 def test_no_request_is_lost_when_a_worker_dies(cornell_blend):
     """Two local workers; one is killed while it renders; every request still returns."""
     requests = [SampleRequest((0, 0, *SIZE), SIZE, 64, seed=seed) for seed in range(6)]
@@ -219,7 +258,6 @@ def test_each_frame_of_an_animation_is_corrected_toward_its_own_cycles_render(tm
     (["render", "missing.blend", "--correct-seconds", "2", "--scheduler", "tls://192.0.2.1:8786", "--workers", "2"],
      "give one of them"),
     (["demo", "--correct-seconds", "-1"], "correct_seconds"),
-    (["demo", "--correct-seconds", "1", "--width", "16384", "--height", "16384"], "GB of memory"),
     (["bench", "--corrections", "--gpu-previews", "missing.json"], "Cannot read the GPU's preview times"),
 ])
 def test_bad_correction_flags_are_refused_before_any_work(argv, words, tmp_path, capsys):

@@ -8,8 +8,11 @@ address only; `SampleWorkers(blend, scheduler="tls://HOST:PORT", security=...)` 
 studio's cluster, over TLS only: a Dask scheduler runs whatever code it is sent, so it is
 never reached in the clear (README, "Cycles sample workers").
 """
+import shutil
+
 from ..gpu.errors import LPVError, first_line
 from ..sample_tasks import SampleRequest, open_blend, render_request  # noqa: F401 (the request type, for callers)
+from .cycles_render import make_temporary_folder
 
 WORKER_DEATHS_ALLOWED = 3
 """Worker deaths a request may see before it is given up (Dask's allowed-failures)."""
@@ -36,16 +39,22 @@ class SampleWorkers:
             raise LPVError("The Cycles sample workers need Dask distributed, which this Python lacks; install "
                            "requirements.txt (bash scripts/setup.sh).") from None
         self.blend_path = blend_path
-        self.cluster = None
-        with dask.config.set({"distributed.scheduler.allowed-failures": WORKER_DEATHS_ALLOWED}):
+        self.cluster = self.client = None
+        # a local cluster's files (Dask's scratch space, the workers' renders) in one folder,
+        # removed on close even when a worker is stopped before it cleans up
+        self.folder = make_temporary_folder("lpv_sample_workers_") if scheduler is None else None
+        local = {"temporary-directory": self.folder} if self.folder else {}
+        with dask.config.set({"distributed.scheduler.allowed-failures": WORKER_DEATHS_ALLOWED, **local}):
             try:
                 if scheduler is not None:
                     self.client = Client(scheduler, security=security, timeout="20s")
                 else:
                     self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                                host="127.0.0.1", dashboard_address=None)
+                                                host="127.0.0.1", dashboard_address=None,
+                                                env={name: self.folder for name in ("TMPDIR", "TEMP", "TMP")})
                     self.client = Client(self.cluster)
             except (OSError, RuntimeError, TimeoutError) as error:
+                self.close()
                 where = f"the Dask scheduler at '{scheduler}'" if scheduler else f"{workers} local workers"
                 raise LPVError(f"The Cycles sample workers could not start ({where}: {first_line(error)}); they "
                                f"need a Python with the bpy module and Dask (bash scripts/setup.sh).") from None
@@ -75,9 +84,12 @@ class SampleWorkers:
         self.client.gather(futures)
 
     def close(self):
-        self.client.close()
+        if self.client is not None:
+            self.client.close()
         if self.cluster is not None:
             self.cluster.close()
+        if self.folder is not None:
+            shutil.rmtree(self.folder, ignore_errors=True)
 
     def __enter__(self):
         return self

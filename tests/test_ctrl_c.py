@@ -109,3 +109,19 @@ def test_ctrl_c_stops_a_cycles_reference_and_leaves_the_scene_and_no_temporary_f
     assert "SCENE AS IT WAS True" in out, out[-3000:]
     assert not [name for name in os.listdir(temporary) if name.startswith("lpv_cycles_")]
     assert not (tmp_path / "cache").exists() or not os.listdir(tmp_path / "cache")  # no half-written reference
+
+
+def test_ctrl_c_stops_a_corrected_render_and_its_workers_and_leaves_no_temporary_files(tmp_path):
+    """Sample workers render when Ctrl-C comes: they stop with the command, and neither
+    their files nor Dask's nor the scene's copy stay in the temporary folder."""
+    out = tmp_path / "out"
+    process, temporary = start(["-m", "lpv_preview", "demo", "--out", str(out), "--width", "32", "--height", "24",
+                                "--correct-seconds", "600"], tmp_path)
+    rendering = lambda: any(folder.startswith("lpv_sample_workers_") and any(
+        name.startswith("lpv_cycles_samples_") for name in os.listdir(temporary / folder))
+        for folder in os.listdir(temporary))
+    _, err, seconds = interrupt_once(process, rendering)
+    assert_stopped_in_one_line(process, err)
+    assert seconds < STOP_SECONDS, err[-3000:]
+    assert os.listdir(temporary) == []
+    assert not out.exists() or not os.listdir(out)

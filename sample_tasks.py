@@ -3,6 +3,7 @@ result, importable without bpy:
 a Dask worker process unpickles it before anything else, and `lpv_preview.addon` imports
 bpy, which must first find the module, not Blender's own scripts' package of that name
 (a worker process starts with its parent's sys.path, where `import bpy` put them)."""
+import atexit
 import os
 import re
 import sys
@@ -58,6 +59,14 @@ def check_projection(projection, resolution):
                        "leave the orthographic or shifted view to correct it.")
 
 
+def close_renderers():
+    """In a worker: remove the renderer's folder as the process ends (a studio's long-lived
+    worker; a local cluster removes its workers' whole folder anyway)."""
+    for opened in _RENDERERS.values():
+        opened.close()
+    _RENDERERS.clear()
+
+
 def renderer(blend_path):
     """In a worker: its SampleRenderer of the .blend at `blend_path`, opened once a process."""
     if "bpy" not in sys.modules:
@@ -69,9 +78,9 @@ def renderer(blend_path):
     except OSError:
         key = (blend_path,)  # SampleRenderer says there is none
     if key not in _RENDERERS:
-        for opened in _RENDERERS.values():
-            opened.close()
-        _RENDERERS.clear()
+        if not _RENDERERS:
+            atexit.register(close_renderers)
+        close_renderers()
         _RENDERERS[key] = SampleRenderer(blend_path)
     return _RENDERERS[key]
 

@@ -109,15 +109,19 @@ def test_a_saved_file_is_corrected_by_a_remote_cluster_over_tls(cornell_blend, t
     tls = {"distributed.comm.tls.ca-file": cert, "distributed.comm.require-encryption": True,
            **{f"distributed.comm.tls.{role}.{part}": path for role in ("scheduler", "worker", "client")
               for part, path in (("cert", cert), ("key", key))}}
+    worker_temporary = tmp_path / "worker_tmp"  # the studio's worker's own temporary folder
+    worker_temporary.mkdir()
     with dask.config.set(tls):
         with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, protocol="tls://", host="127.0.0.1",
-                          dashboard_address=None, security=Security()) as cluster:
+                          dashboard_address=None, security=Security(), local_directory=str(tmp_path / "scratch"),
+                          env={"TMPDIR": str(worker_temporary)}) as cluster:
             assert cluster.scheduler_address.startswith("tls://")
             assert main(["render", cornell_blend, "--out", str(tmp_path / "out"), "--width", "32", "--height", "24",
                          "--correct-seconds", "1", "--scheduler", cluster.scheduler_address]) == 0
     captured = capsys.readouterr()
     stats = json.loads(captured.out[captured.out.index("{\n"):])
     assert stats["correction_samples"] > 0
+    assert os.listdir(worker_temporary) == []  # its renderer's folder went as it ended
 
 
 def test_corrections_too_large_for_the_free_memory_are_refused(tmp_path, capsys, monkeypatch):

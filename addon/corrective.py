@@ -54,7 +54,7 @@ class Corrector:
         self.view_key = self.queue = self.camera_matrix = self.projection = None
         self.resolution = None
         self.samples_received = self.requests_received = 0
-        self.started = None
+        self.started = self.last_received = None  # when the first request went, the last samples came
         self.updated = (0.0, 0)  # when the queue last learnt the errors, and the samples then
         self.rebuild_seconds = rebuild_seconds  # how long the last rebuild of a frame took
         self.capacity = (-CAPACITY_SECONDS, 1)  # (when asked, requests in flight wanted)
@@ -136,6 +136,7 @@ class Corrector:
             if self.corrections.add(key, region, result.passes["Combined"], spp):
                 self.samples_received += result.passes["Combined"].shape[0] * result.passes["Combined"].shape[1] * spp
                 self.requests_received += 1
+                self.last_received = time.perf_counter()
         return len(done)
 
     def run(self, seconds, frames_at=()):
@@ -166,8 +167,9 @@ class Corrector:
         yield time.perf_counter() - start, frame
 
     def stats(self, reconstruction=None):
-        """Samples received, samples a second since the first request, the estimated error."""
-        elapsed = time.perf_counter() - self.started if self.started is not None else 0.0
+        """Samples received, samples a second from the first request to the last samples
+        (not counting a final rebuild, or a view done asking), the estimated error."""
+        elapsed = self.last_received - self.started if self.last_received is not None else 0.0
         stats = {"correction_samples": self.samples_received, "correction_requests": self.requests_received,
                  "correction_samples_per_second": self.samples_received / elapsed if elapsed > 0 else 0.0}
         if reconstruction is not None:

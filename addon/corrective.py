@@ -84,7 +84,7 @@ class Corrector:
         self.queue.update(reconstruction.error, reconstruction.samples,
                           own.samples if own is not None else np.zeros_like(reconstruction.samples))
         self.updated = (time.perf_counter(), self.samples_received)
-        if self.corrections.layers:  # a rebuild, not the preview alone
+        if reconstruction.samples.any():  # a rebuild, not the preview alone
             self.rebuild_seconds = self.updated[0] - started
         return reconstruction
 

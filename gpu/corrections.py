@@ -79,6 +79,12 @@ class Guide:
         return self.seen.shape[1], self.seen.shape[0]
 
     @cached_property
+    def scale(self):
+        """What a radiance seen here is divided by to be demodulated, and a correction
+        multiplied by: the albedo, ALBEDO_FLOOR added."""
+        return self.albedo.astype(np.float64) + ALBEDO_FLOOR
+
+    @cached_property
     def edges(self):
         """The à-trous filter's edge weights, made on the first reconstruction of this view."""
         return _Edges(self)
@@ -91,7 +97,7 @@ class Layer:
 
     def __init__(self, camera, guide, preview):
         self.camera, self.guide = camera, guide
-        self.preview = preview / (guide.albedo + ALBEDO_FLOOR)  # demodulated, as the samples
+        self.preview = preview / guide.scale  # demodulated, as the samples
         height, width = guide.seen.shape
         self.sum = np.zeros((height, width, 3))  # samples × demodulated radiance
         self.samples = np.zeros((height, width))
@@ -102,7 +108,7 @@ class Layer:
     def add(self, region, combined, samples):
         x0, y0, x1, y1 = region
         finite = np.all(np.isfinite(combined), axis=-1)
-        demodulated = np.where(finite[..., None], combined, 0.0) / (self.guide.albedo[y0:y1, x0:x1] + ALBEDO_FLOOR)
+        demodulated = np.where(finite[..., None], combined, 0.0) / self.guide.scale[y0:y1, x0:x1]
         self.sum[y0:y1, x0:x1] += samples * demodulated
         self.samples[y0:y1, x0:x1] += samples * finite
         self.squares[y0:y1, x0:x1] += samples * (demodulated @ LUMINANCE_WEIGHTS) ** 2
@@ -167,7 +173,7 @@ class Corrections:
         if key in self.layers:  # back at a view: its samples count fully again, against its preview now
             layer = self.layers[key]
             layer.weight = 1.0
-            layer.preview = preview / (layer.guide.albedo + ALBEDO_FLOOR)
+            layer.preview = preview / layer.guide.scale
         while len(self.views) > MAX_LAYERS:
             self.views.pop(next(iter(self.views)))
 
@@ -196,6 +202,7 @@ class Corrections:
         """Every layer's samples as the view `key` sees them (Gathered)."""
         _, guide, preview = self.views[key]
         gathered = Gathered.empty(*guide.seen.shape)
+        demodulated = preview / guide.scale
         for layer_key, layer in self.layers.items():
             scatter, dof = layer.scatter()
             if layer_key == key:
@@ -204,8 +211,7 @@ class Corrections:
                 gathered.scatter += scatter
                 gathered.dof += dof
             else:
-                _project(layer, self._taps(layer_key, key), scatter, dof, preview / (guide.albedo + ALBEDO_FLOOR),
-                         gathered)
+                _project(layer, self._taps(layer_key, key), scatter, dof, demodulated, gathered)
         return gathered
 
     def _taps(self, layer_key, key):
@@ -220,10 +226,9 @@ class Corrections:
         return made[1]
 
     def reconstruct(self, key):
-        """The view `key`'s preview, corrected (the preview itself while no view has samples:
-        a rebuild of nothing costs seconds at 1080p)."""
+        """The view `key`'s preview, corrected."""
         _, guide, preview = self.views[key]
-        if not self.layers:
+        if not self.layers:  # nothing to gather either
             return uncorrected(preview)
         return reconstruct(self.gathered(key), preview, guide)
 
@@ -309,10 +314,13 @@ def _project(layer, taps, scatter, dof, preview, gathered):
 
 def reconstruct(gathered, preview, guide):
     """The corrected preview from the Cycles samples `gathered` (Gathered), the preview and
-    its Guide: the residual rebuilt scale by scale (module docstring)."""
+    its Guide: the residual rebuilt scale by scale (module docstring); the preview itself
+    where no sample is (a rebuild of nothing costs seconds at 1080p)."""
     total, samples = gathered.total, gathered.samples
-    scale = guide.albedo.astype(np.float64) + ALBEDO_FLOOR
+    scale = guide.scale
     sampled = samples > 0
+    if not sampled.any():  # no view's samples reach this one: nothing to rebuild
+        return uncorrected(preview)
     mean = total / np.maximum(samples, 1e-30)[..., None]
     residual = np.where(sampled[..., None], mean - preview / scale, 0.0)
     luminance = residual @ LUMINANCE_WEIGHTS
@@ -322,15 +330,15 @@ def reconstruct(gathered, preview, guide):
                                       (residual * samples[..., None], samples, samples * variance))
     height, width = samples.shape
     # a pixel no sample reached takes no correction its preview's assumed error rules out
-    prior = CONFIDENCE * np.sqrt(UNSAMPLED_ERROR * ((preview @ LUMINANCE_WEIGHTS) ** 2 + RELATIVE_EPSILON))
+    preview_square = (preview @ LUMINANCE_WEIGHTS) ** 2 + RELATIVE_EPSILON
+    prior = CONFIDENCE * np.sqrt(UNSAMPLED_ERROR * preview_square)
     prior /= scale @ LUMINANCE_WEIGHTS
     lower, upper = np.where(sampled, -np.inf, -prior), np.where(sampled, np.inf, prior)
     active = np.ones((height, width), dtype=bool)
     chosen, chosen_variance = np.zeros((height, width, 3)), np.full((height, width), np.nan)
     # Stein's unbiased risk of each scale, averaged over a window of sampled pixels weighed
     # as the relative MSE weighs them, and the scale of least risk with it
-    risk_weight = np.where(sampled, (scale @ LUMINANCE_WEIGHTS) ** 2
-                           / ((preview @ LUMINANCE_WEIGHTS) ** 2 + RELATIVE_EPSILON), 0.0)
+    risk_weight = np.where(sampled, (scale @ LUMINANCE_WEIGHTS) ** 2 / preview_square, 0.0)
     risk_norm = _box_sum(risk_weight, RISK_RADIUS)
     pixel_variance = variance / np.maximum(samples, 1e-30)
     best_risk = np.full((height, width), np.inf)

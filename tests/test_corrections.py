@@ -89,6 +89,7 @@ def test_no_samples_leave_the_preview(camera):
     result = reconstruct(Gathered.empty(*preview.shape[:2]), preview, guide)
     np.testing.assert_array_equal(result.image, preview.astype(np.float32))
     assert result.estimated_error > 0
+    assert "edges" not in guide.__dict__  # nothing to rebuild: no filter was made
     fresh = corner_guide(camera)  # a view before any sample: the same, without the rebuild
     corrections = Corrections()
     corrections.view("view", camera, fresh, preview)

@@ -7,7 +7,6 @@ workers render with; a new view keeps the corrections of the earlier ones that s
 apply. Results of a view the camera left still go into that view's layer.
 """
 import os
-import tempfile
 import time
 from contextlib import contextmanager
 
@@ -19,6 +18,7 @@ from ..gpu.errors import LPVError, first_line
 from ..gpu.correction_queue import RequestQueue
 from ..gpu.corrections import Corrections
 from ..gpu.pipeline import Pipeline
+from .cycles_render import temporary_folder
 from .sample_workers import SampleRequest, SampleWorkers
 
 REQUESTS_PER_WORKER = 2
@@ -207,7 +207,7 @@ def blend_for_workers(bpy_scene, path=None, remote=False):
     if remote:
         raise LPVError("A remote Dask cluster's workers open the .blend file itself; render a saved .blend file "
                        "that they can read at the same path.")
-    with tempfile.TemporaryDirectory(prefix="lpv_corrections_") as folder:
+    with temporary_folder("lpv_corrections_") as folder:
         copy = os.path.join(folder, "corrections.blend")
         write_scene(bpy_scene, copy)
         yield copy

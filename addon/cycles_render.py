@@ -16,6 +16,7 @@ import bpy
 import numpy as np
 
 import addon_utils  # on the path only once bpy is imported
+from mathutils import Matrix
 
 from ..gpu.errors import LPVError, first_line
 from ..gpu.image_io import read_exr_channels
@@ -75,9 +76,9 @@ def make_temporary_folder(prefix):
 
 
 @contextmanager
-def temporary_folder():
+def temporary_folder(prefix="lpv_cycles_"):
     """A temporary folder for a Cycles render's file, removed afterwards."""
-    folder = make_temporary_folder("lpv_cycles_")
+    folder = make_temporary_folder(prefix)
     try:
         yield folder
     finally:
@@ -85,13 +86,14 @@ def temporary_folder():
 
 
 def assign(holder, **values):
-    """Set those of `holder`'s properties that differ from `values` (floats as Blender
-    stores them, in single precision): a sample request changes few, and setting a border,
-    codec or pass anew makes Cycles sync the scene again, with persistent data too."""
+    """Set those of `holder`'s properties that differ from `values` (floats and matrices as
+    Blender stores them, in single precision): a sample request changes few, and setting a
+    border, codec, pass or camera anew makes Cycles sync the scene again, with persistent
+    data too."""
     for name, value in values.items():
         current = getattr(holder, name)
-        if isinstance(value, float):
-            differs = np.float32(current) != np.float32(value)
+        if isinstance(value, (float, Matrix)):
+            differs = np.any(np.float32(current) != np.float32(value))
         else:
             differs = current != value
         if differs:

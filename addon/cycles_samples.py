@@ -66,8 +66,8 @@ class SampleRenderer:
                               REFERENCE_FILTER_WIDTH, request.denoise, request.region, threads)
         x0, y0, x1, y1 = request.region
         camera = request.camera if request.camera is not None else self._camera
-        if camera is not None and np.any(np.float32(scene.camera.matrix_world) != np.float32(camera)):
-            scene.camera.matrix_world = Matrix(camera)  # a nested list would be read as columns
+        if camera is not None:
+            assign(scene.camera, matrix_world=Matrix(camera))  # a nested list would be read as columns
         self._set_lens(request.projection)
         started = time.perf_counter()
         render_to_file(scene, exr_path)

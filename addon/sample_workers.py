@@ -70,16 +70,15 @@ class SampleWorkers:
             raise LPVError(f"The Cycles sample workers could not open '{self.blend_path}': {first_line(error)}.") \
                 from None
 
-    def submit(self, request):
-        """A Dask future of the SampleResult of `request`."""
-        return self.client.submit(render_request, self.blend_path, request, self.threads, pure=False)
+    def submit(self, request, **placement):
+        """A Dask future of the SampleResult of `request` (`placement`: Dask's, such as `workers`)."""
+        return self.client.submit(render_request, self.blend_path, request, self.threads, pure=False, **placement)
 
     def settle(self, resolution):
         """Wait until every worker has ended what it renders: a cancelled request runs to its
         end, and a timed run after it would begin with busy workers. A 1-pixel request of
         `resolution` is queued on each worker's every thread and waited for."""
-        futures = [self.client.submit(render_request, self.blend_path, SampleRequest((0, 0, 1, 1), resolution, 1),
-                                      self.threads, workers=[address], pure=False)
+        futures = [self.submit(SampleRequest((0, 0, 1, 1), resolution, 1), workers=[address])
                    for address, threads in self.client.nthreads().items() for _ in range(threads)]
         self.client.gather(futures)
 

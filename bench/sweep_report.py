@@ -92,7 +92,7 @@ against Cycles: at the front's end a little less error costs many times the fram
 (docs/accuracy.md)."""
 
 
-def _geometric_mean(values):
+def geometric_mean(values):
     return float(np.exp(np.mean(np.log(values))))
 
 
@@ -123,8 +123,8 @@ def choose_presets(report):
         candidates.append({
             "settings": dict(used),
             "frame_ms": float(np.mean([p["timings_ms"]["total_ms"] for p in group])),
-            "relative_mse_vs_cm": _geometric_mean([p["errors_vs_cm"]["relative_mse"] for p in group]),
-            "relative_mse_vs_cycles": _geometric_mean([p["errors_vs_cycles"]["relative_mse"] for p in group])})
+            "relative_mse_vs_cm": geometric_mean([p["errors_vs_cm"]["relative_mse"] for p in group]),
+            "relative_mse_vs_cycles": geometric_mean([p["errors_vs_cycles"]["relative_mse"] for p in group])})
     front = lowest_error_front(candidates, lambda c: c["frame_ms"], lambda c: c["relative_mse_vs_cycles"])
     least_error = front[-1]["relative_mse_vs_cycles"]
     accurate = next(c for c in front if c["relative_mse_vs_cycles"] <= ACCURATE_ERROR_FACTOR * least_error)

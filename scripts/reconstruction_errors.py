@@ -20,6 +20,7 @@ from lpv_preview import demo
 from lpv_preview.addon.correction_runs import path_views, render_previews
 from lpv_preview.addon.cycles_samples import SampleRenderer
 from lpv_preview.bench.corrections import REFERENCE_SAMPLES, SCENES
+from lpv_preview.bench.sweep_report import geometric_mean
 from lpv_preview.gpu.corrections import Corrections
 from lpv_preview.gpu.metrics import relative_mse
 from lpv_preview.gpu.settings import Settings
@@ -62,7 +63,7 @@ def main():
         rows = [row for name in names for row in scene_errors(name, folder) if row[0] in SUMMARISED]
     for column, label in ((1, "raw"), (2, "corrected"), (3, "denoised")):
         print(f"geometric mean at {', '.join(map(str, SUMMARISED))} samples, {label}: "
-              f"{np.exp(np.mean(np.log([row[column] for row in rows]))):.5f}")
+              f"{geometric_mean([row[column] for row in rows]):.5f}")
 
 
 if __name__ == "__main__":

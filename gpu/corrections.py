@@ -97,7 +97,8 @@ class Layer:
 
     def __init__(self, camera, guide, preview):
         self.camera, self.guide = camera, guide
-        self.preview = preview / guide.scale  # demodulated, as the samples
+        self.version = 0  # counts what changes the samples or the preview: what views carry over follows it
+        self.set_preview(preview)
         height, width = guide.seen.shape
         self.sum = np.zeros((height, width, 3))  # samples × demodulated radiance
         self.samples = np.zeros((height, width))
@@ -105,8 +106,14 @@ class Layer:
         self.requests = np.zeros((height, width))
         self.weight = 1.0
 
+    def set_preview(self, preview):
+        """The preview the samples differ from (demodulated, as they are)."""
+        self.preview = preview / self.guide.scale
+        self.version += 1
+
     def add(self, region, combined, samples):
         x0, y0, x1, y1 = region
+        self.version += 1
         finite = np.all(np.isfinite(combined), axis=-1)
         demodulated = np.where(finite[..., None], combined, 0.0) / self.guide.scale[y0:y1, x0:x1]
         self.sum[y0:y1, x0:x1] += samples * demodulated
@@ -157,7 +164,9 @@ class Corrections:
         self.views = {}  # key -> (gpu Camera, Guide, preview)
         self.layers = {}
         self.settings = None  # the previews' settings
-        self.lookups = {}  # (layer key, view key) -> (the view's Guide, its _lookup of the layer)
+        # (layer key, view key) -> (the view's Guide, its _lookup of the layer, the layer's
+        # version, what the view carries over of it then)
+        self.carried = {}
 
     def view(self, key, camera, guide, preview, settings=None):
         """The view `key` (its gpu Camera, Guide and preview) is shown: remembered; its
@@ -173,7 +182,7 @@ class Corrections:
         if key in self.layers:  # back at a view: its samples count fully again, against its preview now
             layer = self.layers[key]
             layer.weight = 1.0
-            layer.preview = preview / layer.guide.scale
+            layer.set_preview(preview)
         while len(self.views) > MAX_LAYERS:
             self.views.pop(next(iter(self.views)))
 
@@ -202,28 +211,37 @@ class Corrections:
         """Every layer's samples as the view `key` sees them (Gathered)."""
         _, guide, preview = self.views[key]
         gathered = Gathered.empty(*guide.seen.shape)
-        demodulated = preview / guide.scale
+        demodulated = (preview / guide.scale).reshape(-1, 3)
         for layer_key, layer in self.layers.items():
-            scatter, dof = layer.scatter()
             if layer_key == key:
+                scatter, dof = layer.scatter()
                 gathered.total += layer.sum * layer.weight
                 gathered.samples += layer.samples * layer.weight
                 gathered.scatter += scatter
                 gathered.dof += dof
-            else:
-                _project(layer, self._taps(layer_key, key), scatter, dof, demodulated, gathered)
+                continue
+            # the layer's residual carried over, added to this view's own preview
+            residual, samples, scatter, dof = self._carried(layer_key, key)
+            gathered.total += (residual + samples[:, None] * demodulated).reshape(gathered.total.shape) * layer.weight
+            gathered.samples += samples.reshape(gathered.samples.shape) * layer.weight
+            gathered.scatter += scatter.reshape(gathered.scatter.shape)
+            gathered.dof += dof.reshape(gathered.dof.shape)
         return gathered
 
-    def _taps(self, layer_key, key):
-        """The _lookup of the layer `layer_key` from the view `key`, made once for the pair
-        and its guide (a view rests many times while samples come)."""
+    def _carried(self, layer_key, key):
+        """What the view `key` carries over of the layer `layer_key` (_project), made again
+        only when the layer changed (a late result, its view shown again) or the view's
+        guide did: a view rests many times while samples come. The lookup (_lookup)
+        depends on the guide alone."""
         layer, guide = self.layers[layer_key], self.views[key][1]
-        for pair in [pair for pair in self.lookups if pair[0] not in self.layers or pair[1] not in self.views]:
-            del self.lookups[pair]
-        made = self.lookups.get((layer_key, key))
+        for pair in [pair for pair in self.carried if pair[0] not in self.layers or pair[1] not in self.views]:
+            del self.carried[pair]
+        made = self.carried.get((layer_key, key))
         if made is None or made[0] is not guide:
-            made = self.lookups[layer_key, key] = (guide, _lookup(layer, guide))
-        return made[1]
+            made = (guide, _lookup(layer, guide), None, None)
+        if made[2] != layer.version:
+            made = self.carried[layer_key, key] = (guide, made[1], layer.version, _project(layer, made[1]))
+        return made[3]
 
     def reconstruct(self, key):
         """The view `key`'s preview, corrected."""
@@ -285,31 +303,25 @@ def _lookup(layer, target):
     return taps
 
 
-def _project(layer, taps, scatter, dof, preview, gathered):
-    """Add to `gathered` `layer`'s samples (and their `scatter` and `dof`) where the
-    `taps` (_lookup) find them, the pixels with samples alone, renormalised. What is
-    carried over is the samples' difference from the layer's preview, added to the
-    target's own `preview` (demodulated): the previews hold the detail (shadow edges, small
-    geometry) that resampling would blur, the difference is smooth."""
+def _project(layer, taps):
+    """`layer`'s samples (and the spread of its requests) where the `taps` (_lookup) find
+    them, the pixels with samples alone, renormalised, flat: (residual (n, 3), samples,
+    scatter, dof). What is carried over is the samples' difference from the layer's
+    preview, to be added to the target's own preview: the previews hold the detail (shadow
+    edges, small geometry) that resampling would blur, the difference is smooth."""
+    scatter, dof = layer.scatter()
     residual = layer.sum - layer.samples[..., None] * layer.preview
-    flat = {name: values.reshape(-1, values.shape[-1]) if values.ndim == 3 else values.reshape(-1)
-            for name, values in (("residual", residual), ("samples", layer.samples), ("scatter", scatter),
-                                 ("dof", dof))}
+    flat = [residual.reshape(-1, 3), layer.samples.reshape(-1), scatter.reshape(-1), dof.reshape(-1)]
     count = taps[0][0].shape[0]
-    picked = {name: np.zeros_like(values, shape=(count,) + values.shape[1:]) for name, values in flat.items()}
+    picked = [np.zeros_like(values, shape=(count,) + values.shape[1:]) for values in flat]
     found = np.zeros(count)
     for pixel, geometric in taps:
-        weight = np.where(flat["samples"][pixel] > 0, geometric, 0.0)
+        weight = np.where(flat[1][pixel] > 0, geometric, 0.0)
         found += weight
-        for name, values in flat.items():
-            picked[name] += (weight[:, None] if values.ndim == 2 else weight) * values[pixel]
+        for total, values in zip(picked, flat):
+            total += (weight[:, None] if values.ndim == 2 else weight) * values[pixel]
     share = np.where(found > 0, 1.0 / np.maximum(found, 1e-30), 0.0)  # the surface's neighbours alone, renormalised
-    samples = picked["samples"] * share
-    total = picked["residual"] * share[:, None] + samples[:, None] * preview.reshape(-1, 3)
-    gathered.total += total.reshape(gathered.total.shape) * layer.weight
-    gathered.samples += samples.reshape(gathered.samples.shape) * layer.weight
-    gathered.scatter += (picked["scatter"] * share).reshape(gathered.scatter.shape)
-    gathered.dof += (picked["dof"] * share).reshape(gathered.dof.shape)
+    return picked[0] * share[:, None], picked[1] * share, picked[2] * share, picked[3] * share
 
 
 def reconstruct(gathered, preview, guide):

@@ -121,7 +121,7 @@ class Camera:
 
     def pixel_angle(self, height):
         """A pixel's width per unit distance in front of the camera, in an image `height`
-        pixels tall."""
+        pixels tall (orthographic: its width)."""
         return 2.0 / (abs(float(self.projection[1, 1])) * height)
 
     def moved_by(self, offset):

@@ -205,19 +205,18 @@ def read_guide(glc, targets, camera):
     buffer = glc.gl.buffer(reserve=width * height * 48)
     try:
         buffer.bind_to_storage_buffer(0)
-        set_uniforms(program, **gbuffer_uniforms(camera), camera_position=tuple(map(float, camera.position)))
+        set_uniforms(program, **gbuffer_uniforms(camera))
         dispatch(program, width, height)
         texels = np.frombuffer(buffer.read(), dtype=np.float32).reshape(height, width, 3, 4)[::-1]
     finally:
         buffer.release()
     position, normal, albedo = (np.ascontiguousarray(texels[:, :, i, :3]) for i in range(3))
     seen = texels[:, :, 0, 3] > 0
-    if camera.projection[3, 3] == 1:  # orthographic: one footprint, one direction
-        footprint = np.where(seen, 2.0 / (abs(camera.projection[1, 1]) * height), 0.0)
-        position[~seen] = -camera.view[2, :3]
+    if camera.projection[3, 3] == 1:  # orthographic: a pixel is as wide at every distance
+        distance = np.ones((height, width), np.float32)
     else:
         distance = np.linalg.norm(position - camera.position.astype(np.float32), axis=-1)
-        footprint = np.where(seen, distance, 0.0) * camera.pixel_angle(height)
+    footprint = np.where(seen, distance, 0.0) * camera.pixel_angle(height)
     return Guide(position, normal, albedo, seen, footprint.astype(np.float32))
 
 

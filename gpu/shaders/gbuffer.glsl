@@ -22,13 +22,18 @@ uvec4 gbuffer_pack(vec3 normal, vec3 albedo) {
     return uvec4(packSnorm2x16(octahedral_encode(normal)), floatBitsToUint(albedo));
 }
 
+// The world point at the centre of `pixel` and the window depth `depth` (0 near, 1 far).
+vec3 gbuffer_unproject(ivec2 pixel, float depth) {
+    vec2 ndc = (vec2(pixel) + 0.5) / vec2(textureSize(g_depth, 0)) * 2.0 - 1.0;
+    vec4 world = inverse_view_projection * vec4(ndc, depth * 2.0 - 1.0, 1.0);
+    return world.xyz / world.w;
+}
+
 // The surface the camera sees at `pixel`; false where it sees nothing.
 bool gbuffer_surface(ivec2 pixel, out vec3 position, out vec3 normal, out vec3 albedo) {
     float depth = texelFetch(g_depth, pixel, 0).r;
     if (depth >= 1.0) return false;
-    vec2 ndc = (vec2(pixel) + 0.5) / vec2(textureSize(g_depth, 0)) * 2.0 - 1.0;
-    vec4 world = inverse_view_projection * vec4(ndc, depth * 2.0 - 1.0, 1.0);
-    position = world.xyz / world.w;
+    position = gbuffer_unproject(pixel, depth);
     uvec4 surface = texelFetch(g_surface, pixel, 0);
     normal = octahedral_decode(unpackSnorm2x16(surface.x));
     albedo = uintBitsToFloat(surface.yzw);

@@ -1,11 +1,10 @@
 #version 450 core
 // The G-buffer as floats for the corrections (gpu/corrections.py Guide): per pixel the
 // surface's position and whether it is seen, its normal, its albedo; where nothing is seen,
-// the ray's direction in place of the position.
+// the ray's direction in place of the position (near to far: perspective or orthographic).
 #include "gbuffer.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = 0) writeonly buffer Guide { vec4 guide[]; };
-uniform vec3 camera_position;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -19,9 +18,7 @@ void main() {
         guide[at + 2] = vec4(albedo, 0.0);
         return;
     }
-    vec2 ndc = (vec2(pixel) + 0.5) / vec2(size) * 2.0 - 1.0;
-    vec4 far = inverse_view_projection * vec4(ndc, 1.0, 1.0);
-    guide[at] = vec4(normalize(far.xyz / far.w - camera_position), 0.0);
+    guide[at] = vec4(normalize(gbuffer_unproject(pixel, 1.0) - gbuffer_unproject(pixel, 0.0)), 0.0);
     guide[at + 1] = vec4(0.0);
     guide[at + 2] = vec4(0.0);
 }

@@ -69,15 +69,22 @@ def add_setting_flags(parser):
     parser.add_argument("--preset", choices=tuple(PRESETS), help="start from this preset of gpu/settings.py: "
                         + "; ".join(f"{name}: {describe_preset(name)}" for name in PRESETS))
     for name, field in PARAMETERS.items():
-        meta = field.metadata
-        flag = "--" + name.replace("_", "-")
-        if field.type in (bool, "bool"):
-            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=None, help=meta["description"])
-            continue
-        kind = {"int": int, "float": float, "str": str}.get(field.type, field.type)
-        limits = f" ({meta['min']}..{meta['max']}, default {field.default})" if meta["min"] is not None else ""
-        parser.add_argument(flag, type=kind, default=None, choices=meta["choices"],
-                            help=meta["description"] + limits)
+        add_parameter_flag(parser, name, field)
+
+
+def add_parameter_flag(parser, name, field, flag=None):
+    """The flag of one parameter of gpu/settings.py (`flag`: its name, else the parameter's
+    with dashes), defaulting to None (= not given), its range and default in its help."""
+    meta = field.metadata
+    flag = flag or "--" + name.replace("_", "-")
+    if field.type in (bool, "bool"):
+        parser.add_argument(flag, dest=name, action=argparse.BooleanOptionalAction, default=None,
+                            help=meta["description"])
+        return
+    kind = {"int": int, "float": float, "str": str}.get(field.type, field.type)
+    limits = f" ({meta['min']}..{meta['max']}, default {field.default})" if meta["min"] is not None else ""
+    parser.add_argument(flag, dest=name, type=kind, default=None, choices=meta["choices"],
+                        help=meta["description"] + limits)
 
 
 def add_debug_passes_flag(parser):
@@ -89,11 +96,8 @@ def add_debug_passes_flag(parser):
 def add_correction_flags(parser, scheduler=True):
     """--correct-seconds and --workers (gpu/settings.py CorrectionSettings), and --scheduler
     where the .blend can be shared."""
-    for name, flag, kind in (("correct_seconds", "--correct-seconds", float), ("correction_workers", "--workers", int)):
-        field = CORRECTION_PARAMETERS[name]
-        meta = field.metadata
-        parser.add_argument(flag, dest=name, type=kind, help=f"{meta['description']} ({meta['min']}..{meta['max']}, "
-                                                             f"default {field.default})")
+    for name, flag in (("correct_seconds", "--correct-seconds"), ("correction_workers", "--workers")):
+        add_parameter_flag(parser, name, CORRECTION_PARAMETERS[name], flag)
     if scheduler:
         parser.add_argument("--scheduler", help="with --correct-seconds: the tls://HOST:PORT of a Dask scheduler "
                                                 "whose workers render the Cycles samples, its certificates in Dask's "

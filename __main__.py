@@ -364,8 +364,10 @@ def bench_corrections(args, log):
     scenes = []
     with tempfile.TemporaryDirectory(prefix="lpv_corrections_") as folder:
         for name, size in corrections.SCENES.items():
-            runs = measure_scene(name, lambda: demo.build(name, resolution=size), size, corrections.REFERENCE_SAMPLES,
-                                 os.path.join(folder, f"{name}.blend"), cores, corrections.TIMING, log)
+            settings = settings_from(args, *size)  # the setting flags: the previews' (--width, --height: the size)
+            runs = measure_scene(name, lambda: demo.build(name, resolution=(settings.width, settings.height)), settings,
+                                 corrections.REFERENCE_SAMPLES, os.path.join(folder, f"{name}.blend"), cores,
+                                 corrections.TIMING, log)
             scenes.append(corrections.scene_report(name, runs, corrections.REFERENCE_SAMPLES, gpu.get(name)))
             log(json.dumps({key: scenes[-1][key] for key in ("name", "preview_error", "goals", "turn")}))
     report = {"machine": f"{platform.processor() or platform.machine()}, {cores} CPU cores", "cores": cores,
@@ -396,6 +398,7 @@ def command_bench(args):
         check_writable(args.out)
         return bench_sample_workers(args, log)
     if args.corrections:
+        check_setting_flags(args)
         check_writable(args.out)
         return bench_corrections(args, log)
     if args.emitters:
@@ -523,7 +526,8 @@ def build_parser():
     command.add_argument("--corrections", action="store_true",
                          help="the preview corrected toward Cycles by sample workers against Cycles progressive and "
                               "denoised, error over wall time, on the demo scenes lit by lamps (corrections.json, "
-                              ".md, plots; minutes, and the references the first time)")
+                              ".md, plots; minutes, and the references the first time); the setting flags are the "
+                              "previews'")
     command.add_argument("--gpu-previews", help="with --corrections: the JSON of scripts/time_previews.py on a GPU "
                                                "(docs/bench/corrections_previews.json), to judge the goals also with "
                                                "the preview rendered there")

@@ -12,7 +12,6 @@ import numpy as np
 from mathutils import Matrix
 
 from ..gpu.pipeline import Pipeline
-from ..gpu.settings import Settings
 from .corrective import Corrector
 from .cycles_reference import ReferenceCache, cycles_reference
 from .cycles_samples import SampleRenderer
@@ -140,14 +139,16 @@ def corrected(workers, view, seconds, frames_at=(), corrector=None):
     return timeline, corrector
 
 
-def measure_scene(name, build, resolution, reference_samples, blend_path, cores, timing, log=print):
-    """Every timeline of the benchmark on the scene `name` that `build()` makes, `timing`
-    giving the camera path's turns and the seconds of each run (bench/corrections.py
-    TIMING): {"views", "still" {method: timeline}, "cycles_samples", "turn" (the first
-    corrected image after turning to the path's last view), "path" [{method: timeline}
-    per view]}, Cycles and the workers on `cores` cores."""
+def measure_scene(name, build, settings, reference_samples, blend_path, cores, timing, log=print):
+    """Every timeline of the benchmark on the scene `name` that `build()` makes, its
+    previews rendered with `settings` (their size the benchmark's), `timing` giving the
+    camera path's turns and the seconds of each run (bench/corrections.py TIMING):
+    {"views", "still" {method: timeline}, "cycles_samples", "turn" (the first corrected
+    image after turning to the path's last view), "path" [{method: timeline} per view]},
+    Cycles and the workers on `cores` cores."""
+    resolution = (settings.width, settings.height)
     views = path_views(name, build, resolution, timing["path_degrees"], reference_samples, blend_path, log)
-    render_previews(views, Settings(width=resolution[0], height=resolution[1]))
+    render_previews(views, settings)
     renderer = SampleRenderer(blend_path)
     try:
         renderer.render(SampleRequest((0, 0, 1, 1), resolution, 1, 1), cores)  # Cycles' scene loaded, as the workers'

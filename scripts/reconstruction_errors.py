@@ -1,41 +1,43 @@
 """The corrections' reconstruction against raw and denoised Cycles at equal samples, on the
 demo scenes the corrections' benchmark uses (docs/method.md, "Corrections toward Cycles").
 
-    .venv/bin/python scripts/reconstruction_errors.py [cornell,atrium,city]
+    .venv/bin/python scripts/reconstruction_errors.py [cornell,atrium,city] [setting flags]
 
 builds each scene at its benchmark size, renders (or reads from the references' cache) its
-4,096-sample full-GI reference and its preview, then feeds the corrections whole-frame
-Cycles requests of 1, 1, 2, 4, ... 32 samples a pixel (64 in all, one renderer on every
-core) and prints, at each total, the relative MSE of the samples' mean, of the corrected
-frame and of Cycles denoised at as many samples, and their geometric means over the
-scenes at 1, 2, 4, 16 and 64 samples. Run it at another commit to compare reconstructions.
+4,096-sample full-GI reference and its preview (with the setting flags given, such as
+--bounces 4), then feeds the corrections whole-frame Cycles requests of 1, 1, 2, 4, ... 32
+samples a pixel (64 in all, one renderer on every core) and prints, at each total, the
+relative MSE of the samples' mean, of the corrected frame and of Cycles denoised at as many
+samples, and their geometric means over the scenes at 1, 2, 4, 16 and 64 samples. Run it
+at another commit to compare reconstructions.
 """
+import argparse
 import os
-import sys
 import tempfile
 
 import numpy as np
 
 from lpv_preview import demo
+from lpv_preview.__main__ import add_setting_flags, check_setting_flags, settings_from
 from lpv_preview.addon.correction_runs import path_views, render_previews
 from lpv_preview.addon.cycles_samples import SampleRenderer
 from lpv_preview.bench.corrections import REFERENCE_SAMPLES, SCENES
 from lpv_preview.bench.sweep_report import geometric_mean
 from lpv_preview.gpu.corrections import Corrections
 from lpv_preview.gpu.metrics import relative_mse
-from lpv_preview.gpu.settings import Settings
 from lpv_preview.sample_tasks import SampleRequest
 
 REQUESTS = (1, 1, 2, 4, 8, 16, 32)
 SUMMARISED = (1, 2, 4, 16, 64)
 
 
-def scene_errors(name, folder):
-    size = SCENES[name]
+def scene_errors(name, folder, args):
+    settings = settings_from(args, *SCENES[name])  # --width, --height: another size
+    size = (settings.width, settings.height)
     blend = os.path.join(folder, f"{name}.blend")
     view = path_views(name, lambda: demo.build(name, resolution=size), size, (0.0,), REFERENCE_SAMPLES, blend,
                       log=lambda *_: None)[0]
-    render_previews([view], Settings(width=size[0], height=size[1]))
+    render_previews([view], settings)
     renderer = SampleRenderer(blend)
     corrections = Corrections()
     corrections.view(view.key, view.scene.camera, view.guide, view.preview)
@@ -58,9 +60,16 @@ def scene_errors(name, folder):
 
 
 def main():
-    names = sys.argv[1].split(",") if len(sys.argv) > 1 else list(SCENES)
+    parser = argparse.ArgumentParser(description="the corrections' reconstruction against raw and denoised Cycles")
+    parser.add_argument("scenes", nargs="?", default=",".join(SCENES), help="comma-separated: " + ", ".join(SCENES))
+    add_setting_flags(parser)
+    args = parser.parse_args()
+    names = args.scenes.split(",")
+    if set(names) - set(SCENES):
+        parser.error(f"unknown scene in '{args.scenes}'; choose from {', '.join(SCENES)}")
+    check_setting_flags(args)
     with tempfile.TemporaryDirectory(prefix="lpv_reconstruction_") as folder:
-        rows = [row for name in names for row in scene_errors(name, folder) if row[0] in SUMMARISED]
+        rows = [row for name in names for row in scene_errors(name, folder, args) if row[0] in SUMMARISED]
     for column, label in ((1, "raw"), (2, "corrected"), (3, "denoised")):
         print(f"geometric mean at {', '.join(map(str, SUMMARISED))} samples, {label}: "
               f"{geometric_mean([row[column] for row in rows]):.5f}")

@@ -1,14 +1,15 @@
 """Times the preview frame the corrections start from, on exported scenes (.npz), without Blender.
 
-    python scripts/time_previews.py NAME=FILE.npz:WIDTHxHEIGHT [...] > corrections_previews.json
+    python scripts/time_previews.py NAME=FILE.npz:WIDTHxHEIGHT [...] [setting flags] > corrections_previews.json
 
 reads each FILE.npz (made with `python -m lpv_preview export NAME`) and, as the
 corrections' benchmark does (addon/correction_runs.py render_previews), renders a frame
 with a pipeline released after (shaders compiled), then times five whole frames of fresh
-pipelines at WIDTH × HEIGHT with the default settings; prints the machine and each
-scene's median milliseconds as JSON, which `bench --corrections --gpu-previews` reads. The
-benchmark on a CPU-only machine counts its own (llvmpipe) preview time; this gives the
-GPU's for the same frames.
+pipelines at WIDTH × HEIGHT with the default settings (or those the setting flags give,
+as `bench --corrections` takes them); prints the machine and each scene's median
+milliseconds as JSON, which `bench --corrections --gpu-previews` reads. The benchmark on a
+CPU-only machine counts its own (llvmpipe) preview time; this gives the GPU's for the same
+frames.
 """
 import argparse
 import json
@@ -16,20 +17,22 @@ import statistics
 import sys
 import time
 
+from lpv_preview.__main__ import add_setting_flags, check_setting_flags, settings_from
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.scene_file import load_scene
-from lpv_preview.gpu.settings import Settings
 
 parser = argparse.ArgumentParser(description="the corrections' preview frames, timed")
 parser.add_argument("scenes", nargs="+", help="NAME=FILE.npz:WIDTHxHEIGHT")
+add_setting_flags(parser)
 args = parser.parse_args()
+check_setting_flags(args)
 results = {}
 for item in args.scenes:
     name, rest = item.split("=", 1)
     path, size = rest.rsplit(":", 1)
     width, height = map(int, size.split("x"))
     scene = load_scene(path)
-    settings = Settings(width=width, height=height)
+    settings = settings_from(args, width, height)
     warm = Pipeline(settings)
     warm.render_converged(scene)
     warm.release()

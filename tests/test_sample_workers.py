@@ -268,6 +268,7 @@ def test_each_frame_of_an_animation_is_corrected_toward_its_own_cycles_render(tm
      "give one of them"),
     (["demo", "--correct-seconds", "-1"], "correct_seconds"),
     (["bench", "--corrections", "--gpu-previews", "missing.json"], "Cannot read the GPU's preview times"),
+    (["bench", "--corrections", "--bounces", "99"], "Setting 'bounces' is 99"),  # the previews' settings
 ])
 def test_bad_correction_flags_are_refused_before_any_work(argv, words, tmp_path, capsys):
     assert main([*argv, "--out", str(tmp_path)]) == 2

@@ -60,6 +60,9 @@ RISK_RADIUS = 3
 OUTLIER = 4.0
 """A pixel whose own squared deviation from its window's mean passes this many times the window's
 variance (a firefly) is given its own: its samples then spread over a larger scale."""
+AGREEING_DOF = 2
+"""Repeated requests of its own after which a pixel that stands out of its window, but whose
+requests spread no more than OUTLIER times its window's, is detail they agree on, not a firefly."""
 
 
 @dataclass
@@ -429,13 +432,14 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     requests' means about their pixels' own means where the window holds at least
     NOISE_DOF repeated requests (noise alone), a pixel whose own requests spread more, or
     that has fewer than NOISE_DOF repeated requests of its own and stands out of its window
-    more than OUTLIER times its spread (a firefly among them, or a lone detail), given its
-    own; else, while one request a pixel is all there is,
-    from the spread of the pixels' means about the window's (the residual's own variation
-    counts too: conservative), a pixel far off it (a firefly) given its own."""
+    more than OUTLIER times its spread (a firefly among them), given its own unless
+    AGREEING_DOF or more of its requests agree (detail); else, while one request a pixel is
+    all there is, from the spread of the pixels' means about the window's (the residual's
+    own variation counts too: conservative), a pixel far off it (a firefly) given its own."""
     repeated = _box_sum(dof, radius)
-    measured = np.maximum(_box_sum(scatter, radius), 0.0) / np.maximum(repeated, 1.0)
-    measured = np.maximum(measured, scatter / np.maximum(dof, 1.0))  # a firefly's requests spread it
+    window = np.maximum(_box_sum(scatter, radius), 0.0) / np.maximum(repeated, 1.0)
+    own_spread = scatter / np.maximum(dof, 1.0)
+    measured = np.maximum(window, own_spread)  # a firefly's requests spread it
     sampled = (samples > 0).astype(np.float64)
     weights = _box_sum(samples, radius)
     first = _box_sum(samples * luminance, radius)
@@ -448,8 +452,11 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     own = samples * (luminance - first / np.maximum(weights, 1e-30)) ** 2
     spatial = np.where(own > OUTLIER * pooled, own, pooled)
     # a firefly in one of a pixel's few requests hardly spreads their means (the larger
-    # request holds it and the mean): the pixel is judged against its window's then too
+    # request holds it and the mean): the pixel is judged against its window's then too,
+    # but a detail every request shows (a window's edge, a lamp's speck) spreads them no
+    # more than noise does
     firefly = (dof < NOISE_DOF) & (own > OUTLIER * np.maximum(pooled, measured))
+    firefly &= (dof < AGREEING_DOF) | (own_spread > OUTLIER * window)
     return np.where(repeated >= NOISE_DOF, np.where(firefly, own, measured), spatial)
 
 

@@ -118,6 +118,25 @@ def test_a_firefly_in_the_larger_of_two_requests_is_not_kept(camera):
     assert relative_mse(corrected, truth) < relative_mse(preview, truth)
 
 
+def test_a_detail_every_request_shows_is_kept(camera):
+    """Specks twice as bright as their floor, in neither the preview nor the G-buffer, stand
+    out of their windows alike in each of a pixel's first four requests (1, 1, 2 and 4
+    samples): they are kept as detail, not spread as fireflies (which kept a fifth of them)."""
+    guide = corner_guide(camera)
+    preview = truth_of(guide) * 0.8
+    truth = truth_of(guide)
+    specks = (slice(28, 44, 5), slice(8, 56, 6))  # on the floor, a few pixels apart
+    truth[specks] *= 2.0
+    for seed in range(3):
+        rng = np.random.default_rng(seed)
+        layer = Layer(None, guide, np.zeros(guide.albedo.shape))
+        for samples in (1, 1, 2, 4):
+            layer.add((0, 0, *guide.size), noisy_requests(truth, samples, rng, requests=1, sigma=0.3)[0], samples)
+        corrected = reconstruct(Gathered(layer.sum, layer.samples, *layer.scatter()), preview, guide).image
+        kept = (corrected[specks] - preview[specks]).mean(-1) / (truth[specks] - preview[specks]).mean(-1)
+        assert np.median(kept) > 0.6, seed
+
+
 def test_a_correction_stops_at_the_geometry_edges(camera):
     """Samples of the floor alone say nothing of the wall: it keeps its preview."""
     guide = corner_guide(camera)

@@ -340,9 +340,17 @@ def reconstruct(gathered, preview, guide):
     residual = np.where(sampled[..., None], mean - preview / scale, 0.0)
     luminance = residual @ LUMINANCE_WEIGHTS
     variance = _pooled_variance(luminance, samples, gathered.scatter, gathered.dof)
+    # a pixel no sample reached takes the correction of those its scale reaches, scaled down
+    # by its preview over theirs where it is darker: a lamp-lit wall's missing light is not
+    # a shaded face's (their preview, demodulated, goes through the cascade as a 4th channel)
+    extrapolated = not sampled.all()
+    own_preview = (preview / scale) @ LUMINANCE_WEIGHTS
+    weighed = [residual * samples[..., None]]
+    if extrapolated:
+        weighed.append((samples * own_preview)[..., None])
     # the cascade in single precision: half the memory traffic of its filters, which are most of the time
     numerator, denominator, spread = (np.asarray(values, np.float32) for values in
-                                      (residual * samples[..., None], samples, samples * variance))
+                                      (np.concatenate(weighed, axis=-1), samples, samples * variance))
     height, width = samples.shape
     # a pixel no sample reached takes no correction its preview's assumed error rules out
     preview_square = (preview @ LUMINANCE_WEIGHTS) ** 2 + RELATIVE_EPSILON
@@ -367,6 +375,9 @@ def reconstruct(gathered, preview, guide):
         valid = denominator > 1e-12
         safe = np.where(valid, denominator, 1.0)
         estimate = numerator / safe[..., None]
+        if extrapolated:
+            darker = np.clip(own_preview / np.maximum(estimate[..., 3], 1e-6), 0.0, 1.0)
+            estimate = estimate[..., :3] * np.where(sampled, 1.0, darker)[..., None]
         interval_variance = spread / (safe * safe)
         estimate_variance = interval_variance * CASCADE_VARIANCE[level]
         centre = estimate @ LUMINANCE_WEIGHTS

@@ -137,6 +137,23 @@ def test_a_detail_every_request_shows_is_kept(camera):
         assert np.median(kept) > 0.6, seed
 
 
+def test_a_darker_pixel_no_sample_reached_takes_the_correction_scaled_down(camera):
+    """Samples of the floor's left half, lit four times as brightly as its right, whose
+    preview misses 40 % of the light everywhere: the right half, no sample of its own yet
+    (the first requests' rows), takes the left's correction scaled down by its preview over
+    theirs, not the left's missing light, which its assumed error ruled out (no correction)."""
+    guide = corner_guide(camera)
+    truth = truth_of(guide) * np.where(guide.position[..., :1] < 0, 4.0, 1.0)
+    preview = truth * 0.6
+    width, height = guide.size
+    layer = Layer(None, guide, np.zeros(guide.albedo.shape))
+    for image in noisy_requests(truth, 4, np.random.default_rng(2), sigma=0.3):
+        layer.add((0, 0, width // 2, height), image[:, :width // 2], 4)
+    corrected = reconstruct(Gathered(layer.sum, layer.samples, *layer.scatter()), preview, guide).image
+    right = np.s_[:, width // 2 + 4:]  # a few columns from the sampled half on
+    assert relative_mse(corrected[right], truth[right]) < 0.1 * relative_mse(preview[right], truth[right])
+
+
 def test_a_correction_stops_at_the_geometry_edges(camera):
     """Samples of the floor alone say nothing of the wall: it keeps its preview."""
     guide = corner_guide(camera)

@@ -364,8 +364,7 @@ def bench_corrections(args, log):
     scenes = []
     with tempfile.TemporaryDirectory(prefix="lpv_corrections_") as folder:
         for name, size in corrections.SCENES.items():
-            settings = settings_from(args, *size)  # the setting flags: the previews' (--width, --height: the size)
-            runs = measure_scene(name, lambda: demo.build(name, resolution=(settings.width, settings.height)), settings,
+            runs = measure_scene(name, lambda: demo.build(name, resolution=size), settings_from(args, *size),
                                  corrections.REFERENCE_SAMPLES, os.path.join(folder, f"{name}.blend"), cores,
                                  corrections.TIMING, log)
             scenes.append(corrections.scene_report(name, runs, corrections.REFERENCE_SAMPLES, gpu.get(name)))
@@ -399,6 +398,9 @@ def command_bench(args):
         return bench_sample_workers(args, log)
     if args.corrections:
         check_setting_flags(args)
+        if args.width is not None or args.height is not None:
+            raise LPVError("bench --corrections renders each demo scene at its own size (bench/corrections.py "
+                           "SCENES); leave out --width and --height.")
         check_writable(args.out)
         return bench_corrections(args, log)
     if args.emitters:

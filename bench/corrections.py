@@ -46,10 +46,16 @@ def read_gpu_previews(path):
     one sentence."""
     try:
         scenes = json.loads(Path(path).read_text())["scenes"]
-        return {name: float(scene["preview_ms"]) / 1e3 for name, scene in scenes.items()}
+        times = {name: (float(scene["preview_ms"]) / 1e3, tuple(scene["size"])) for name, scene in scenes.items()}
     except (OSError, ValueError, KeyError, TypeError) as error:
         raise LPVError(f"Cannot read the GPU's preview times from '{path}' ({first_line(error)}); give the JSON "
                        f"that scripts/time_previews.py printed.") from None
+    for name, (_, size) in times.items():
+        if name in SCENES and size != SCENES[name]:
+            raise LPVError(f"The GPU's preview of {name} in '{path}' was timed at {size[0]} x {size[1]}, not at the "
+                           f"benchmark's {SCENES[name][0]} x {SCENES[name][1]}; time it again with "
+                           f"scripts/time_previews.py.")
+    return {name: seconds for name, (seconds, _) in times.items()}
 
 
 def error_curve(timeline, reference):

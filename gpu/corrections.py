@@ -61,8 +61,9 @@ OUTLIER = 4.0
 """A pixel whose own squared deviation from its window's mean passes this many times the window's
 variance (a firefly) is given its own: its samples then spread over a larger scale."""
 AGREEING_DOF = 2
-"""Repeated requests of its own after which a pixel that stands out of its window, but whose
-requests spread no more than OUTLIER times its window's, is detail they agree on, not a firefly."""
+"""Repeated requests of its own (requests - 1) from which a pixel that stands out of its
+window, but whose requests spread no more than OUTLIER times its window's, is detail they
+agree on, not a firefly."""
 
 
 @dataclass
@@ -340,17 +341,18 @@ def reconstruct(gathered, preview, guide):
     residual = np.where(sampled[..., None], mean - preview / scale, 0.0)
     luminance = residual @ LUMINANCE_WEIGHTS
     variance = _pooled_variance(luminance, samples, gathered.scatter, gathered.dof)
+    numerator = residual * samples[..., None]
     # a pixel no sample reached takes the correction of those its scale reaches, scaled down
-    # by its preview over theirs where it is darker: a lamp-lit wall's missing light is not
-    # a shaded face's (their preview, demodulated, goes through the cascade as a 4th channel)
+    # by its preview's lighting (demodulated) over theirs where it is darker: a lamp-lit
+    # wall's missing light is not a shaded face's (theirs goes through the cascade as a
+    # 4th channel, while any pixel has no sample)
     extrapolated = not sampled.all()
-    own_preview = (preview / scale) @ LUMINANCE_WEIGHTS
-    weighed = [residual * samples[..., None]]
     if extrapolated:
-        weighed.append((samples * own_preview)[..., None])
+        own_lighting = (preview / scale) @ LUMINANCE_WEIGHTS
+        numerator = np.concatenate([numerator, (samples * own_lighting)[..., None]], axis=-1)
     # the cascade in single precision: half the memory traffic of its filters, which are most of the time
     numerator, denominator, spread = (np.asarray(values, np.float32) for values in
-                                      (np.concatenate(weighed, axis=-1), samples, samples * variance))
+                                      (numerator, samples, samples * variance))
     height, width = samples.shape
     # a pixel no sample reached takes no correction its preview's assumed error rules out
     preview_square = (preview @ LUMINANCE_WEIGHTS) ** 2 + RELATIVE_EPSILON
@@ -375,10 +377,11 @@ def reconstruct(gathered, preview, guide):
         valid = denominator > 1e-12
         safe = np.where(valid, denominator, 1.0)
         estimate = numerator / safe[..., None]
-        if extrapolated:
-            darker = np.clip(own_preview / np.maximum(estimate[..., 3], 1e-6), 0.0, 1.0)
-            estimate = estimate[..., :3] * np.where(sampled, 1.0, darker)[..., None]
         interval_variance = spread / (safe * safe)
+        if extrapolated:
+            dimming = np.where(sampled, 1.0, np.clip(own_lighting / np.maximum(estimate[..., 3], 1e-6), 0.0, 1.0))
+            estimate = estimate[..., :3] * dimming[..., None]
+            interval_variance = interval_variance * dimming * dimming  # the noise scales with the estimate
         estimate_variance = interval_variance * CASCADE_VARIANCE[level]
         centre = estimate @ LUMINANCE_WEIGHTS
         half = CONFIDENCE * np.sqrt(interval_variance)
@@ -443,14 +446,14 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     requests' means about their pixels' own means where the window holds at least
     NOISE_DOF repeated requests (noise alone), a pixel whose own requests spread more, or
     that has fewer than NOISE_DOF repeated requests of its own and stands out of its window
-    more than OUTLIER times its spread (a firefly among them), given its own unless
-    AGREEING_DOF or more of its requests agree (detail); else, while one request a pixel is
+    more than OUTLIER times its spread (a firefly among them), given its own unless its
+    AGREEING_DOF or more repeated requests agree (detail); else, while one request a pixel is
     all there is, from the spread of the pixels' means about the window's (the residual's
     own variation counts too: conservative), a pixel far off it (a firefly) given its own."""
     repeated = _box_sum(dof, radius)
-    window = np.maximum(_box_sum(scatter, radius), 0.0) / np.maximum(repeated, 1.0)
+    window_spread = np.maximum(_box_sum(scatter, radius), 0.0) / np.maximum(repeated, 1.0)
     own_spread = scatter / np.maximum(dof, 1.0)
-    measured = np.maximum(window, own_spread)  # a firefly's requests spread it
+    measured = np.maximum(window_spread, own_spread)  # a firefly's requests spread it
     sampled = (samples > 0).astype(np.float64)
     weights = _box_sum(samples, radius)
     first = _box_sum(samples * luminance, radius)
@@ -467,7 +470,7 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     # but a detail every request shows (a window's edge, a lamp's speck) spreads them no
     # more than noise does
     firefly = (dof < NOISE_DOF) & (own > OUTLIER * np.maximum(pooled, measured))
-    firefly &= (dof < AGREEING_DOF) | (own_spread > OUTLIER * window)
+    firefly &= (dof < AGREEING_DOF) | (own_spread > OUTLIER * window_spread)
     return np.where(repeated >= NOISE_DOF, np.where(firefly, own, measured), spatial)
 
 

@@ -8,8 +8,10 @@ builds each scene at its benchmark size, renders (or reads from the references' 
 --bounces 4), then feeds the corrections whole-frame Cycles requests of 1, 1, 2, 4, ... 32
 samples a pixel (64 in all, one renderer on every core) and prints, at each total, the
 relative MSE of the samples' mean, of the corrected frame and of Cycles denoised at as many
-samples, and their geometric means over the scenes at 1, 2, 4, 16 and 64 samples. Run it
-at another commit to compare reconstructions.
+samples, and their geometric means over the scenes at 1, 2, 4, 16 and 64 samples. It also
+prints the corrected frame when the first request's samples have reached only a band of
+rows (a third or a half of the view, as the first requests' rows of tiles come back) and
+the geometric mean of those. Run it at another commit to compare reconstructions.
 """
 import argparse
 import os
@@ -29,6 +31,9 @@ from lpv_preview.sample_tasks import SampleRequest
 
 REQUESTS = (1, 1, 2, 4, 8, 16, 32)
 SUMMARISED = (1, 2, 4, 16, 64)
+BANDS = ((0, 1, 3), (1, 2, 3), (2, 3, 3), (0, 1, 2), (1, 2, 2))
+"""Bands of rows the first request reaches alone: (first, end, parts): rows from first / parts
+to end / parts of the height."""
 
 
 def scene_errors(name, folder, args):
@@ -42,10 +47,15 @@ def scene_errors(name, folder, args):
     corrections = Corrections()
     corrections.view(view.key, view.scene.camera, view.guide, view.preview)
     whole = (0, 0, *size)
-    total, count, rows = 0.0, 0, []
+    total, count, rows, bands = 0.0, 0, [], []
     try:
         for seed, samples in enumerate(REQUESTS, start=50):
             image = renderer.render(SampleRequest(whole, size, samples, seed, view.camera)).passes["Combined"]
+            if not rows:
+                bands = [band_error(view, image, samples, band) for band in BANDS]
+                print(f"{name} first request's rows alone: " + "  ".join(f"{first}/{parts}-{end}/{parts} {error:.4f}"
+                                                                        for (first, end, parts), error in
+                                                                        zip(BANDS, bands)), flush=True)
             corrections.add(view.key, whole, image, samples)
             total, count = total + image.astype(np.float64) * samples, count + samples
             denoised = renderer.render(SampleRequest(whole, size, count, seed + 100, view.camera, denoise=True))
@@ -56,7 +66,18 @@ def scene_errors(name, folder, args):
                   f"denoised {rows[-1][3]:.4f}", flush=True)
     finally:
         renderer.close()
-    return rows
+    return rows, bands
+
+
+def band_error(view, image, samples, band):
+    """The corrected frame's relative MSE when the request's `image` has reached the band of rows alone."""
+    first, end, parts = band
+    height, width = image.shape[:2]
+    top, bottom = first * height // parts, end * height // parts
+    corrections = Corrections()
+    corrections.view(view.key, view.scene.camera, view.guide, view.preview)
+    corrections.add(view.key, (0, top, width, bottom), image[top:bottom], samples)
+    return relative_mse(corrections.reconstruct(view.key).image, view.reference)
 
 
 def main():
@@ -69,10 +90,13 @@ def main():
         parser.error(f"unknown scene in '{args.scenes}'; choose from {', '.join(SCENES)}")
     check_setting_flags(args)
     with tempfile.TemporaryDirectory(prefix="lpv_reconstruction_") as folder:
-        rows = [row for name in names for row in scene_errors(name, folder, args) if row[0] in SUMMARISED]
+        errors = [scene_errors(name, folder, args) for name in names]
+    rows = [row for scene_rows, _ in errors for row in scene_rows if row[0] in SUMMARISED]
     for column, label in ((1, "raw"), (2, "corrected"), (3, "denoised")):
         print(f"geometric mean at {', '.join(map(str, SUMMARISED))} samples, {label}: "
               f"{geometric_mean([row[column] for row in rows]):.5f}")
+    print(f"geometric mean with the first request's rows alone: "
+          f"{geometric_mean([error for _, bands in errors for error in bands]):.4f}")
 
 
 if __name__ == "__main__":

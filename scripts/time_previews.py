@@ -43,6 +43,6 @@ for item in args.scenes:
         pipeline.render_converged(scene)
         times.append((time.perf_counter() - start) * 1000)
         pipeline.release()
-    results[name] = {"size": [width, height], "preview_ms": statistics.median(times)}
+    results[name] = {"size": [settings.width, settings.height], "preview_ms": statistics.median(times)}
 print(json.dumps({"machine": pipeline.glc.renderer, "command": "python scripts/time_previews.py " + " ".join(sys.argv[1:]),
                   "scenes": results}, indent=1))

@@ -51,11 +51,14 @@ def noisy_requests(truth, samples, rng, requests=4, sigma=0.6):
     return [truth + rng.normal(0.0, sigma, truth.shape) * truth / math.sqrt(samples) for _ in range(requests)]
 
 
-def gathered(guide, images, samples):
-    """The Gathered samples of requests of `samples` a pixel whose images are `images`, as a layer holds them."""
+def gathered(guide, images, samples, region=None):
+    """The Gathered samples of requests whose images are `images` (of the whole view), of
+    `samples` a pixel (one count for all, or one each), as a layer holds them; with
+    `region` (x0, y0, x1, y1), of that region alone."""
+    x0, y0, x1, y1 = region or (0, 0, *guide.size)
     layer = Layer(None, guide, np.zeros(guide.albedo.shape))
-    for image in images:
-        layer.add((0, 0, *guide.size), image, samples)
+    for image, count in zip(images, np.broadcast_to(samples, len(images))):
+        layer.add((x0, y0, x1, y1), image[y0:y1, x0:x1], int(count))
     return Gathered(layer.sum, layer.samples, *layer.scatter())
 
 
@@ -110,18 +113,30 @@ def test_a_firefly_in_the_larger_of_two_requests_is_not_kept(camera):
     first, second = noisy_requests(truth, 1, rng, requests=1)[0], noisy_requests(truth, 16, rng, requests=1)[0]
     row, column = 30, 20  # on the floor, away from its stripe
     second[row, column] += 400 * truth[row, column] / 16
-    layer = Layer(None, guide, np.zeros(guide.albedo.shape))
-    layer.add((0, 0, *guide.size), first, 1)
-    layer.add((0, 0, *guide.size), second, 16)
-    corrected = reconstruct(Gathered(layer.sum, layer.samples, *layer.scatter()), preview, guide).image
+    corrected = reconstruct(gathered(guide, [first, second], (1, 16)), preview, guide).image
     assert corrected[row, column].mean() < 3 * truth[row, column].mean()
     assert relative_mse(corrected, truth) < relative_mse(preview, truth)
+
+
+def test_a_firefly_in_the_larger_of_three_requests_is_not_kept(camera):
+    """One sample 400 times the light in a pixel's third request (of 1, 1 and 16 samples)
+    hardly spreads their means against its own deviation, but far more than its window's
+    spread: still a firefly, though three requests could tell a detail they agree on."""
+    guide = corner_guide(camera)
+    truth = truth_of(guide)
+    preview = truth * 0.8
+    rng = np.random.default_rng(6)
+    images = [noisy_requests(truth, samples, rng, requests=1)[0] for samples in (1, 1, 16)]
+    row, column = 30, 20
+    images[-1][row, column] += 400 * truth[row, column] / 16
+    corrected = reconstruct(gathered(guide, images, (1, 1, 16)), preview, guide).image
+    assert corrected[row, column].mean() < 3 * truth[row, column].mean()
 
 
 def test_a_detail_every_request_shows_is_kept(camera):
     """Specks twice as bright as their floor, in neither the preview nor the G-buffer, stand
     out of their windows alike in each of a pixel's first four requests (1, 1, 2 and 4
-    samples): they are kept as detail, not spread as fireflies (which kept a fifth of them)."""
+    samples): they are kept as detail, not spread as fireflies."""
     guide = corner_guide(camera)
     preview = truth_of(guide) * 0.8
     truth = truth_of(guide)
@@ -129,27 +144,24 @@ def test_a_detail_every_request_shows_is_kept(camera):
     truth[specks] *= 2.0
     for seed in range(3):
         rng = np.random.default_rng(seed)
-        layer = Layer(None, guide, np.zeros(guide.albedo.shape))
-        for samples in (1, 1, 2, 4):
-            layer.add((0, 0, *guide.size), noisy_requests(truth, samples, rng, requests=1, sigma=0.3)[0], samples)
-        corrected = reconstruct(Gathered(layer.sum, layer.samples, *layer.scatter()), preview, guide).image
+        images = [noisy_requests(truth, samples, rng, requests=1, sigma=0.3)[0] for samples in (1, 1, 2, 4)]
+        corrected = reconstruct(gathered(guide, images, (1, 1, 2, 4)), preview, guide).image
         kept = (corrected[specks] - preview[specks]).mean(-1) / (truth[specks] - preview[specks]).mean(-1)
         assert np.median(kept) > 0.6, seed
 
 
 def test_a_darker_pixel_no_sample_reached_takes_the_correction_scaled_down(camera):
-    """Samples of the floor's left half, lit four times as brightly as its right, whose
-    preview misses 40 % of the light everywhere: the right half, no sample of its own yet
-    (the first requests' rows), takes the left's correction scaled down by its preview over
-    theirs, not the left's missing light, which its assumed error ruled out (no correction)."""
+    """Samples of the view's left half (floor and wall), lit four times as brightly as its
+    right, whose preview misses 40 % of the light everywhere: the right half, no sample of
+    its own yet (as before the first requests have all come back), takes the left's
+    correction scaled down by its lighting over theirs, not the left's missing light, which
+    its assumed error ruled out (no correction at all)."""
     guide = corner_guide(camera)
     truth = truth_of(guide) * np.where(guide.position[..., :1] < 0, 4.0, 1.0)
     preview = truth * 0.6
     width, height = guide.size
-    layer = Layer(None, guide, np.zeros(guide.albedo.shape))
-    for image in noisy_requests(truth, 4, np.random.default_rng(2), sigma=0.3):
-        layer.add((0, 0, width // 2, height), image[:, :width // 2], 4)
-    corrected = reconstruct(Gathered(layer.sum, layer.samples, *layer.scatter()), preview, guide).image
+    images = noisy_requests(truth, 4, np.random.default_rng(2), sigma=0.3)
+    corrected = reconstruct(gathered(guide, images, 4, region=(0, 0, width // 2, height)), preview, guide).image
     right = np.s_[:, width // 2 + 4:]  # a few columns from the sampled half on
     assert relative_mse(corrected[right], truth[right]) < 0.1 * relative_mse(preview[right], truth[right])
 

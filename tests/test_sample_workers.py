@@ -269,11 +269,19 @@ def test_each_frame_of_an_animation_is_corrected_toward_its_own_cycles_render(tm
     (["demo", "--correct-seconds", "-1"], "correct_seconds"),
     (["bench", "--corrections", "--gpu-previews", "missing.json"], "Cannot read the GPU's preview times"),
     (["bench", "--corrections", "--bounces", "99"], "Setting 'bounces' is 99"),  # the previews' settings
+    (["bench", "--corrections", "--width", "100"], "leave out --width and --height"),
 ])
 def test_bad_correction_flags_are_refused_before_any_work(argv, words, tmp_path, capsys):
     assert main([*argv, "--out", str(tmp_path)]) == 2
     error = capsys.readouterr().err.strip().splitlines()
     assert len(error) == 1 and words in error[0]
+
+
+def test_gpu_preview_times_of_another_size_are_refused(tmp_path, capsys):
+    times = tmp_path / "previews.json"
+    times.write_text(json.dumps({"scenes": {"cornell": {"size": [64, 64], "preview_ms": 3.0}}}))
+    assert main(["bench", "--corrections", "--gpu-previews", str(times), "--out", str(tmp_path / "out")]) == 2
+    assert "timed at 64 x 64, not at the benchmark's 128 x 128" in capsys.readouterr().err
 
 
 def test_the_still_viewport_streams_corrections_and_keeps_them_over_a_move():

@@ -21,7 +21,8 @@ stop early on smooth surfaces; the risk smooths where that pays but is noisy whe
 are few; their mean errs less than either (docs/method.md). Where samples are sparse each
 pixel takes the nearest ones, blended where their regions meet, as the seed's blended
 Voronoi cells; where they are dense, their average over the pixel alone: the resolution
-follows the samples.
+follows the samples. A pixel no sample reached yet takes its neighbours' correction scaled
+to its own lighting where it is darker.
 """
 from dataclasses import dataclass
 from functools import cached_property

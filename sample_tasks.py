@@ -67,6 +67,9 @@ def close_renderers():
     _RENDERERS.clear()
 
 
+atexit.register(close_renderers)
+
+
 def renderer(blend_path):
     """In a worker: its SampleRenderer of the .blend at `blend_path`, opened once a process."""
     if "bpy" not in sys.modules:
@@ -78,8 +81,6 @@ def renderer(blend_path):
     except OSError:
         key = (blend_path,)  # SampleRenderer says there is none
     if key not in _RENDERERS:
-        if not _RENDERERS:
-            atexit.register(close_renderers)
         close_renderers()
         _RENDERERS[key] = SampleRenderer(blend_path)
     return _RENDERERS[key]

@@ -251,8 +251,6 @@ class Corrections:
     def reconstruct(self, key):
         """The view `key`'s preview, corrected."""
         _, guide, preview = self.views[key]
-        if not self.layers:  # nothing to gather either
-            return uncorrected(preview)
         return reconstruct(self.gathered(key), preview, guide)
 
 
@@ -339,7 +337,8 @@ def reconstruct(gathered, preview, guide):
     if not sampled.any():  # no view's samples reach this one: nothing to rebuild
         return uncorrected(preview)
     mean = total / np.maximum(samples, 1e-30)[..., None]
-    residual = np.where(sampled[..., None], mean - preview / scale, 0.0)
+    demodulated = preview / scale
+    residual = np.where(sampled[..., None], mean - demodulated, 0.0)
     luminance = residual @ LUMINANCE_WEIGHTS
     variance = _pooled_variance(luminance, samples, gathered.scatter, gathered.dof)
     numerator = residual * samples[..., None]
@@ -349,7 +348,7 @@ def reconstruct(gathered, preview, guide):
     # 4th channel, while any pixel has no sample)
     extrapolated = not sampled.all()
     if extrapolated:
-        own_lighting = (preview / scale) @ LUMINANCE_WEIGHTS
+        own_lighting = demodulated @ LUMINANCE_WEIGHTS
         numerator = np.concatenate([numerator, (samples * own_lighting)[..., None]], axis=-1)
     # the cascade in single precision: half the memory traffic of its filters, which are most of the time
     numerator, denominator, spread = (np.asarray(values, np.float32) for values in

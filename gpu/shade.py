@@ -213,7 +213,7 @@ def read_guide(glc, targets, camera):
     position, normal, albedo = (np.ascontiguousarray(texels[:, :, i, :3]) for i in range(3))
     seen = texels[:, :, 0, 3] > 0
     if camera.projection[3, 3] == 1:  # orthographic: a pixel is as wide at every distance
-        distance = np.ones((height, width), np.float32)
+        distance = 1.0
     else:
         distance = np.linalg.norm(position - camera.position.astype(np.float32), axis=-1)
     footprint = np.where(seen, distance, 0.0) * camera.pixel_angle(height)

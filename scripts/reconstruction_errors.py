@@ -44,8 +44,7 @@ def scene_errors(name, folder, args):
                       log=lambda *_: None)[0]
     render_previews([view], settings)
     renderer = SampleRenderer(blend)
-    corrections = Corrections()
-    corrections.view(view.key, view.scene.camera, view.guide, view.preview)
+    corrections = view_corrections(view)
     whole = (0, 0, *size)
     total, count, rows, bands = 0.0, 0, [], []
     try:
@@ -69,13 +68,19 @@ def scene_errors(name, folder, args):
     return rows, bands
 
 
+def view_corrections(view):
+    """Corrections of the View `view` alone, before any sample."""
+    corrections = Corrections()
+    corrections.view(view.key, view.scene.camera, view.guide, view.preview)
+    return corrections
+
+
 def band_error(view, image, samples, band):
     """The corrected frame's relative MSE when the request's `image` has reached the band of rows alone."""
     first, end, parts = band
     height, width = image.shape[:2]
     top, bottom = first * height // parts, end * height // parts
-    corrections = Corrections()
-    corrections.view(view.key, view.scene.camera, view.guide, view.preview)
+    corrections = view_corrections(view)
     corrections.add(view.key, (0, top, width, bottom), image[top:bottom], samples)
     return relative_mse(corrections.reconstruct(view.key).image, view.reference)
 

@@ -8,7 +8,7 @@ nothing here imports bpy at module level.
 
 def _modules():
     from . import addon, operators
-    return addon.MODULES + operators.MODULES
+    return addon.registered_modules() + operators.MODULES
 
 
 def register():

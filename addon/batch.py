@@ -10,10 +10,11 @@ from dataclasses import asdict
 
 import bpy
 
+from ..corrections.corrector import correct, rendered_passes
 from ..gpu.errors import LPVError
 from ..gpu.image_io import read_exr_metadata, write_exr, write_png
 from ..gpu.pipeline import Pipeline, render_once
-from .corrective import correct, corrected_frame, rendered_passes, workers_for
+from .corrected_render import corrected_frame, workers_for
 from .render_scene import scene_to_render
 
 

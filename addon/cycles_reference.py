@@ -23,9 +23,9 @@ import bpy
 import numpy as np
 
 from ..gpu.errors import LPVError
+from ..gpu.temporary_folders import temporary_folder
 from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_render_settings,
-                            enable_cycles, read_exr_passes, render_to_file, settings_in_use, temporary_folder,
-                            view_layer_to_render)
+                            enable_cycles, read_exr_passes, render_to_file, settings_in_use, view_layer_to_render)
 from .render_scene import scene_to_render
 
 

@@ -6,11 +6,8 @@ can `file_format` be 'OPEN_EXR_MULTILAYER'); plain 'OPEN_EXR' holds Combined alo
 The references (cycles_reference.py), the peers (peers.py) and the sample workers
 (cycles_samples.py) render through it."""
 import os
-import shutil
-import tempfile
 import time
 from collections import namedtuple
-from contextlib import contextmanager
 
 import bpy
 import numpy as np
@@ -64,25 +61,6 @@ def view_layer_to_render(scene):
 def enable_cycles():
     if not addon_utils.check("cycles")[1] and addon_utils.enable("cycles", default_set=True) is None:
         raise LPVError("The Cycles add-on could not be enabled; enable it in Preferences > Add-ons.")
-
-
-def make_temporary_folder(prefix):
-    """A new temporary folder named from `prefix` (the caller removes it), or one sentence."""
-    try:
-        return tempfile.mkdtemp(prefix=prefix)
-    except OSError as error:
-        raise LPVError(f"Cannot create a temporary folder for a Cycles render in "
-                       f"'{tempfile.gettempdir()}' ({error.strerror}); set TMPDIR to a writable folder.") from error
-
-
-@contextmanager
-def temporary_folder(prefix="lpv_cycles_"):
-    """A temporary folder for a Cycles render's file, removed afterwards."""
-    folder = make_temporary_folder(prefix)
-    try:
-        yield folder
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
 
 
 def assign(holder, **values):

@@ -1,20 +1,21 @@
 """Cycles samples of a view, for corrective texturing (issue 18, seed 001): a renderer
 loads a .blend once and renders border regions of a camera on request, Cycles keeping its
 scene between requests (persistent data), so a request costs little beyond its samples.
-A worker process holds one (addon/sample_workers.py)."""
+A worker process holds one (corrections/sample_workers.py)."""
 import math
 import os
 import shutil
 import time
-from dataclasses import dataclass, field
 
 import bpy
 import numpy as np
 from mathutils import Matrix
 
+from ..corrections.sample_request import SampleResult
 from ..gpu.errors import LPVError
+from ..gpu.temporary_folders import make_temporary_folder
 from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_render_settings, assign,
-                            enable_cycles, make_temporary_folder, read_exr_passes, render_to_file, view_layer_to_render)
+                            enable_cycles, read_exr_passes, render_to_file, view_layer_to_render)
 
 LENS_SETTINGS = ("type", "sensor_fit", "lens", "sensor_width", "sensor_height", "shift_x", "shift_y", "clip_start",
                  "clip_end")
@@ -23,16 +24,6 @@ LENS_SETTINGS = ("type", "sensor_fit", "lens", "sensor_width", "sensor_height", 
 SAMPLE_PASSES = ("Combined",)
 """What a request returns: all the light, what the corrections aim at (as the full-GI
 reference: its bounces and pixel filter)."""
-
-
-@dataclass
-class SampleResult:
-    """The request's passes (name -> (y1 - y0, x1 - x0, 3) float32, top row first) and
-    the seconds its render took."""
-
-    request: object  # the SampleRequest (sample_tasks.py)
-    passes: dict = field(repr=False)
-    seconds: float = 0.0
 
 
 class SampleRenderer:

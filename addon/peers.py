@@ -19,9 +19,10 @@ from dataclasses import dataclass, field
 
 from ..gpu.context import GLContext
 from ..gpu.errors import LPVError
+from ..gpu.temporary_folders import temporary_folder
 from .cycles_reference import content_key, render_cycles_denoised, temporary_copy
 from .cycles_render import (REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_output_settings, read_exr_passes,
-                            render_to_file, temporary_folder, view_layer_to_render)
+                            render_to_file, view_layer_to_render)
 
 EEVEE = "EEVEE ray tracing"
 DENOISED_SAMPLES = (1, 4)

@@ -17,11 +17,13 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..corrections.corrector import Corrector
+from ..corrections.sample_request import check_projection
+from ..corrections.sample_workers import SampleWorkers
 from ..gpu.errors import LPVError
-from ..sample_tasks import check_projection
-from .corrective import Corrector, write_scene
-from .cycles_render import make_temporary_folder
-from .sample_workers import SampleWorkers
+from ..gpu.temporary_folders import make_temporary_folder
+from .corrected_render import write_scene
+from .sample_renderer import open_sample_renderer
 
 REBUILD_SECONDS = 0.25
 """A still view's corrected frame is rebuilt at most this often (the rebuild costs CPU the
@@ -104,7 +106,7 @@ class ViewportCorrections:
             self.rested = self.shown
             settings = replace(pipeline.settings, width=1, height=1)  # what the preview depends on but the size
             self._write(self.corrector.rest(key, scene.camera, tuple(map(tuple, np.linalg.inv(camera.view))),
-                                            self.preview, pipeline.read_guide(scene), projection, settings), frame,
+                                            self.preview, pipeline.read_gbuffer(scene), projection, settings), frame,
                         display)
             return
         self.corrector.receive(timeout=0)
@@ -118,7 +120,7 @@ class ViewportCorrections:
             self.stop()
             self.folder = make_temporary_folder("lpv_viewport_corrections_")
             try:
-                self.workers = SampleWorkers(self._copy(bpy_scene), workers=workers)
+                self.workers = SampleWorkers(self._copy(bpy_scene), open_sample_renderer, workers=workers)
             except LPVError:
                 self.stop()
                 raise

@@ -6,7 +6,7 @@ camera path.
 
 bpy lives with the caller, who hands in each method's timeline: (seconds, image) pairs,
 an image being what the user sees from then on (`python -m lpv_preview bench
---corrections`, addon/correction_runs.py).
+--corrections`, cli/correction_runs.py).
 """
 import json
 import math
@@ -35,7 +35,7 @@ TABLE_MOMENTS = (0.1, 0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 30.0, 60.0)
 """The report's columns: the error shown at these seconds."""
 TIMING = {"path_degrees": PATH_DEGREES, "still_seconds": STILL_SECONDS, "denoised_seconds": DENOISED_SECONDS,
           "frame_seconds": FRAME_SECONDS, "frames_at": FRAMES_AT}
-"""What the timelines' runs are given (addon/correction_runs.py measure_scene)."""
+"""What the timelines' runs are given (cli/correction_runs.py measure_scene)."""
 METHODS = ("cycles", "cycles_denoised", "corrected")
 LABELS = {"cycles": "Cycles progressive", "cycles_denoised": "Cycles + OpenImageDenoise",
           "corrected": "preview + corrections"}
@@ -205,7 +205,7 @@ def _earlier(curve, seconds):
 
 
 def scene_report(name, runs, reference_samples, gpu_preview_seconds=None):
-    """A scene's entry of the report from the timelines of addon/correction_runs.py
+    """A scene's entry of the report from the timelines of cli/correction_runs.py
     measure_scene (`runs`); with `gpu_preview_seconds` (the same preview timed on a GPU),
     the goals also as if the preview had been rendered there."""
     views = runs["views"]

@@ -1,6 +1,6 @@
 """Cycles sample workers (issue 18): the fixed cost of one request and the cost of a
 sample, and samples a second with 1, 2 and 4 workers. bpy lives with the caller, who
-hands in a renderer, the request type (sample_tasks.py SampleRequest) and a way to start
+hands in a renderer, the request type (corrections/sample_request.py SampleRequest) and a way to start
 workers (`python -m lpv_preview bench --sample-workers`)."""
 import json
 import time
@@ -44,7 +44,7 @@ def worker_scaling(start_workers, request_of, resolution, region=64, samples=16,
     """Samples a second of `requests_per_worker` requests a worker of `region`² pixels at
     `samples` each, for each count in WORKER_COUNTS; `start_workers(n)` gives a context
     manager with `open_everywhere()`, `submit(request)` and `client.gather(futures)`
-    (addon/sample_workers.py). Every worker opens the .blend and renders one request
+    (corrections/sample_workers.py). Every worker opens the .blend and renders one request
     first (Cycles warm)."""
     rows = []
     width, height = resolution

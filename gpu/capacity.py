@@ -153,21 +153,6 @@ def available_host_bytes():
         return None
 
 
-CORRECTION_BYTES_PER_PIXEL = 1000
-"""What the corrections toward Cycles (gpu/corrections.py) hold a pixel beyond the process's
-own: a view's layer, the filter's edges at every scale and a rebuild's arrays (a process's
-peak grew by about 1,000 bytes a pixel from 960×540 to 1920×1080)."""
-
-
-def check_corrections_fit(width, height):
-    """Refuse corrections of a `width` × `height` image that would not fit in the memory
-    free now, before their workers start (their own scenes are not counted)."""
-    needed, available = width * height * CORRECTION_BYTES_PER_PIXEL, available_host_bytes()
-    if available is not None and needed > available:
-        raise LPVError(f"Corrections of a {width} x {height} image need about {needed / GIB:.1f} GiB of memory but "
-                       f"{available / GIB:.1f} GiB is free; render it smaller, or without --correct-seconds.")
-
-
 def check_limits(limits, renderer, settings, scene):
     """Refuse images larger than the driver's `limits` (its GL_MAX_* values, as moderngl's
     `info` gives them) allow: the camera's, the lights' map atlases, the LPV's volumes."""

@@ -26,7 +26,7 @@ from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
 from .settings import DisplaySettings, Settings
-from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, read_guide, render_gbuffer, render_glow,
+from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, read_gbuffer_record, render_gbuffer, render_glow,
                     seen_points, shade_direct, shade_indirect)
 from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
@@ -468,9 +468,9 @@ class Pipeline:
         frame.stats["converge_ms"] = (time.perf_counter() - start) * 1000.0
         return frame
 
-    def read_guide(self, scene):
-        """The last frame's G-buffer as a corrections Guide (gpu/corrections.py)."""
-        return read_guide(self.glc, self._targets, scene.camera)
+    def read_gbuffer(self, scene):
+        """The last frame's G-buffer as a GBufferRecord (gpu/shade.py), for the corrections."""
+        return read_gbuffer_record(self.glc, self._targets, scene.camera)
 
     def draw_debug_passes(self, scene, display_settings=None):
         """Draw the last frame's debug passes (DEBUG_PASS_NAMES) into its images."""

@@ -172,7 +172,7 @@ class ComparisonSettings(Validated):
 @dataclass(frozen=True)
 class CorrectionSettings(Validated):
     """How long a render is corrected toward Cycles and by how many local sample workers
-    (issue 18: addon/corrective.py)."""
+    (corrections/corrector.py)."""
 
     correct_seconds: float = _param(0.0, "Seconds a rendered frame is corrected toward Cycles' full global "
                                          "illumination by Cycles samples of its view, after the preview (0: not "

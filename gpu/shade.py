@@ -1,9 +1,10 @@
 """The camera's side: G-buffer, direct light per light, LPV lookup and composite."""
+from dataclasses import dataclass
+
 import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms
-from .corrections import Guide
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .settings import INDIRECT_METHODS
@@ -197,8 +198,26 @@ def seen_points(glc, targets, camera):
     return points[points[:, 3] > 0, :3].astype(np.float64)
 
 
-def read_guide(glc, targets, camera):
-    """The G-buffer as a corrections Guide (gpu/corrections.py), top row first."""
+@dataclass
+class GBufferRecord:
+    """What the G-buffer says of every pixel, (height, width, ...) top row first, read back
+    for the corrections toward Cycles: the surface's position (where `seen`; elsewhere the
+    ray's direction) in the scene's local frame, its normal and albedo, and a pixel's width
+    there (`footprint`)."""
+
+    position: np.ndarray
+    normal: np.ndarray
+    albedo: np.ndarray
+    seen: np.ndarray
+    footprint: np.ndarray
+
+    @property
+    def size(self):
+        return self.seen.shape[1], self.seen.shape[0]
+
+
+def read_gbuffer_record(glc, targets, camera):
+    """The G-buffer as a GBufferRecord."""
     width, height = targets.size
     program = glc.compute("gbuffer_read")
     bind_gbuffer(targets)
@@ -217,7 +236,7 @@ def read_guide(glc, targets, camera):
     else:
         distance = np.linalg.norm(position - camera.position.astype(np.float32), axis=-1)
     footprint = np.where(seen, distance, 0.0) * camera.pixel_angle(height)
-    return Guide(position, normal, albedo, seen, footprint.astype(np.float32))
+    return GBufferRecord(position, normal, albedo, seen, footprint.astype(np.float32))
 
 
 def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, display=False, accumulated=0,

@@ -20,14 +20,14 @@ import tempfile
 import numpy as np
 
 from lpv_preview import demo
-from lpv_preview.__main__ import add_setting_flags, check_setting_flags, settings_from
-from lpv_preview.addon.correction_runs import path_views, render_previews
+from lpv_preview.cli.flags import add_setting_flags, check_setting_flags, settings_from
+from lpv_preview.cli.correction_runs import path_views, render_previews
 from lpv_preview.addon.cycles_samples import SampleRenderer
 from lpv_preview.bench.corrections import REFERENCE_SAMPLES, SCENES
 from lpv_preview.bench.sweep_report import geometric_mean
-from lpv_preview.gpu.corrections import Corrections
+from lpv_preview.corrections.layers import Corrections
 from lpv_preview.gpu.metrics import relative_mse
-from lpv_preview.sample_tasks import SampleRequest
+from lpv_preview.corrections.sample_request import SampleRequest
 
 REQUESTS = (1, 1, 2, 4, 8, 16, 32)
 SUMMARISED = (1, 2, 4, 16, 64)
@@ -71,7 +71,7 @@ def scene_errors(name, folder, args):
 def view_corrections(view):
     """Corrections of the View `view` alone, before any sample."""
     corrections = Corrections()
-    corrections.view(view.key, view.scene.camera, view.guide, view.preview)
+    corrections.view(view.key, view.scene.camera, view.gbuffer, view.preview)
     return corrections
 
 

@@ -3,7 +3,7 @@
     python scripts/time_previews.py NAME=FILE.npz:WIDTHxHEIGHT [...] [setting flags] > corrections_previews.json
 
 reads each FILE.npz (made with `python -m lpv_preview export NAME`) and, as the
-corrections' benchmark does (addon/correction_runs.py render_previews), renders a frame
+corrections' benchmark does (cli/correction_runs.py render_previews), renders a frame
 with a pipeline released after (shaders compiled), then times five whole frames of fresh
 pipelines at WIDTH × HEIGHT with the default settings (or those the setting flags give,
 as `bench --corrections` takes them); prints the machine and each scene's median
@@ -17,7 +17,7 @@ import statistics
 import sys
 import time
 
-from lpv_preview.__main__ import add_setting_flags, check_setting_flags, settings_from
+from lpv_preview.cli.flags import add_setting_flags, check_setting_flags, settings_from
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.scene_file import load_scene
 

@@ -73,8 +73,9 @@ def checked_modules(rule):
 
 def test_every_module_follows_the_import_rule():
     rule = import_rule(RULE_PAGE.read_text())
-    assert {"gpu", "bench", "addon", "operators", "demo", "__init__", "__main__"} <= set(rule)
+    assert {"gpu", "corrections", "bench", "addon", "operators", "demo", "cli", "__init__", "__main__"} <= set(rule)
     assert rule["gpu"] == ({"gpu"}, False) and rule["bench"] == ({"gpu", "bench"}, False)
+    assert rule["corrections"] == ({"gpu", "corrections"}, False)
     modules = list(checked_modules(rule))
     assert len(modules) > 40
     wrong = [line for path in modules for line in violations(path.read_text(), path.relative_to(ROOT), rule)]
@@ -90,6 +91,10 @@ def test_every_module_follows_the_import_rule():
     ("operators/compare.py", "from ...bench.page import write_benchmarks_page", "imports bench/"),
     ("__init__.py", "from . import gpu, addon", "__init__.py imports gpu/"),
     ("addon/ui.py", "from lpv_preview.gpu import settings", "absolutely"),
+    ("gpu/shade.py", "from ..corrections.guide import Guide", "gpu/shade.py imports corrections/"),
+    ("corrections/worker_task.py", "from ..addon.cycles_samples import SampleRenderer", "imports addon/"),
+    ("corrections/layers.py", "import bpy", "imports Blender's bpy"),
+    ("addon/batch.py", "from ..cli.flags import pass_names", "addon/batch.py imports cli/"),
 ])
 def test_the_check_finds_a_forbidden_arrow(path, source, message):
     rule = import_rule(RULE_PAGE.read_text())
@@ -99,9 +104,21 @@ def test_the_check_finds_a_forbidden_arrow(path, source, message):
 
 def test_no_module_outside_bench_names_it_in_an_import():
     pattern = re.compile(r"^\s*(from|import)\s.*\bbench\b", re.MULTILINE)
-    for folder in ("gpu", "addon", "operators"):
+    for folder in ("gpu", "corrections", "addon", "operators", "demo"):
         for path in (ROOT / folder).rglob("*.py"):
             assert not pattern.search(path.read_text()), path
+
+
+def test_a_sample_worker_unpickles_its_task_without_bpy_or_addon():
+    """A Dask worker imports the task's module before anything else: it must load neither
+    bpy nor addon/, whose first bpy import has to find the module, not Blender's scripts."""
+    import subprocess
+    import sys
+    probe = ("import sys, lpv_preview.corrections.worker_task, lpv_preview.corrections.sample_workers; "
+             "print(sorted(m for m in sys.modules if m == 'bpy' or m.startswith('lpv_preview.addon')))")
+    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "[]"
 
 
 def module_edges(path):
@@ -151,6 +168,6 @@ def test_no_modules_import_each_other_in_a_circle():
 def test_the_layout_names_every_module():
     layout = RULE_PAGE.read_text().split("## Layout")[1].split("## ")[0]
     listed = set(re.findall(r"^\s+(\w+\.py)\s", layout, re.MULTILINE))
-    for folder in ("gpu", "addon", "operators", "bench"):
+    for folder in ("gpu", "corrections", "addon", "operators", "cli", "bench"):
         for path in (ROOT / folder).glob("*.py"):
             assert path.name == "__init__.py" or path.name in listed, f"docs/architecture.md lacks {folder}/{path.name}"

@@ -7,8 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from lpv_preview.gpu.correction_queue import DONE_ERROR, DONE_SAMPLES, PIXEL_SAMPLES, RequestQueue
-from lpv_preview.gpu.corrections import LAYER_AGING, MAX_LAYERS, Corrections, Gathered, Guide, Layer, reconstruct
+from lpv_preview.corrections.request_queue import DONE_ERROR, DONE_SAMPLES, PIXEL_SAMPLES, RequestQueue
+from lpv_preview.corrections.guide import Guide
+from lpv_preview.corrections.layers import LAYER_AGING, MAX_LAYERS, Corrections, Gathered, Layer
+from lpv_preview.corrections.reconstruction import reconstruct
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.metrics import relative_mse
 from lpv_preview.gpu.scene import Camera

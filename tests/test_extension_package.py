@@ -43,6 +43,14 @@ report["moderngl"] = moderngl.__file__
 report["engine_module"] = sys.modules["bl_ext.user_default.lpv_preview"].__file__
 report["cache"] = sys.modules["bl_ext.user_default.lpv_preview.addon.cycles_reference"].default_cache_folder()
 report["empty_cache"] = sorted(bpy.ops.lpv_preview.empty_cycles_cache())
+import importlib, pkgutil
+package = sys.modules["bl_ext.user_default.lpv_preview"]
+report["unimportable"] = []
+for module in pkgutil.walk_packages(package.__path__, package.__name__ + "."):
+    try:
+        importlib.import_module(module.name)
+    except Exception as error:
+        report["unimportable"].append(f"{module.name}: {error!r}")
 print("REPORT " + json.dumps(report))
 """
 
@@ -71,7 +79,9 @@ def test_the_zip_lists_and_bundles_only_the_platforms_it_runs_on(extension_zip):
         assert bundled == ["flip_evaluator", "glcontext", "moderngl"], (platform, wheels)
     assert len(wheels) == 3 * len(PLATFORM_TAGS), wheels
     assert "gpu/shaders/warp.comp" in names
-    assert not any(name.startswith(("tests/", ".venv/", ".git/", "bench/", "docs/", ".hypothesis/")) for name in names)
+    assert not any(name.startswith(("tests/", ".venv/", ".git/", "bench/", "cli/", "docs/", ".hypothesis/"))
+                   for name in names)
+    assert "__main__.py" not in names  # the command line needs bench/, which the zip leaves out
 
 
 def test_the_installed_extension_renders_f12_with_our_passes(extension_zip, tmp_path):
@@ -95,6 +105,7 @@ def test_the_installed_extension_renders_f12_with_our_passes(extension_zip, tmp_
     # The extension keeps its Cycles references in its own user folder, as the platform asks.
     assert report["cache"] == str(user / "extensions" / ".user" / "user_default" / "lpv_preview" / "cycles")
     assert report["empty_cache"] == ["FINISHED"]
+    assert report["unimportable"] == []  # every module the zip keeps runs without what it leaves out
     installed_wheels = user / "extensions" / ".local" / "lib" / "python3.11" / "site-packages"
     assert all((installed_wheels / name).is_dir() for name in ("moderngl", "glcontext", "flip_evaluator"))
     channels = read_exr_channels(exr)

@@ -5,7 +5,8 @@ from pathlib import Path
 
 import pytest
 
-from lpv_preview.__main__ import build_parser, settings_from
+from lpv_preview.cli.flags import settings_from
+from lpv_preview.cli.parser import build_parser
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.settings import (PRESET_PARAMETERS, PRESETS, Settings, describe_preset, matching_preset,
                                       preset_settings)

@@ -14,14 +14,15 @@ bpy = pytest.importorskip("bpy")
 
 from lpv_preview import demo  # noqa: E402
 from lpv_preview.__main__ import main  # noqa: E402
-from lpv_preview.addon.correction_runs import camera_at, turned  # noqa: E402
 from lpv_preview.addon.cycles_reference import cycles_reference, render_cycles_passes  # noqa: E402
 from lpv_preview.addon.cycles_samples import SampleRenderer  # noqa: E402
-from lpv_preview.addon.sample_workers import SampleWorkers  # noqa: E402
+from lpv_preview.addon.sample_renderer import open_sample_renderer  # noqa: E402
+from lpv_preview.cli.correction_runs import camera_at, turned  # noqa: E402
+from lpv_preview.corrections.sample_request import SampleRequest  # noqa: E402
+from lpv_preview.corrections.sample_workers import SampleWorkers  # noqa: E402
 from lpv_preview.gpu.errors import LPVError  # noqa: E402
 from lpv_preview.gpu.image_io import read_exr  # noqa: E402
 from lpv_preview.gpu.metrics import relative_mse  # noqa: E402
-from lpv_preview.sample_tasks import SampleRequest  # noqa: E402
 
 from .depsgraph_updates import recorded_updates  # noqa: E402
 
@@ -92,7 +93,7 @@ def test_requests_out_of_the_image_are_refused():
 
 def test_a_remote_scheduler_is_reached_over_tls_only(cornell_blend):
     with pytest.raises(LPVError, match="not a tls:// address"):
-        SampleWorkers(cornell_blend, scheduler="tcp://192.0.2.1:8786")
+        SampleWorkers(cornell_blend, open_sample_renderer, scheduler="tcp://192.0.2.1:8786")
 
 
 def test_a_saved_file_is_corrected_by_a_remote_cluster_over_tls(cornell_blend, tmp_path, capsys):
@@ -125,8 +126,8 @@ def test_a_saved_file_is_corrected_by_a_remote_cluster_over_tls(cornell_blend, t
 
 
 def test_corrections_too_large_for_the_free_memory_are_refused(tmp_path, capsys, monkeypatch):
-    from lpv_preview.gpu import capacity
-    monkeypatch.setattr(capacity, "available_host_bytes", lambda: 2 ** 30)
+    from lpv_preview.corrections import corrector
+    monkeypatch.setattr(corrector, "available_host_bytes", lambda: 2 ** 30)
     argv = ["demo", "--out", str(tmp_path), "--width", "2048", "--height", "2048", "--correct-seconds", "1"]
     assert main(argv) == 2
     error = capsys.readouterr().err.strip().splitlines()
@@ -137,7 +138,7 @@ def test_corrections_too_large_for_the_free_memory_are_refused(tmp_path, capsys,
 def test_a_timed_correction_stops_receiving_a_rebuild_before_its_end(cornell_blend, monkeypatch):
     """The last frame is ready as the time is up: receiving stops as long before the end as
     a rebuild is expected to take (here made 0.4 s), yet takes at least half the time."""
-    from lpv_preview.addon import corrective
+    from lpv_preview.corrections import corrector as corrective
     from lpv_preview.addon.render_scene import scene_to_render
     from lpv_preview.gpu.pipeline import Pipeline
     from lpv_preview.gpu.settings import Settings
@@ -146,17 +147,17 @@ def test_a_timed_correction_stops_receiving_a_rebuild_before_its_end(cornell_ble
     pipeline = Pipeline(Settings(width=SIZE[0], height=SIZE[1]))
     try:
         preview = pipeline.render_converged(scene, passes=("combined",)).passes["combined"]
-        guide = pipeline.read_guide(scene)
+        gbuffer = pipeline.read_gbuffer(scene)
     finally:
         pipeline.release()
     monkeypatch.setattr(corrective, "REBUILD_PIXEL_SECONDS", 0.4 / (SIZE[0] * SIZE[1]))
-    with SampleWorkers(cornell_blend, workers=2) as workers:
+    with SampleWorkers(cornell_blend, open_sample_renderer, workers=2) as workers:
         workers.open_everywhere()
         workers.settle(SIZE)  # Cycles has the scene: the first requests come back at once
         received = []
         for seconds, receiving in ((1.0, 0.6), (0.5, 0.25)):
             corrector = corrective.Corrector(workers)
-            corrector.rest(scene.camera.key(), scene.camera, None, preview, guide)
+            corrector.rest(scene.camera.key(), scene.camera, None, preview, gbuffer)
             started = time.perf_counter()
             timeline = list(corrector.run(seconds))
             ended = time.perf_counter() - started
@@ -171,7 +172,7 @@ def test_a_timed_correction_stops_receiving_a_rebuild_before_its_end(cornell_ble
 def test_no_request_is_lost_when_a_worker_dies(cornell_blend):
     """Two local workers; one is killed while it renders; every request still returns."""
     requests = [SampleRequest((0, 0, *SIZE), SIZE, 64, seed=seed) for seed in range(6)]
-    with SampleWorkers(cornell_blend, workers=2) as workers:
+    with SampleWorkers(cornell_blend, open_sample_renderer, workers=2) as workers:
         futures = [workers.submit(request) for request in requests]
         deadline = time.time() + 60
         while time.time() < deadline and not any(workers.client.processing().values()):

@@ -18,7 +18,9 @@ from .synthetic_scenes import room_scene
 
 bpy = pytest.importorskip("bpy")
 
-from lpv_preview.__main__ import build_parser, command_export, main  # noqa: E402
+from lpv_preview.__main__ import main  # noqa: E402
+from lpv_preview.cli.commands import command_export  # noqa: E402
+from lpv_preview.cli.parser import build_parser  # noqa: E402
 
 TEST_SWEEPS = str(Path(__file__).parent / "sweeps.toml")
 POINT_KEYS = {"scene", "method", "settings", "triangles", "timings_ms", "gpu_bytes", "vpl_count", "errors_vs_cm"}

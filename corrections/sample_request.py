@@ -1,19 +1,8 @@
-"""The task a Cycles sample worker runs (addon/sample_workers.py) and its request and
-result, importable without bpy:
-a Dask worker process unpickles it before anything else, and `lpv_preview.addon` imports
-bpy, which must first find the module, not Blender's own scripts' package of that name
-(a worker process starts with its parent's sys.path, where `import bpy` put them)."""
-import atexit
-import os
-import re
-import sys
-from dataclasses import dataclass
+"""A request for Cycles samples of a region of a view, and what a worker sends back:
+plain data, pickled between the master and the workers."""
+from dataclasses import dataclass, field
 
-from .gpu.errors import LPVError
-
-BLENDER_SCRIPTS = re.compile(r"[/\\]bpy[/\\][0-9.]+[/\\]scripts")
-"""The folders of Blender's own scripts, which `import bpy` puts on sys.path."""
-_RENDERERS = {}  # in a worker process: (.blend path, its modification time and size) -> SampleRenderer
+from ..gpu.errors import LPVError
 
 
 @dataclass(frozen=True)
@@ -59,39 +48,11 @@ def check_projection(projection, resolution):
                        "leave the orthographic or shifted view to correct it.")
 
 
-def close_renderers():
-    """In a worker: remove the renderer's folder as the process ends (a studio's long-lived
-    worker; a local cluster removes its workers' whole folder anyway)."""
-    for opened in _RENDERERS.values():
-        opened.close()
-    _RENDERERS.clear()
+@dataclass
+class SampleResult:
+    """The request's passes (name -> (y1 - y0, x1 - x0, 3) float32, top row first) and
+    the seconds its render took."""
 
-
-atexit.register(close_renderers)
-
-
-def renderer(blend_path):
-    """In a worker: its SampleRenderer of the .blend at `blend_path`, opened once a process."""
-    if "bpy" not in sys.modules:
-        sys.path.sort(key=lambda folder: bool(BLENDER_SCRIPTS.search(folder)))  # the module's folder first
-    from .addon.cycles_samples import SampleRenderer
-    try:
-        saved = os.stat(blend_path)
-        key = (blend_path, saved.st_mtime_ns, saved.st_size)  # a file saved again is opened again
-    except OSError:
-        key = (blend_path,)  # SampleRenderer says there is none
-    if key not in _RENDERERS:
-        close_renderers()
-        _RENDERERS[key] = SampleRenderer(blend_path)
-    return _RENDERERS[key]
-
-
-def open_blend(blend_path):
-    """In a worker: open the .blend now (before requests come)."""
-    renderer(blend_path)
-
-
-def render_request(blend_path, request, threads=None):
-    """In a worker: the SampleResult of `request` on the .blend at `blend_path`, Cycles on
-    `threads` threads (None: all the machine's)."""
-    return renderer(blend_path).render(request, threads)
+    request: SampleRequest
+    passes: dict = field(repr=False)
+    seconds: float = 0.0

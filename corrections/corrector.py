@@ -1,25 +1,20 @@
-"""The seed's master (issue 18): keeps the Cycles sample workers busy with the priority
-queue's requests for the view at rest, adds what comes back to the corrections, and
-rebuilds the corrected frame when asked (gpu/corrections.py, gpu/correction_queue.py).
+"""The seed's master: keeps the Cycles sample workers busy with the priority queue's
+requests for the view at rest, adds what comes back to the corrections, and rebuilds the
+corrected frame when asked (layers.py, reconstruction.py, request_queue.py).
 
-A view is a gpu Camera with its preview and Guide and the camera's world matrix the
+A view is a gpu Camera with its preview and G-buffer (gpu/shade.py GBufferRecord) and the camera's world matrix the
 workers render with; a new view keeps the corrections of the earlier ones that still
 apply. Results of a view the camera left still go into that view's layer.
 """
-import os
 import time
-from contextlib import contextmanager
 
-import bpy
 import numpy as np
 
-from ..gpu.capacity import check_corrections_fit
+from ..gpu.capacity import GIB, available_host_bytes
 from ..gpu.errors import LPVError, first_line
-from ..gpu.correction_queue import RequestQueue
-from ..gpu.corrections import Corrections
-from ..gpu.pipeline import Pipeline
-from .cycles_render import temporary_folder
-from .sample_workers import SampleRequest, SampleWorkers
+from .layers import Corrections
+from .request_queue import RequestQueue
+from .sample_request import SampleRequest
 
 REQUESTS_PER_WORKER = 2
 """Requests kept in flight a worker: the next one is there when one ends."""
@@ -38,10 +33,23 @@ RECEIVE_SHARE = 0.5
 """...but receives for at least this share of its time, however long a rebuild."""
 CAPACITY_SECONDS = 10.0
 """How often the cluster is asked how many workers it has (a studio's may grow)."""
+CORRECTION_BYTES_PER_PIXEL = 1000
+"""What the corrections toward Cycles  hold a pixel beyond the process's
+own: a view's layer, the filter's edges at every scale and a rebuild's arrays (a process's
+peak grew by about 1,000 bytes a pixel from 960×540 to 1920×1080)."""
+
+
+def check_corrections_fit(width, height):
+    """Refuse corrections of a `width` × `height` image that would not fit in the memory
+    free now, before their workers start (their own scenes are not counted)."""
+    needed, available = width * height * CORRECTION_BYTES_PER_PIXEL, available_host_bytes()
+    if available is not None and needed > available:
+        raise LPVError(f"Corrections of a {width} x {height} image need about {needed / GIB:.1f} GiB of memory but "
+                       f"{available / GIB:.1f} GiB is free; render it smaller, or without --correct-seconds.")
 
 
 class Corrector:
-    """Corrections of one scene from `workers` (addon/sample_workers.py SampleWorkers), at
+    """Corrections of one scene from `workers` (sample_workers.py SampleWorkers), at
     the animation's frame `scene_frame` (None: where the workers' scene is); `rebuild_seconds`:
     how long a rebuild of such a view took before (None: not known)."""
 
@@ -59,15 +67,15 @@ class Corrector:
         self.rebuild_seconds = rebuild_seconds  # how long the last rebuild of a frame took
         self.capacity = (-CAPACITY_SECONDS, 1)  # (when asked, requests in flight wanted)
 
-    def rest(self, key, camera, camera_matrix, preview, guide, projection=None, settings=None):
+    def rest(self, key, camera, camera_matrix, preview, gbuffer, projection=None, settings=None):
         """The camera rests at the view `key`: its gpu Camera, the world matrix and the
         projection Cycles renders it with (4 × 4 nested tuples; None: the scene camera's),
-        its preview ((h, w, 3)) of the preview's `settings` and its Guide. Returns the
+        its preview ((h, w, 3)) of the preview's `settings` and its GBufferRecord. Returns the
         frame corrected by what the corrections hold already; requests go out."""
-        self.corrections.view(key, camera, guide, preview, settings)
+        self.corrections.view(key, camera, gbuffer, preview, settings)
         if key != self.view_key:
             self.view_key, self.camera_matrix, self.projection = key, camera_matrix, projection
-            self.resolution = guide.size
+            self.resolution = gbuffer.size
             self.queue = RequestQueue(self.resolution)
             if not self.corrections.layers:  # nothing to gather: the first requests cover the view meanwhile
                 self.fill()
@@ -76,7 +84,7 @@ class Corrector:
         return frame
 
     def frame(self):
-        """The corrected frame of the view at rest (a gpu.corrections Reconstruction); the
+        """The corrected frame of the view at rest (a reconstruction.py Reconstruction); the
         queue learns its errors."""
         started = time.perf_counter()
         reconstruction = self.corrections.reconstruct(self.view_key)
@@ -184,50 +192,6 @@ class Corrector:
         self.in_flight.clear()
 
 
-def write_scene(bpy_scene, path):
-    """Write `bpy_scene` and what it uses to the .blend `path` as it is now, unsaved edits
-    included, without touching the open file (no operator: callable while drawing)."""
-    try:
-        bpy.data.libraries.write(path, {bpy_scene}, path_remap="ABSOLUTE", fake_user=True)
-    except (OSError, RuntimeError) as error:
-        raise LPVError(f"Cannot write the scene's copy for the Cycles sample workers to '{path}' "
-                       f"({first_line(error)}); free some disk space or set TMPDIR.") from None
-
-
-@contextmanager
-def blend_for_workers(bpy_scene, path=None, remote=False):
-    """The .blend the workers open: `path`, the file `bpy_scene` was opened from and not
-    edited since (the command line's `render`), else `bpy_scene` written to a temporary
-    folder for the while (for local workers only: a `remote` cluster's cannot read it).
-    Blender as a module counts every file as edited (`bpy.data.is_dirty`), so the caller
-    vouches for it."""
-    if path is not None and os.path.abspath(bpy.data.filepath) == os.path.abspath(path):
-        yield path
-        return
-    if remote:
-        raise LPVError("A remote Dask cluster's workers open the .blend file itself; render a saved .blend file "
-                       "that they can read at the same path.")
-    with temporary_folder("lpv_corrections_") as folder:
-        copy = os.path.join(folder, "corrections.blend")
-        write_scene(bpy_scene, copy)
-        yield copy
-
-
-@contextmanager
-def workers_for(bpy_scene, correction, resolution, blend_path=None, scheduler=None):
-    """The SampleWorkers of `correction` (CorrectionSettings): `correction_workers` local
-    ones, or the Dask cluster at `scheduler` (its TLS certificates from Dask's
-    configuration), every one with the .blend of `bpy_scene` open (`blend_for_workers`).
-    They start first: a cluster that cannot be reached, or corrections of a `resolution`
-    (width, height) that would not fit in memory, stop a render before its work."""
-    check_corrections_fit(*resolution)
-    with blend_for_workers(bpy_scene, blend_path, remote=scheduler is not None) as path:
-        with SampleWorkers(path, workers=None if scheduler else correction.correction_workers,
-                           scheduler=scheduler) as workers:
-            workers.open_everywhere()
-            yield workers
-
-
 def rendered_passes(passes):
     """The passes a corrected frame is rendered with (the combined one is corrected), and
     those it is written with: its preview beside them."""
@@ -241,9 +205,9 @@ def correct(workers, pipeline, scene, frame, seconds, scene_frame, rebuild_secon
     `workers` (`rebuild_seconds`: as the last corrected frame's rebuild took, if known);
     the uncorrected image becomes the pass `preview`. Returns the statistics of what came,
     also added to the frame's."""
-    guide = pipeline.read_guide(scene)
+    gbuffer = pipeline.read_gbuffer(scene)
     corrector = Corrector(workers, scene_frame, rebuild_seconds)
-    corrector.rest(scene.camera.key(), scene.camera, None, frame.passes["combined"], guide)
+    corrector.rest(scene.camera.key(), scene.camera, None, frame.passes["combined"], gbuffer)
     for _, reconstruction in corrector.run(seconds):
         pass
     corrector.cancel()
@@ -252,17 +216,3 @@ def correct(workers, pipeline, scene, frame, seconds, scene_frame, rebuild_secon
     stats = {**corrector.stats(reconstruction), "correction_rebuild_seconds": corrector.rebuild_seconds}
     frame.stats.update(stats)
     return stats
-
-
-def corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path=None, scheduler=None):
-    """A frame of the gpu Scene `scene` (extracted from `bpy_scene` at its current frame)
-    corrected toward Cycles for `correction.correct_seconds` by the workers of
-    `workers_for`."""
-    with workers_for(bpy_scene, correction, (settings.width, settings.height), blend_path, scheduler) as workers:
-        pipeline = Pipeline(settings)
-        try:
-            frame = pipeline.render_converged(scene, passes=rendered_passes(passes)[0])
-            correct(workers, pipeline, scene, frame, correction.correct_seconds, bpy_scene.frame_current)
-            return frame
-        finally:
-            pipeline.release()

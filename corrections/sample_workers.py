@@ -1,18 +1,19 @@
-"""Cycles sample workers on Dask distributed (issue 18): each worker process keeps one
-SampleRenderer (addon/cycles_samples.py) per .blend, so the scene is loaded once a
-process; requests go out as Dask tasks, and a worker that dies mid-request loses nothing,
-the scheduler hands its tasks to another.
+"""Cycles sample workers on Dask distributed: each worker process keeps one renderer (the
+caller's: addon/sample_renderer.py) per .blend, so the scene is loaded once a process;
+requests go out as Dask tasks, and a worker that dies mid-request loses nothing, the
+scheduler hands its tasks to another.
 
-`SampleWorkers(blend, workers=N)` starts a local cluster listening on the loopback
-address only; `SampleWorkers(blend, scheduler="tls://HOST:PORT", security=...)` joins a
-studio's cluster, over TLS only: a Dask scheduler runs whatever code it is sent, so it is
-never reached in the clear (README, "Cycles sample workers").
+`SampleWorkers(blend, open_renderer, workers=N)` starts a local cluster listening on the
+loopback address only; `SampleWorkers(blend, open_renderer, scheduler="tls://HOST:PORT",
+security=...)` joins a studio's cluster, over TLS only: a Dask scheduler runs whatever
+code it is sent, so it is never reached in the clear (README, "Cycles sample workers").
 """
 import shutil
 
 from ..gpu.errors import LPVError, first_line
-from ..sample_tasks import SampleRequest, open_blend, render_request  # noqa: F401 (the request type, for callers)
-from .cycles_render import make_temporary_folder
+from ..gpu.temporary_folders import make_temporary_folder
+from .sample_request import SampleRequest
+from .worker_task import open_blend, render_request
 
 WORKER_DEATHS_ALLOWED = 3
 """Worker deaths a request may see before it is given up (Dask's allowed-failures)."""
@@ -26,9 +27,11 @@ def check_scheduler(scheduler):
 
 
 class SampleWorkers:
-    """A Dask client and, for `workers`, the local cluster it owns."""
+    """A Dask client and, for `workers`, the local cluster it owns; each worker opens the
+    .blend with `open_renderer(blend_path)`, a function it imports by name (one that
+    imports bpy when called: addon/sample_renderer.py)."""
 
-    def __init__(self, blend_path, workers=None, scheduler=None, security=None):
+    def __init__(self, blend_path, open_renderer, workers=None, scheduler=None, security=None):
         check_scheduler(scheduler)
         if scheduler is None and (workers is None or workers < 1):
             raise LPVError(f"Start 1 or more Cycles sample workers, not {workers}.")
@@ -38,7 +41,7 @@ class SampleWorkers:
         except ImportError:
             raise LPVError("The Cycles sample workers need Dask distributed, which this Python lacks; install "
                            "requirements.txt (bash scripts/setup.sh).") from None
-        self.blend_path = blend_path
+        self.blend_path, self.open_renderer = blend_path, open_renderer
         self.cluster = self.client = None
         # a local cluster's files (Dask's scratch space, the workers' renders) in one folder,
         # removed on close even when a worker is stopped before it cleans up
@@ -65,14 +68,15 @@ class SampleWorkers:
     def open_everywhere(self):
         """Have every worker open the .blend now, so the first requests wait for none."""
         try:
-            self.client.run(open_blend, self.blend_path)
+            self.client.run(open_blend, self.open_renderer, self.blend_path)
         except Exception as error:  # whatever the worker raised, pickled back
             raise LPVError(f"The Cycles sample workers could not open '{self.blend_path}': {first_line(error)}.") \
                 from None
 
     def submit(self, request, **placement):
         """A Dask future of the SampleResult of `request` (`placement`: Dask's, such as `workers`)."""
-        return self.client.submit(render_request, self.blend_path, request, self.threads, pure=False, **placement)
+        return self.client.submit(render_request, self.open_renderer, self.blend_path, request, self.threads,
+                                  pure=False, **placement)
 
     def settle(self, resolution):
         """Wait until every worker has ended what it renders: a cancelled request runs to its

@@ -11,12 +11,14 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
+from ..addon.cycles_reference import ReferenceCache, cycles_reference
+from ..addon.cycles_samples import SampleRenderer
+from ..addon.render_scene import scene_to_render
+from ..addon.sample_renderer import open_sample_renderer
+from ..corrections.corrector import Corrector
+from ..corrections.sample_request import SampleRequest
+from ..corrections.sample_workers import SampleWorkers
 from ..gpu.pipeline import Pipeline
-from .corrective import Corrector
-from .cycles_reference import ReferenceCache, cycles_reference
-from .cycles_samples import SampleRenderer
-from .render_scene import scene_to_render
-from .sample_workers import SampleRequest, SampleWorkers
 
 TIMELINE_SEED = 100
 """The Cycles timelines' seeds count up from here, apart from the references' and the corrections'."""
@@ -31,7 +33,7 @@ class View:
     scene: object
     reference: np.ndarray
     preview: np.ndarray = None
-    guide: object = None
+    gbuffer: object = None
     preview_seconds: float = 0.0
     key: str = field(default="")
 
@@ -88,7 +90,7 @@ def render_previews(views, settings):
             began = time.perf_counter()
             frame = pipeline.render_converged(view.scene)
             view.preview_seconds = time.perf_counter() - began
-            view.preview, view.guide = frame.passes["combined"], pipeline.read_guide(view.scene)
+            view.preview, view.gbuffer = frame.passes["combined"], pipeline.read_gbuffer(view.scene)
     finally:
         pipeline.release()
 
@@ -130,7 +132,7 @@ def corrected(workers, view, seconds, frames_at=(), corrector=None):
     the timeline and the Corrector."""
     corrector = corrector or Corrector(workers)
     began = time.perf_counter()
-    first = corrector.rest(view.key, view.scene.camera, view.camera, view.preview, view.guide)
+    first = corrector.rest(view.key, view.scene.camera, view.camera, view.preview, view.gbuffer)
     offset = view.preview_seconds + time.perf_counter() - began
     timeline = [(view.preview_seconds, view.preview), (offset, first.image)]
     frames = [view.preview_seconds + t - offset for t in frames_at if view.preview_seconds + t > offset]
@@ -160,13 +162,13 @@ def measure_scene(name, build, settings, reference_samples, blend_path, cores, t
     finally:
         renderer.close()
     log(f"{name}: Cycles timelines done ({samples} samples in {still[-1][0]:.1f} s)")
-    with SampleWorkers(blend_path, workers=cores) as workers:
+    with SampleWorkers(blend_path, open_sample_renderer, workers=cores) as workers:
         workers.open_everywhere()
         workers.settle(resolution)  # every worker's scene loaded
         ours, corrector = corrected(workers, views[0], timing["still_seconds"], timing["frames_at"])
         corrector.cancel()
         turn = corrector.rest(views[-1].key, views[-1].scene.camera, views[-1].camera, views[-1].preview,
-                              views[-1].guide).image
+                              views[-1].gbuffer).image
         corrector.cancel()  # the turned view's requests: not the path's
         log(f"{name}: corrected still done ({corrector.samples_received} samples)")
         corrector = None

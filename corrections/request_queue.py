@@ -3,7 +3,7 @@ to ask for next, and how many samples a pixel.
 
 The image is cut into square tiles; a tile's priority is the error its next request is
 expected to remove for each second it costs. The error is the reconstruction's own
-estimate (gpu/corrections.py), so the seed's three sources are one rule: tiles no sample
+estimate (reconstruction.py), so the seed's three sources are one rule: tiles no sample
 has reached yet carry the preview's assumed error and go first, a row of them at 1 sample
 a pixel in one request (the uniform requests),
 tiles the reprojected corrections of earlier views leave uncertain carry that (their
@@ -98,7 +98,7 @@ class RequestQueue:
         whole view is covered first, as soon as the workers can. A request whose doubled
         samples stay under REQUEST_SAMPLES takes the tiles beside it in its row that hold
         as many: a pixel's requests then grow by at most about 4 times what it holds, not
-        16, so the spread of their means tells the noise (gpu/corrections.py)."""
+        16, so the spread of their means tells the noise (reconstruction.py)."""
         held = self.samples + self.received + self.pending
         step = 2.0 ** np.floor(np.log2(np.maximum(held, 1.0)))
         spp = np.maximum(np.ceil(REQUEST_SAMPLES / self.pixels), step)

@@ -9,27 +9,29 @@ from .commands import command_compare, command_demo, command_export, command_ren
 from .flags import (add_correction_flags, add_debug_passes_flag, add_setting_flags, indirect_method_list,
                     lower_first, method_list, positive_int)
 
-DESCRIPTION = "Command line: `python -m lpv_preview demo | render FILE.blend | compare FILE.blend | export SCENE | bench`."
+DESCRIPTION = ("Command line: `python -m lpv_preview demo | render FILE.blend | compare FILE.blend | export SCENE | "
+               "bench`.")
 
 
-def build_parser():
-    from ..bench.table1 import BUDGETS, TABLE1_METHODS
-    comparison = ComparisonSettings()
-    parser = argparse.ArgumentParser(prog="python -m lpv_preview", description=DESCRIPTION)
-    commands = parser.add_subparsers(dest="command", required=True)
-    scene_list = ", ".join(demo.SCENES)
-    triangles_help = "triangle count of " + " or ".join(f"the {name} ({low:,}..{high:,})"
-                                                        for name, (low, high) in demo.TRIANGLE_RANGES.items())
+def triangles_help():
+    return "triangle count of " + " or ".join(f"the {name} ({low:,}..{high:,})"
+                                              for name, (low, high) in demo.TRIANGLE_RANGES.items())
 
+
+def add_demo_command(commands):
+    """`demo`: build a built-in scene with bpy and render it."""
     command = commands.add_parser("demo", help="build a built-in scene with bpy and render it")
     command.add_argument("--scene", default=demo.SCENES[0], choices=demo.SCENES)
-    command.add_argument("--triangles", type=int, help=triangles_help)
+    command.add_argument("--triangles", type=int, help=triangles_help())
     command.add_argument("--out", default="out", help="output folder (default: out)")
     add_setting_flags(command)
     add_debug_passes_flag(command)
     add_correction_flags(command, scheduler=False)  # a demo scene is never saved where a cluster could read it
     command.set_defaults(run=command_demo)
 
+
+def add_render_command(commands):
+    """`render`: a .blend file from its active camera, a frame or an animation."""
     command = commands.add_parser("render", help="render a .blend file from its active camera")
     command.add_argument("file")
     command.add_argument("--out", default="out", help="output folder (default: out)")
@@ -40,6 +42,11 @@ def build_parser():
     add_correction_flags(command)
     command.set_defaults(run=command_render)
 
+
+def add_compare_command(commands):
+    """`compare`: the methods and their peers against Cycles references."""
+    comparison = ComparisonSettings()
+    scene_list = ", ".join(demo.SCENES)
     command = commands.add_parser("compare", help="measure the methods and their peers (EEVEE, denoised Cycles) "
                                                   "against Cycles references")
     command.add_argument("file", help=f"a .blend file, or a demo scene name ({scene_list})")
@@ -61,9 +68,12 @@ def build_parser():
     add_setting_flags(command)
     command.set_defaults(run=command_compare)
 
+
+def add_export_command(commands):
+    """`export`: a demo scene as .npz for machines without Blender."""
     command = commands.add_parser("export", help="save a demo scene as .npz for machines without Blender")
     command.add_argument("scene", choices=demo.SCENES)
-    command.add_argument("--triangles", type=int, help=triangles_help)
+    command.add_argument("--triangles", type=int, help=triangles_help())
     command.add_argument("--out", required=True, help="the .npz file to write")
     command.add_argument("--lights", type=positive_int, help="replace the lights by this many of --light-kind")
     command.add_argument("--light-kind", choices=tuple(LIGHT_KIND_NAMES), default="point")
@@ -72,6 +82,10 @@ def build_parser():
     command.add_argument("--cycles-width", type=positive_int, help="its width in pixels (default: the scene's)")
     command.set_defaults(run=command_export)
 
+
+def add_bench_command(commands):
+    """`bench`: Table 1, or the measurement of a BENCH_MODES flag."""
+    from ..bench.table1 import BUDGETS, TABLE1_METHODS
     command = commands.add_parser("bench", help="every RSM method against CM: time, DPM and LPV quality")
     command.add_argument("--scenes", default=",".join(demo.LAMP_SCENES),
                          help=f"comma-separated demo scene names and/or .npz files (default: "
@@ -91,4 +105,12 @@ def build_parser():
     add_bench_modes(command)
     add_setting_flags(command)
     command.set_defaults(run=command_bench)
+
+
+def build_parser():
+    parser = argparse.ArgumentParser(prog="python -m lpv_preview", description=DESCRIPTION)
+    commands = parser.add_subparsers(dest="command", required=True)
+    for add_command in (add_demo_command, add_render_command, add_compare_command, add_export_command,
+                        add_bench_command):
+        add_command(commands)
     return parser

@@ -4,9 +4,9 @@
     .venv/bin/python -m lpv_preview compare OUT_DIR/checker_room.blend --samples 128 --methods wdpm --no-noise-floor
     .venv/bin/python -m lpv_preview compare OUT_DIR/hidden.blend --samples 128 --methods wdpm --no-noise-floor
 
-checker_room: the 8 x 8 checker floor of tests/test_textures.py with a white wall and a
+checker_room: the 8 x 8 checker floor of tests/blender/test_textures.py with a white wall and a
 cube, 128²; hidden: the floor with cubes hidden eight ways of
-tests/test_render_visibility.py, 192 x 128.
+tests/cycles/test_render_visibility.py, 192 x 128.
 """
 import os
 import sys

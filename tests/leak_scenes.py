@@ -15,7 +15,7 @@ from mathutils import Vector
 
 from lpv_preview.addon.render_scene import scene_to_render
 
-from .test_extract import mesh_object
+from .blender.test_extract import mesh_object
 
 GREY = (0.8, 0.8, 0.8)
 WARM = (0.8, 0.6, 0.4)

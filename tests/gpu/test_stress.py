@@ -7,7 +7,7 @@ from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.scene import Scene
 from lpv_preview.gpu.settings import Settings
 
-from .synthetic_scenes import room_scene
+from ..synthetic_scenes import room_scene
 
 METHODS = ("dpm", "wdpm", "tdpm", "twdpm")
 

@@ -18,7 +18,7 @@ from lpv_preview.gpu.settings import Settings
 from lpv_preview.gpu.vpl import VPLSet
 from lpv_preview.gpu.warp import STATUS_NAMES
 
-from .glsl import evaluate
+from ..glsl import evaluate
 
 GPU_EXAMPLES = settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 finite = st.floats(-1.0, 1.0, allow_nan=False, width=32)
@@ -160,7 +160,7 @@ def test_propagation_never_creates_light(glc, positions, normals, occlusion):
 
 
 def test_a_frame_is_the_same_every_time(glc):
-    from .synthetic_scenes import room_scene
+    from ..synthetic_scenes import room_scene
     settings = Settings(width=32, height=32, rsm_resolution=64, vpls_per_light=256, lpv_resolution=8, method="wdpm")
     first, second = (render_once(room_scene(3), settings, glc).passes for _ in range(2))
     for name in first:

@@ -110,7 +110,7 @@ def test_emissive_instances_and_particles_become_point_emitters():
     from lpv_preview.addon.point_emitters import BULK_INSTANCES
     from lpv_preview.demo.particles import instance_on_points
 
-    from .leak_scenes import camera, diffuse, empty_scene, light, quad
+    from ..leak_scenes import camera, diffuse, empty_scene, light, quad
     empty_scene((32, 24))
     quad("Floor", 3.0, 0.0, diffuse("Grey", (0.8, 0.8, 0.8)))
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=0.02, location=(0, 0, 40))
@@ -149,7 +149,7 @@ def test_collection_instances_become_point_emitters():
     from lpv_preview.addon.extract import extract_scene
     from lpv_preview.demo.particles import instance_on_points
 
-    from .leak_scenes import camera, diffuse, empty_scene, light, quad
+    from ..leak_scenes import camera, diffuse, empty_scene, light, quad
     empty_scene((32, 24))
     quad("Floor", 3.0, 0.0, diffuse("Grey", (0.8, 0.8, 0.8)))
     lantern = bpy.data.collections.new("Lantern")

@@ -6,7 +6,7 @@ import pytest
 
 from lpv_preview.gpu import lpv
 
-from .glsl import evaluate
+from ..glsl import evaluate
 
 
 def sphere_quadrature(n_theta=400, n_phi=800):

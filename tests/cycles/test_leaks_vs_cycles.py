@@ -19,7 +19,7 @@ from lpv_preview.gpu.metrics import image_errors, psnr  # noqa: E402
 from lpv_preview.gpu.pipeline import render_once  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 
-from .leak_scenes import BUILDERS, unblocked_scene  # noqa: E402
+from ..leak_scenes import BUILDERS, unblocked_scene  # noqa: E402
 
 SIZE = (64, 48)
 SAMPLES = 32

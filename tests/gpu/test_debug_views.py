@@ -11,7 +11,7 @@ from lpv_preview.gpu.lpv import LightPropagationVolume
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.settings import DisplaySettings, Settings
 
-from .synthetic_scenes import room_scene
+from ..synthetic_scenes import room_scene
 
 SIZE = 96
 DEBUG = ("combined", "direct", "indirect", "vpl_splats", "warp_status")

@@ -13,7 +13,7 @@ from lpv_preview.gpu.pipeline import render_once  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 from lpv_preview.gpu.surface_emitters import sample_surface_emitters  # noqa: E402
 
-from .leak_scenes import box, camera, diffuse, empty_scene, quad, room_shell  # noqa: E402
+from ..leak_scenes import box, camera, diffuse, empty_scene, quad, room_shell  # noqa: E402
 
 SIZE = (64, 48)
 

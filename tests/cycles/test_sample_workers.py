@@ -24,7 +24,7 @@ from lpv_preview.gpu.errors import LPVError  # noqa: E402
 from lpv_preview.gpu.image_io import read_exr  # noqa: E402
 from lpv_preview.gpu.metrics import relative_mse  # noqa: E402
 
-from .depsgraph_updates import recorded_updates  # noqa: E402
+from ..depsgraph_updates import recorded_updates  # noqa: E402
 
 SIZE = (32, 24)
 

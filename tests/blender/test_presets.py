@@ -71,7 +71,7 @@ def test_a_sweep_may_vary_the_preset(tmp_path):
 
 def test_the_committed_fronts_report_still_chooses_the_presets():
     """gpu/settings.py PRESETS are what choose_presets picks from docs/bench/sweep_fronts.json."""
-    report = json.loads((Path(__file__).parents[1] / "docs" / "bench" / "sweep_fronts.json").read_text())
+    report = json.loads((Path(__file__).parents[2] / "docs" / "bench" / "sweep_fronts.json").read_text())
     chosen = choose_presets(report)
     assert list(chosen) == list(PRESETS)
     for name, values in PRESETS.items():

@@ -13,7 +13,7 @@ from lpv_preview.gpu.settings import Settings  # noqa: E402
 from lpv_preview.gpu.vpl import (VPLSet, concentric_disk, concentric_square, poisson_disk_points,  # noqa: E402
                                  shifted_pattern)
 
-from .leak_scenes import lone_floor, thin_wall  # noqa: E402
+from ..leak_scenes import lone_floor, thin_wall  # noqa: E402
 
 SIZE = (48, 36)
 SMALL = dict(width=SIZE[0], height=SIZE[1], method="wdpm", rsm_resolution=64, vpls_per_light=256)

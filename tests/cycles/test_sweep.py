@@ -14,7 +14,7 @@ from lpv_preview.bench.sweep_report import pareto_front, scaling_fit
 from lpv_preview.gpu.scene_edits import with_lights
 from lpv_preview.gpu.scene_file import load_scene, stored_cycles_indirect
 
-from .synthetic_scenes import room_scene
+from ..synthetic_scenes import room_scene
 
 bpy = pytest.importorskip("bpy")
 

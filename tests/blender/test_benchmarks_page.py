@@ -9,7 +9,7 @@ import pytest
 
 from lpv_preview.bench.page import benchmarks_page, machine_label
 
-DOCS = Path(__file__).parents[1] / "docs"
+DOCS = Path(__file__).parents[2] / "docs"
 
 
 def fake_point(scene, preset, ms, cycles_psnr):

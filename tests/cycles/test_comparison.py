@@ -19,7 +19,7 @@ from lpv_preview.addon.cycles_reference import ReferenceCache  # noqa: E402
 from lpv_preview.gpu.errors import LPVError  # noqa: E402
 from lpv_preview.gpu.settings import INDIRECT_METHODS, Settings  # noqa: E402
 
-from .test_engine import scene_snapshot  # noqa: E402
+from ..blender.test_engine import scene_snapshot  # noqa: E402
 
 SMALL = Settings(width=40, height=32, rsm_resolution=64, vpls_per_light=256, lpv_resolution=16)
 SAMPLES = 8

@@ -13,7 +13,7 @@ from lpv_preview.gpu.scene import Light
 from lpv_preview.gpu.settings import Settings
 from lpv_preview.gpu.shade import FrameTargets
 
-from .synthetic_scenes import room_scene
+from ..synthetic_scenes import room_scene
 
 
 def lit_room():

@@ -9,8 +9,8 @@ from lpv_preview.gpu.mesh_buffer import MeshBuffer
 from lpv_preview.gpu.rsm import hemisphere_views, render_rsm
 from lpv_preview.gpu.scene import Camera, Light, Scene
 
-from .glsl import evaluate
-from .synthetic_scenes import room_scene
+from ..glsl import evaluate
+from ..synthetic_scenes import room_scene
 
 
 def test_solid_angles_cover_the_hemisphere():

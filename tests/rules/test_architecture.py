@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).parents[1]
+ROOT = Path(__file__).parents[2]
 RULE_PAGE = ROOT / "docs" / "architecture.md"
 BLENDER_MODULES = {"bpy", "bpy_extras", "bl_ui", "bmesh", "mathutils", "addon_utils", "gpu", "gpu_extras",
                    "freestyle", "aud", "imbuf", "idprop"}

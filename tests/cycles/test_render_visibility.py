@@ -16,8 +16,8 @@ from lpv_preview.addon.extract import extract_scene
 from lpv_preview.addon.render_scene import scene_to_render
 from lpv_preview.gpu.errors import LPVError
 
-from .test_engine import scene_snapshot
-from .test_extract import cube_object, mesh_object
+from ..blender.test_engine import scene_snapshot
+from ..blender.test_extract import cube_object, mesh_object
 
 QUAD = 2  # triangles of a quad
 CUBE = 12

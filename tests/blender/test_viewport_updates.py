@@ -13,7 +13,7 @@ from lpv_preview.addon.sync import CAMERA, EVERYTHING, GEOMETRY, LIGHTS, changed
 from lpv_preview.gpu.indirect import INDIRECT_STAGES  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 
-from .depsgraph_updates import recorded_updates  # noqa: E402
+from ..depsgraph_updates import recorded_updates  # noqa: E402
 
 LIGHT_STAGES = ("rsm_ms", "vpl_ms")
 INDIRECT_STAGES_NOW = INDIRECT_STAGES[Settings().indirect_method]

@@ -17,7 +17,7 @@ bpy = pytest.importorskip("bpy")
 from lpv_preview import demo  # noqa: E402
 from lpv_preview.gpu.image_io import read_exr_channels  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 INSTALL_AND_RENDER = """
 import json, os, sys

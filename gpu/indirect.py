@@ -41,6 +41,7 @@ class IndirectMethod:
         self.volumes = self._volumes()
 
     def _volumes(self):
+        """Its volumes over the grids, made once."""
         raise NotImplementedError
 
     @staticmethod
@@ -131,8 +132,11 @@ class LPVMethod(IndirectMethod):
     name = "lpv"
     stages = ("inject_ms", "propagate_ms")
 
-    def _volumes(self):
+    def __init__(self, glc, grids, phases):
         self.bounce_occupancy = None  # what the emitters' bounce marches through
+        super().__init__(glc, grids, phases)
+
+    def _volumes(self):
         return [LightPropagationVolume(self.glc, grid) for grid in self.grids]
 
     @staticmethod
@@ -287,8 +291,11 @@ class VPLGatherMethod(GatheringMethod):
     stages = ("inject_ms",)
     gathers_per_pixel = True
 
-    def _volumes(self):
+    def __init__(self, glc, grids, phases):
         self.emitter_sets = []  # what every pixel gathers from: (buffer, count) pairs
+        super().__init__(glc, grids, phases)
+
+    def _volumes(self):
         return [VPLGather(self.glc, self.levels)]
 
     @classmethod

@@ -19,6 +19,7 @@ RECEIVER_SENDERS = 256
 gathers from per bounce and set: a strided subset (scaled up), so the cost is this many
 marches a VPL, whatever the VPL count; converging frames change the subset."""
 LANES = 64  # invocations sharing one receiver's senders (shaders/bounce.comp, emitter_bounce.comp)
+BOUNCE_SCRATCH_BYTES_PER_VPL = 16 + 2 * EMITTER_BYTES  # received irradiance, two generations
 
 
 class Bounces:
@@ -29,7 +30,7 @@ class Bounces:
         self.sets = []  # (buffer, count) per light: the totals
 
     def build(self, maps, bounces, occupancy, layers, singularity_bound, pattern):
-        """Light each light's VPLs (`maps`: pipeline.LightMaps) by one another, `bounces` - 1
+        """Light each light's VPLs (`maps`: light_maps.LightMaps) by one another, `bounces` - 1
         times over, marching `occupancy`'s grids `layers` (indices, finest first); returns
         the totals."""
         self.release()

@@ -11,13 +11,15 @@ import os
 from .emitter_grid import CLUSTER_FLOATS, grid_resolution
 from .errors import LPVError
 from .grids import VIEW_LATTICE
-from .light_grid import CLUSTER_INTS, DIRECTIONS, cluster_capacity
-from .occupancy import GATHER_VOXELS_PER_CELL, VOXELS_PER_CELL
+from .indirect import indirect_method
+from .light_grid import CLUSTER_BYTES, LIGHT_GRID_BYTES_PER_CELL, cluster_capacity
+from .occupancy import LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .rsm import face_atlas_size, map_face_count
 from .scene import POINT_EMITTER_COLUMNS
 from .surface_images import BYTES_PER_TEXEL, layer_size
 from .vpl import EMITTER_BYTES
+from .vpl_gather import pixel_gather_bytes
 
 GIB = 2 ** 30
 
@@ -39,17 +41,6 @@ SHARED_BYTES_PER_TEXEL = 4 + 4
 cell ids; the warped methods keep a spare set of maps there too (the warp's source)."""
 VPL_CELL_BYTES = 16 + 8               # per atlas layout: a Poisson cell's bounds and sample point
 
-LPV_BYTES_PER_CELL = 12 * 4 + 9 * 16
-"""The injection's integer accumulator (12 channels) and the ping, pong and sum volumes
-(three RGBA32F volumes each, one per colour)."""
-BOUNCE_SCRATCH_BYTES_PER_VPL = 16 + 2 * EMITTER_BYTES  # received irradiance, two generations (gpu/bounces.py)
-GEOMETRY_VOLUME_BYTES_PER_CELL = 16 + 16  # its accumulator and its volume, one cell larger a side
-LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16 + VOXELS_PER_CELL ** 3 + 1
-"""Six RGBA32F irradiances, the occupancy's one-byte voxels and its coarse byte."""
-CLUSTER_BYTES = 4 + CLUSTER_INTS * 4 + EMITTER_BYTES + 1  # per hash slot: key, sums, emitter, its block's count
-GATHER_BYTES_PER_PIXEL = 2 * 16  # the VPL gather's sums and their filtered image (RGBA32F)
-LARGE_TRIANGLE_BYTES = 3 * 4  # room to list every triangle as one the voxelisation rasterises
-
 VERTEX_BYTES = 12 * 4                 # position, normal, albedo, surface coordinate (mesh_buffer.py)
 RIM_LIST_BYTES_PER_TRIANGLE = 2 * 3 * 4
 """Per paraboloid hemisphere: room for two lists of vertex indices (uint32) of the
@@ -63,14 +54,6 @@ def map_method(method):
     others. `auto` chooses the cube only where it has as many faces as the paraboloid (one:
     a sun, a spot of up to 45 degrees), so its layout is the paraboloid's."""
     return "cm" if method == "cm" else "dpm"
-
-
-def pixel_gather_bytes(s, scene, pixels):
-    """A pixel gather's (gpu/vpl_gather.py): every level's occupancy, its canvas, its
-    images and the voxelisation's list of large triangles."""
-    n = s.lpv_resolution
-    return (s.grid_levels * n ** 3 * (GATHER_VOXELS_PER_CELL ** 3 + 1) + (GATHER_VOXELS_PER_CELL * n) ** 2
-            + pixels * GATHER_BYTES_PER_PIXEL + scene.triangle_count * LARGE_TRIANGLE_BYTES)
 
 
 def mapped_lights(s, scene):
@@ -87,8 +70,8 @@ def emitter_bytes(s, scene, pixels, lamps):
     bounce, for the scene's point emitters and `lamps` point lights beyond the budget."""
     count = scene.point_emitter_count + lamps
     bounce = s.emitter_bounce_samples * (2 * EMITTER_BYTES + 32) if count or scene.emission is not None else 0
-    if bounce and s.indirect_method == "lpv":  # the bounce's own occupancy
-        bounce += s.grid_levels * s.lpv_resolution ** 3 * (VOXELS_PER_CELL ** 3 + 1) + (VOXELS_PER_CELL * s.lpv_resolution) ** 2
+    if bounce:
+        bounce += indirect_method(s).emitter_bounce_bytes(s)
     if not count:
         return bounce
     side = grid_resolution(s.emitter_grid_resolution)
@@ -115,18 +98,7 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     maps = sum(width * height * per_light + s.vpls_per_light * EMITTER_BYTES for width, height in atlases)
     per_layout = SHARED_BYTES_PER_TEXEL + MAP_BYTES_PER_TEXEL * warped
     maps += sum(width * height * per_layout + s.vpls_per_light * VPL_CELL_BYTES for width, height in set(atlases))
-    n = s.lpv_resolution
-    grids = s.grid_levels * s.grid_phases
-    if s.indirect_method == "lpv":
-        indirect = grids * (n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL)
-    elif s.indirect_method == "vpl_gather":
-        indirect = pixel_gather_bytes(s, scene, pixels)
-    else:
-        indirect = grids * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
-        indirect += scene.triangle_count * LARGE_TRIANGLE_BYTES
-        indirect += cluster_capacity(s.vpls_per_light * len(mapped)) * CLUSTER_BYTES
-    if s.bounces > 1 and s.indirect_method != "lpv":  # each light's summed generations, and one light's scratch
-        indirect += s.vpls_per_light * (len(mapped) * EMITTER_BYTES + BOUNCE_SCRATCH_BYTES_PER_VPL)
+    indirect = indirect_method(s).needed_bytes(s, scene, pixels, len(mapped))
     indirect += emitter_bytes(s, scene, pixels, len(scene.lights) - len(mapped))
     if scene.emission is not None:  # emitters and their gather, the glow and the triangles' radiances
         indirect += 2 * s.emission_samples * EMITTER_BYTES + pixel_gather_bytes(s, scene, pixels)
@@ -168,10 +140,7 @@ def check_limits(limits, renderer, settings, scene):
         if width > widest or height > tallest:
             raise LPVError(f"An RSM resolution of {s.rsm_resolution} makes {width} x {height} light maps, larger "
                            f"than {renderer} can render ({widest} x {tallest} at most); lower the RSM resolution.")
-    # the longest side of a volume: an occupancy's grids lie one after the other along z
-    side = {"lpv": s.lpv_resolution + 1,
-            "light_grid": max(DIRECTIONS, VOXELS_PER_CELL * s.grid_levels * s.grid_phases) * s.lpv_resolution,
-            "vpl_gather": GATHER_VOXELS_PER_CELL * s.grid_levels * s.lpv_resolution}[s.indirect_method]
+    side = indirect_method(s).longest_side(s)
     if side > limits["GL_MAX_3D_TEXTURE_SIZE"]:
         raise LPVError(f"A grid resolution of {s.lpv_resolution} needs volumes of {side} cells a side with "
                        f"indirect method {s.indirect_method}, more than {renderer} allows "

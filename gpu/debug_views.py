@@ -72,7 +72,7 @@ class LPVSlice:
 
 
 def lpv_slice(indirect, axis, position, world_origin=(0.0, 0.0, 0.0)):
-    """The layer of cells of the finest indirect grid (gpu/indirect.py IndirectGrids) at
+    """The layer of cells of the finest indirect grid (gpu/indirect.py IndirectMethod) at
     `position` (0 low side .. 1 high side) across `axis`, with
     colours scaled by the brightest cell of the whole volume (the slice keeps its
     brightness as it moves); corners in world space (the grid's are relative to the

@@ -1,118 +1,184 @@
-"""The indirect-light stage for each method: LPVs (the thesis's: inject VPLs, propagate)
-or a light grid (gather every emitter's light at every cell centre), one per level and
-phase, or VPL gathering (every pixel gathers, through the levels' occupancy); built from
-the lights' VPLs and looked up by shaders/shade_indirect.comp."""
+"""The indirect-light stage, one class per method of gpu/settings.py INDIRECT_METHODS: LPVs
+(the thesis's: inject VPLs, propagate), a light grid (gather every emitter's light at
+every cell centre), one per level and phase, or VPL gathering (every pixel gathers,
+through the levels' occupancy); built from the lights' VPLs and looked up by
+shaders/shade_indirect.comp. The pipeline and gpu/capacity.py ask the method's object
+(or class) what differs, never its name."""
 import math
 
 import numpy as np
 
-from .light_grid import LightGrid, cluster_levels
-from .bounces import Bounces
+from .bounces import BOUNCE_SCRATCH_BYTES_PER_VPL, Bounces
 from .emitter_bounce import light_receivers
-from .lpv import LightPropagationVolume
-from .occupancy import Occupancy
-from .vpl_gather import VPLGather
-
-INDIRECT_STAGES = {"lpv": ("inject_ms", "propagate_ms"), "light_grid": ("inject_ms", "gather_ms"),
-                   "vpl_gather": ("inject_ms",)}
-"""The timed stages of each method (stats keys) redone when the lights or the grids
-change: for the light grid, voxelising the scene and clustering the emitters, then the
-gather; for VPL gathering, voxelising (its gather follows the camera: pixel_gather_ms).
-With more than one bounce, both light the VPLs by one another between them (bounce_ms)."""
+from .light_grid import CLUSTER_BYTES, DIRECTIONS, LIGHT_GRID_BYTES_PER_CELL, LightGrid, cluster_capacity, \
+    cluster_levels
+from .lpv import GEOMETRY_VOLUME_BYTES_PER_CELL, LPV_BYTES_PER_CELL, LightPropagationVolume
+from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, Occupancy
+from .settings import INDIRECT_METHODS
+from .vpl import EMITTER_BYTES
+from .vpl_gather import VPLGather, pixel_gather_bytes
 
 
-class IndirectGrids:
+class IndirectMethod:
     """The volumes of one method over `grids` (level-major, each level's `phases` grids
-    together)."""
+    together), what builds them from the lights' VPLs and what looks them up."""
 
-    def __init__(self, glc, method, grids, phases):
+    name = None
+    """Its name in gpu/settings.py INDIRECT_METHODS."""
+    stages = ()
+    """The timed stages (stats keys) a build redoes when the lights or the grids change.
+    With more than one bounce, the gathering methods light the VPLs by one another
+    between them too (bounce_ms)."""
+    gathers_per_pixel = False
+    """Whether every pixel gathers after the G-buffer (gather_pixels, pixel_gather_ms)."""
+
+    def __init__(self, glc, grids, phases):
         self.glc = glc
-        self.method = method
         self.grids = tuple(grids)
         self.levels = self.grids[::phases]
         self.bounces = Bounces(glc)
-        self.emitter_sets = []  # what VPL gathering gathers from: (buffer, count) pairs
         self.emitter_vpls = None  # the emitters' bounce (gpu/emitter_bounce.py)
-        self._lpv_occupancy = None  # what the emitters' bounce marches through with LPVs
-        if method == "lpv":
-            self.volumes = [LightPropagationVolume(glc, grid) for grid in self.grids]
-        elif method == "light_grid":
-            self.volumes = [LightGrid(glc, self.grids)]
-        else:
-            self.volumes = [VPLGather(glc, self.levels)]
+        self.volumes = self._volumes()
+
+    def _volumes(self):
+        """Its volumes over the grids, made once."""
+        raise NotImplementedError
+
+    @staticmethod
+    def key(settings):
+        """The settings its content depends on beyond those of every method."""
+        return ()
+
+    @staticmethod
+    def needed_bytes(settings, scene, pixels, mapped):
+        """GPU bytes its volumes need for `scene` at `pixels` pixels with `mapped` lights
+        that have maps, before anything is allocated (gpu/capacity.py)."""
+        raise NotImplementedError
+
+    @staticmethod
+    def emitter_bounce_bytes(settings):
+        """GPU bytes the emitters' bounce needs beyond its receivers."""
+        return 0
+
+    @staticmethod
+    def longest_side(settings):
+        """The longest side, in texels, of a volume it allocates."""
+        raise NotImplementedError
 
     def build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources=(), receivers=None):
-        """Fill the grids from the lights' maps (pipeline.LightMaps), timing each stage;
-        with `settings.bounces` above 1 (light grid and VPL gathering) from the VPLs lit by
+        """Fill the grids from the lights' maps (gpu/light_maps.py LightMaps), timing each
+        stage; with `settings.bounces` above 1 (gathering methods) from the VPLs lit by
         one another too (gpu/bounces.py), their senders' subsets following the VPL
         `pattern`; and from the emitter sets `sources` ((buffer, count) pairs) through the
         points `receivers()` gives (gpu/emitter_bounce.py)."""
-        timed = self.glc.timed
-        bound = settings.singularity_bound
-        flux_bound = sum(m.vpl_map.flux_bound for m in maps)
-        first, second = INDIRECT_STAGES[self.method][0], INDIRECT_STAGES[self.method][-1]
         if self.emitter_vpls is not None:
             self.emitter_vpls.release()
             self.emitter_vpls = None
-        if self.method == "lpv":
-            vpl_sets = [vpls for m in maps for vpls in (m.vpls, m.far_vpls) if vpls is not None]
-            if sources:
-                if self._lpv_occupancy is None:
-                    self._lpv_occupancy = Occupancy(self.glc, self.levels)
-                with timed(stats, "emitter_bounce_ms"):
-                    self._lpv_occupancy.voxelise(mesh)
-                    self.emitter_vpls = light_receivers(self.glc, receivers(), sources, self._lpv_occupancy,
-                                                        range(len(self.levels)), bound, pattern)
-                vpl_sets.append(self.emitter_vpls)
-                flux_bound += self.emitter_vpls.flux_bound
-            with timed(stats, first):
-                for lpv in self.volumes:
-                    lpv.inject(vpl_sets, flux_bound)
-                    if settings.occlusion:
-                        lpv.inject_geometry([m.vpl_map for m in maps])
-            with timed(stats, second):
-                for lpv in self.volumes:
-                    lpv.propagate(settings.propagation_iterations, settings.occlusion)
-            return
-        volume = self.volumes[0]
-        with timed(stats, first):
-            volume.occupancy.voxelise(mesh)
-        emitters = [emitter for m in maps for emitter in m.emitter_sets()]
-        # the occupancy's grid of each level: a light grid's holds every phase, VPL gathering's the levels
-        layers = range(0, len(self.grids), len(self.grids) // len(self.levels)) if self.method == "light_grid" \
-            else range(len(self.levels))
-        if settings.bounces > 1 and maps:
-            with timed(stats, "bounce_ms"):
-                emitters = self.bounces.build(maps, settings.bounces, volume.occupancy, layers, bound, pattern)
-            emitters += [(m.far_vpls.buffer, m.far_vpls.count) for m in maps if m.far_vpls is not None]
-            flux_bound *= settings.bounces  # a generation carries at most its area times what it receives
-        else:
-            self.bounces.release()
-        if sources:
-            with timed(stats, "emitter_bounce_ms"):
-                self.emitter_vpls = light_receivers(self.glc, receivers(), sources, volume.occupancy, layers, bound,
-                                                    pattern)
-            emitters = emitters + [(self.emitter_vpls.buffer, self.emitter_vpls.count)]
-            flux_bound += self.emitter_vpls.flux_bound
-        if self.method == "vpl_gather":
-            self.emitter_sets = emitters
-            return
-        with timed(stats, first):
-            volume.cluster(emitters, flux_bound, cluster_levels(self.levels, scene_bounds))
-        with timed(stats, second):
-            volume.gather(bound)
+        self._build(maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers,
+                    sum(m.vpl_map.flux_bound for m in maps))
+
+    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
+        raise NotImplementedError
+
+    def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern):
+        """Gather every pixel's light (gathers_per_pixel); `uniforms` are the G-buffer's,
+        its textures bound."""
+
+    def emission_gather(self, emission, levels):
+        """The pixel gather emissive surfaces' direct light goes through (gpu/
+        surface_emitters.py): their own, unless the method has one."""
+        return emission.own_gather(levels)
 
     def forget(self):
         """Build everything again next time, the occupancy too."""
-        for occupancy in (self.volumes[0].occupancy if self.method != "lpv" else None, self._lpv_occupancy):
-            if occupancy is not None:
-                occupancy.forget()
 
     def lookup_uniforms(self, first_unit):
         """Bind the volumes for the lookup from texture unit `first_unit` on; the uniforms
         that name them."""
-        if self.method != "lpv":
-            return self.volumes[0].lookup_uniforms(first_unit)
+        return self.volumes[0].lookup_uniforms(first_unit)
+
+    def cell_light(self):
+        """The light in each cell of the first grid, (x, y, z, rgb) float32, for the slice
+        overlay (gpu/debug_views.py)."""
+        return np.zeros((self.grids[0].size,) * 3 + (3,), dtype=np.float32)  # a gather holds no cells
+
+    def statistics(self, settings):
+        """The frame's statistics about the indirect stage."""
+        return {"indirect_method": self.name, "lpv_resolution": settings.lpv_resolution,
+                "lpv_cell_size": self.grids[0].cell_size, "grid_levels": len(self.levels),
+                "propagation_iterations": settings.propagation_iterations}
+
+    def _held(self):
+        return ()
+
+    def resources(self):
+        return (*(resource for volume in self.volumes for resource in volume.resources()),
+                *self.bounces.resources(),
+                *((self.emitter_vpls.buffer,) if self.emitter_vpls is not None else ()),
+                *(resource for held in self._held() for resource in held.resources()))
+
+    def release(self):
+        for volume in self.volumes:
+            volume.release()
+        self.bounces.release()
+        for held in (self.emitter_vpls, *self._held()):
+            if held is not None:
+                held.release()
+
+
+class LPVMethod(IndirectMethod):
+    """Light propagation volumes, one a grid: the VPLs injected, then propagated."""
+
+    name = "lpv"
+    stages = ("inject_ms", "propagate_ms")
+
+    def __init__(self, glc, grids, phases):
+        self.bounce_occupancy = None  # what the emitters' bounce marches through
+        super().__init__(glc, grids, phases)
+
+    def _volumes(self):
+        return [LightPropagationVolume(self.glc, grid) for grid in self.grids]
+
+    @staticmethod
+    def needed_bytes(settings, scene, pixels, mapped):
+        n = settings.lpv_resolution
+        return settings.grid_levels * settings.grid_phases * (
+            n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL)
+
+    @staticmethod
+    def emitter_bounce_bytes(settings):
+        n = settings.lpv_resolution  # the bounce's own occupancy
+        return settings.grid_levels * n ** 3 * (VOXELS_PER_CELL ** 3 + 1) + (VOXELS_PER_CELL * n) ** 2
+
+    @staticmethod
+    def longest_side(settings):
+        return settings.lpv_resolution + 1  # the geometry volume
+
+    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
+        vpl_sets = [vpls for m in maps for vpls in (m.vpls, m.far_vpls) if vpls is not None]
+        if sources:
+            if self.bounce_occupancy is None:
+                self.bounce_occupancy = Occupancy(self.glc, self.levels)
+            with self.glc.timed(stats, "emitter_bounce_ms"):
+                self.bounce_occupancy.voxelise(mesh)
+                self.emitter_vpls = light_receivers(self.glc, receivers(), sources, self.bounce_occupancy,
+                                                    range(len(self.levels)), settings.singularity_bound, pattern)
+            vpl_sets.append(self.emitter_vpls)
+            flux_bound += self.emitter_vpls.flux_bound
+        with self.glc.timed(stats, "inject_ms"):
+            for lpv in self.volumes:
+                lpv.inject(vpl_sets, flux_bound)
+                if settings.occlusion:
+                    lpv.inject_geometry([m.vpl_map for m in maps])
+        with self.glc.timed(stats, "propagate_ms"):
+            for lpv in self.volumes:
+                lpv.propagate(settings.propagation_iterations, settings.occlusion)
+
+    def forget(self):
+        if self.bounce_occupancy is not None:
+            self.bounce_occupancy.forget()
+
+    def lookup_uniforms(self, first_unit):
         uniforms = {}
         for channel, name in enumerate(("lpv_r", "lpv_g", "lpv_b")):
             units = first_unit + channel * len(self.volumes) + np.arange(len(self.volumes))
@@ -122,26 +188,146 @@ class IndirectGrids:
         return uniforms
 
     def cell_light(self):
-        """The light in each cell of the first grid, (x, y, z, rgb) float32, for the slice
-        overlay: an LPV's ∫ I(ω) dω (the first SH coefficient times 2√π; the others
-        integrate to zero), a light grid's mean irradiance over its six directions."""
-        if self.method == "lpv":
-            sums = [LightPropagationVolume.read(v)[..., 0] for v in self.volumes[0].sums]
-            return (np.stack(sums, axis=-1) * 2 * math.sqrt(math.pi)).transpose(2, 1, 0, 3)
-        if self.method == "light_grid":
-            return self.volumes[0].read_irradiance(0).mean(axis=0).transpose(2, 1, 0, 3)
-        return np.zeros((self.grids[0].size,) * 3 + (3,), dtype=np.float32)  # a gather holds no cells
+        """An LPV's ∫ I(ω) dω: the first SH coefficient times 2√π (the others integrate
+        to zero)."""
+        sums = [LightPropagationVolume.read(v)[..., 0] for v in self.volumes[0].sums]
+        return (np.stack(sums, axis=-1) * 2 * math.sqrt(math.pi)).transpose(2, 1, 0, 3)
 
-    def resources(self):
-        return (*(resource for volume in self.volumes for resource in volume.resources()),
-                *self.bounces.resources(),
-                *((self.emitter_vpls.buffer,) if self.emitter_vpls is not None else ()),
-                *(self._lpv_occupancy.resources() if self._lpv_occupancy is not None else ()))
+    def _held(self):
+        return (self.bounce_occupancy,) if self.bounce_occupancy is not None else ()
 
-    def release(self):
-        for volume in self.volumes:
-            volume.release()
-        self.bounces.release()
-        for held in (self.emitter_vpls, self._lpv_occupancy):
-            if held is not None:
-                held.release()
+
+class GatheringMethod(IndirectMethod):
+    """A method that gathers every emitter's light with visibility through an occupancy
+    of the scene, so the VPLs may first light one another (gpu/bounces.py)."""
+
+    @staticmethod
+    def key(settings):
+        return settings.singularity_bound, settings.bounces
+
+    @staticmethod
+    def bounce_bytes(settings, mapped):
+        """Each light's summed generations, and one light's scratch."""
+        if settings.bounces <= 1:
+            return 0
+        return settings.vpls_per_light * (mapped * EMITTER_BYTES + BOUNCE_SCRATCH_BYTES_PER_VPL)
+
+    def _layers(self):
+        """The occupancy's grid of each level."""
+        raise NotImplementedError
+
+    def _gathered_emitters(self, maps, mesh, settings, stats, pattern, sources, receivers, flux_bound):
+        """The occupancy voxelised, the (buffer, count) sets to gather from (the VPLs, lit
+        by one another with more bounces, and the emitters' bounce) and their flux bound."""
+        occupancy = self.volumes[0].occupancy
+        with self.glc.timed(stats, self.stages[0]):
+            occupancy.voxelise(mesh)
+        emitters = [emitter for m in maps for emitter in m.emitter_sets()]
+        if settings.bounces > 1 and maps:
+            with self.glc.timed(stats, "bounce_ms"):
+                emitters = self.bounces.build(maps, settings.bounces, occupancy, self._layers(),
+                                              settings.singularity_bound, pattern)
+            emitters += [(m.far_vpls.buffer, m.far_vpls.count) for m in maps if m.far_vpls is not None]
+            flux_bound *= settings.bounces  # a generation carries at most its area times what it receives
+        else:
+            self.bounces.release()
+        if sources:
+            with self.glc.timed(stats, "emitter_bounce_ms"):
+                self.emitter_vpls = light_receivers(self.glc, receivers(), sources, occupancy, self._layers(),
+                                                    settings.singularity_bound, pattern)
+            emitters = emitters + [(self.emitter_vpls.buffer, self.emitter_vpls.count)]
+            flux_bound += self.emitter_vpls.flux_bound
+        return emitters, flux_bound
+
+    def forget(self):
+        self.volumes[0].occupancy.forget()
+
+
+class LightGridMethod(GatheringMethod):
+    """A light grid over every grid: the emitters clustered, then every cell centre
+    gathers their light (inject_ms: voxelising and clustering; gather_ms)."""
+
+    name = "light_grid"
+    stages = ("inject_ms", "gather_ms")
+
+    def _volumes(self):
+        return [LightGrid(self.glc, self.grids)]
+
+    @classmethod
+    def needed_bytes(cls, settings, scene, pixels, mapped):
+        s, n = settings, settings.lpv_resolution
+        return (s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
+                + scene.triangle_count * LARGE_TRIANGLE_BYTES
+                + cluster_capacity(s.vpls_per_light * mapped) * CLUSTER_BYTES
+                + cls.bounce_bytes(s, mapped))
+
+    @staticmethod
+    def longest_side(settings):
+        s = settings  # an occupancy's grids lie one after the other along z
+        return max(DIRECTIONS, VOXELS_PER_CELL * s.grid_levels * s.grid_phases) * s.lpv_resolution
+
+    def _layers(self):
+        return range(0, len(self.grids), len(self.grids) // len(self.levels))  # it holds every phase
+
+    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
+        emitters, flux_bound = self._gathered_emitters(maps, mesh, settings, stats, pattern, sources, receivers,
+                                                       flux_bound)
+        volume = self.volumes[0]
+        with self.glc.timed(stats, "inject_ms"):
+            volume.cluster(emitters, flux_bound, cluster_levels(self.levels, scene_bounds))
+        with self.glc.timed(stats, "gather_ms"):
+            volume.gather(settings.singularity_bound)
+
+    def cell_light(self):
+        """A light grid's mean irradiance over its six directions."""
+        return self.volumes[0].read_irradiance(0).mean(axis=0).transpose(2, 1, 0, 3)
+
+
+class VPLGatherMethod(GatheringMethod):
+    """Every pixel gathers the VPLs' light after the G-buffer (gpu/vpl_gather.py); the
+    build only voxelises (inject_ms) and bounces."""
+
+    name = "vpl_gather"
+    stages = ("inject_ms",)
+    gathers_per_pixel = True
+
+    def __init__(self, glc, grids, phases):
+        self.emitter_sets = []  # what every pixel gathers from: (buffer, count) pairs
+        super().__init__(glc, grids, phases)
+
+    def _volumes(self):
+        return [VPLGather(self.glc, self.levels)]
+
+    @classmethod
+    def needed_bytes(cls, settings, scene, pixels, mapped):
+        return pixel_gather_bytes(settings, scene, pixels) + cls.bounce_bytes(settings, mapped)
+
+    @staticmethod
+    def longest_side(settings):
+        return GATHER_VOXELS_PER_CELL * settings.grid_levels * settings.lpv_resolution
+
+    def _layers(self):
+        return range(len(self.levels))
+
+    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
+        self.emitter_sets, _ = self._gathered_emitters(maps, mesh, settings, stats, pattern, sources, receivers,
+                                                       flux_bound)
+
+    def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern):
+        self.volumes[0].gather(targets, uniforms, camera_position, self.emitter_sets, singularity_bound, pattern)
+
+    def emission_gather(self, emission, levels):
+        return self.volumes[0]  # its own occupancy and images: its gather comes later in the frame
+
+
+INDIRECT_METHOD_CLASSES = {method.name: method for method in (LPVMethod, LightGridMethod, VPLGatherMethod)}
+"""Each indirect method's class by its name: the one place a name chooses a method."""
+assert tuple(INDIRECT_METHOD_CLASSES) == INDIRECT_METHODS
+
+INDIRECT_STAGES = {name: method.stages for name, method in INDIRECT_METHOD_CLASSES.items()}
+"""The timed stages of each method (stats keys), by its name."""
+
+
+def indirect_method(settings):
+    """The class of the settings' indirect method."""
+    return INDIRECT_METHOD_CLASSES[settings.indirect_method]

@@ -26,6 +26,9 @@ CLUSTER_INTS = 10  # flux rgb, weighted place xyz, weighted normal xyz, weight
 FIXED_POINT_RANGE = 2.0 ** 30
 DIRECTIONS = 6  # +x, -x, +y, -y, +z, -z
 GATHER_LANES = 64  # invocations sharing one cell's emitters (shaders/light_grid_gather.comp)
+LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16 + VOXELS_PER_CELL ** 3 + 1
+"""Six RGBA32F irradiances, the occupancy's one-byte voxels and its coarse byte."""
+CLUSTER_BYTES = 4 + CLUSTER_INTS * 4 + EMITTER_BYTES + 1  # per hash slot: key, sums, emitter, its block's count
 
 
 def cluster_capacity(emitter_total):

@@ -19,6 +19,10 @@ SIDE_FACE_SOLID_ANGLE = 0.4234313544
 LPV_FIXED_POINT_RANGE = 2.0 ** 30   # the largest total a channel may reach in the integers
 GEOMETRY_FIXED_POINT_SCALE = 2.0 ** 20
 VOLUME_LOCAL = (4, 4, 4)
+LPV_BYTES_PER_CELL = 12 * 4 + 9 * 16
+"""The injection's integer accumulator (12 channels) and the ping, pong and sum volumes
+(three RGBA32F volumes each, one per colour)."""
+GEOMETRY_VOLUME_BYTES_PER_CELL = 16 + 16  # its accumulator and its volume, one cell larger a side
 
 
 def sh_basis(w):

@@ -18,6 +18,7 @@ the march decides every pixel's visibility, and coarse voxels thicken what it pa
 (an atrium's arcades, lit through their arches: docs/accuracy.md)."""
 MARCH_STEP = 0.7  # voxels between a march's samples, as in shaders/occupancy.glsl
 LOOP_LIMIT = 60000  # llvmpipe stops a loop nest after 65,535 iterations in all
+LARGE_TRIANGLE_BYTES = 3 * 4  # room to list every triangle as one the voxelisation rasterises
 
 
 def march_batch(voxels, grids=1, lanes=1):

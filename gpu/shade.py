@@ -247,7 +247,7 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
     image holds the mean of that many VPL sets' light, which this set's joins. With `glow`
     the composite adds the glow image (render_glow)."""
     program = glc.compute("shade_indirect", LEVELS=levels, PHASES=phases,
-                          INDIRECT=INDIRECT_METHODS.index(indirect.method))
+                          INDIRECT=INDIRECT_METHODS.index(indirect.name))
     bind_gbuffer(targets)
     units = indirect.lookup_uniforms(first_unit=2)
     targets.direct.bind_to_image(0, read=True, write=False)

@@ -5,7 +5,7 @@ and a filter that heeds depth and normal puts the block back together."""
 
 
 from .context import dispatch, set_uniforms
-from .occupancy import GATHER_VOXELS_PER_CELL, Occupancy, march_batch
+from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, Occupancy, march_batch
 
 INTERLEAVE = 4
 """Pixels along each side of an interleaving block: each pixel gathers one VPL in
@@ -13,6 +13,15 @@ INTERLEAVE²."""
 DEPTH_TOLERANCE = 0.02
 """A neighbour this far off a pixel's plane, over the pixel's distance to the camera,
 counts half in the filter."""
+GATHER_BYTES_PER_PIXEL = 2 * 16  # the gather's sums and their filtered image (RGBA32F)
+
+
+def pixel_gather_bytes(s, scene, pixels):
+    """A pixel gather's memory for settings `s`: every level's occupancy, its canvas, its
+    images and the voxelisation's list of large triangles."""
+    n = s.lpv_resolution
+    return (s.grid_levels * n ** 3 * (GATHER_VOXELS_PER_CELL ** 3 + 1) + (GATHER_VOXELS_PER_CELL * n) ** 2
+            + pixels * GATHER_BYTES_PER_PIXEL + scene.triangle_count * LARGE_TRIANGLE_BYTES)
 
 
 class VPLGather:

@@ -28,7 +28,7 @@ COMPARE_AND_COMPARE_THE_SCENE = """
 import json, sys
 import bpy
 from lpv_preview.__main__ import main
-from lpv_preview.tests.test_engine import scene_snapshot
+from lpv_preview.tests.blender.test_engine import scene_snapshot
 blend, argv = sys.argv[1], sys.argv[2:]
 bpy.ops.wm.open_mainfile(filepath=blend)
 before = scene_snapshot(bpy.context.scene)

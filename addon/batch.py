@@ -15,6 +15,7 @@ from ..gpu.errors import LPVError
 from ..gpu.image_io import read_exr_metadata, write_exr, write_png
 from ..gpu.pipeline import Pipeline, render_once
 from .corrected_render import corrected_frame, workers_for
+from .extract import output_layout
 from .render_scene import scene_to_render
 
 
@@ -29,11 +30,13 @@ def open_blend(path):
     return bpy.context.scene
 
 
-def write_outputs(frame, out_dir, extra_stats):
-    """passes.exr (every pass of the frame), PNGs of combined and indirect, stats.json."""
-    write_exr(os.path.join(out_dir, "passes.exr"), frame.passes)
-    write_png(os.path.join(out_dir, "combined.png"), frame.passes["combined"])
-    write_png(os.path.join(out_dir, "indirect.png"), frame.passes["indirect"])
+def write_outputs(frame, layout, out_dir, extra_stats):
+    """passes.exr (every pass of the frame), PNGs of combined and indirect, stats.json;
+    the images as `layout` (gpu/output_layout.py) writes them."""
+    images = layout.written(frame.passes, frame.coverage)
+    write_exr(os.path.join(out_dir, "passes.exr"), images)
+    write_png(os.path.join(out_dir, "combined.png"), images["combined"])
+    write_png(os.path.join(out_dir, "indirect.png"), images["indirect"])
     stats = {**extra_stats, **frame.stats}
     with open(os.path.join(out_dir, "stats.json"), "w") as handle:
         json.dump(stats, handle, indent=2)
@@ -48,13 +51,24 @@ def render_to_files(bpy_scene, settings, passes, out_dir, extra_stats, correctio
     opening `blend_path` (None: a copy of the scene as it is) on this machine, or on the
     Dask cluster at `scheduler`."""
     start = time.perf_counter()
+    layout = checked_layout(bpy_scene, settings)
     scene = scene_to_render(bpy_scene, (settings.width, settings.height))
     extract_ms = (time.perf_counter() - start) * 1000
     if correction is not None and correction.correct_seconds > 0:
         frame = corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path, scheduler)
     else:
         frame = render_once(scene, settings, passes=passes)
-    return write_outputs(frame, out_dir, {**extra_stats, "extract_ms": extract_ms})
+    return write_outputs(frame, layout, out_dir, {**extra_stats, "extract_ms": extract_ms})
+
+
+def checked_layout(bpy_scene, settings):
+    """What the render writes of a frame of `settings`' size (addon/extract.py
+    output_layout), refused in one sentence when its region holds no pixel."""
+    layout = output_layout(bpy_scene, (settings.width, settings.height))
+    if layout.empty:
+        raise LPVError("The render region is narrower than a pixel; draw a larger one (Ctrl-B) or clear it "
+                       "(Ctrl-Alt-B).")
+    return layout
 
 
 def frame_path(out_dir, frame):
@@ -66,10 +80,12 @@ FRAME_RECORD = "lpv_preview_frame"
 with (`frame_record`), so that a rerun knows which frames it can keep."""
 
 
-def frame_record(settings, passes, correct_seconds=0.0):
-    """What a frame is made with: every setting (the image size among them), the passes
-    and the seconds it was corrected toward Cycles."""
-    return {"settings": asdict(settings), "passes": list(passes), "correct_seconds": correct_seconds}
+def frame_record(settings, passes, correct_seconds=0.0, layout=None):
+    """What a frame is made with: every setting (the image size among them), the passes,
+    the seconds it was corrected toward Cycles, and what of it is written (its render
+    region, Film Transparent)."""
+    return {"settings": asdict(settings), "passes": list(passes), "correct_seconds": correct_seconds,
+            "layout": asdict(layout) if layout is not None else None}
 
 
 def recorded_frame(path):
@@ -94,6 +110,8 @@ def why_render_again(recorded, wanted):
     seconds = recorded.get("correct_seconds", 0.0)
     if seconds != wanted["correct_seconds"]:
         return f"corrected for another time ({seconds:g} s)" if seconds else "uncorrected"
+    if json.loads(json.dumps(wanted["layout"])) != recorded.get("layout"):
+        return "with another render region or transparency"
     return None if recorded.get("passes") == wanted["passes"] else "with other passes"
 
 
@@ -124,7 +142,8 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
     """
     seconds = correction.correct_seconds if correction is not None else 0.0
     rendered, written = rendered_passes(passes) if seconds > 0 else (passes, passes)
-    record = frame_record(settings, written, seconds)
+    layout = checked_layout(bpy_scene, settings)
+    record = frame_record(settings, written, seconds, layout)
     todo, again = [], {}
     for frame in frames:
         path = frame_path(out_dir, frame)
@@ -153,7 +172,7 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
                 if workers is not None:
                     corrected[frame] = correct(workers, pipeline, scene, result, seconds, frame, rebuild)
                     rebuild = corrected[frame]["correction_rebuild_seconds"]
-                write_frame(frame_path(out_dir, frame), result.passes, record)
+                write_frame(frame_path(out_dir, frame), layout.written(result.passes, result.coverage), record)
                 timings.append(time.perf_counter() - started)
                 print_progress(done + 1, len(todo), frame, timings)
         finally:

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..gpu.output_layout import OutputLayout
 from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene, SurfaceImage, local_origin
 from .materials import MaterialSurfaces
 from .point_emitters import PointEmitters
@@ -26,6 +27,17 @@ def render_resolution(scene, width=None):
     percent = render.resolution_percentage
     size = (max(1, render.resolution_x * percent // 100), max(1, render.resolution_y * percent // 100))
     return size if width is None else (width, max(1, round(width * size[1] / size[0])))
+
+
+def output_layout(scene, size=None):
+    """What F12 writes of `scene`'s frame (of `size`, (width, height); None: the render
+    resolution): its render region, cropped or not, and Film Transparent
+    (gpu/output_layout.py)."""
+    render = scene.render
+    border = ((render.border_min_x, render.border_max_x, render.border_min_y, render.border_max_y)
+              if render.use_border else None)
+    return OutputLayout.of_border(size or render_resolution(scene), border, render.use_crop_to_border,
+                                  render.film_transparent)
 
 
 def extract_scene(depsgraph, resolution=None, view3d=None):

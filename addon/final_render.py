@@ -1,6 +1,7 @@
 """F12 and batch renders through the engine: the evaluated scene at the render resolution,
 written into the RenderResult as Combined and our passes (gpu/passes.py), so they reach
-the compositor and multi-layer EXRs. Blender 5.0 writes a multi-layer EXR as one part
+the compositor and multi-layer EXRs; a render region writes its pixels alone, and Film
+Transparent gives Combined the frame's coverage as alpha (gpu/output_layout.py). Blender 5.0 writes a multi-layer EXR as one part
 per pass: a reader must walk every part.
 """
 from dataclasses import dataclass
@@ -11,7 +12,7 @@ from ..gpu.errors import LPVError
 from ..gpu.passes import render_passes
 from ..gpu.pipeline import render_once
 from . import frame_stats
-from .extract import extract_scene, render_resolution
+from .extract import extract_scene, output_layout
 from .properties import display_settings_from_properties, settings_from_properties
 
 
@@ -43,11 +44,10 @@ def take_extraction(depsgraph):
 
 def result_pixels(image, alpha=None):
     """A (height, width, c) top-row-first image as a RenderPass rect: bottom row first,
-    one row per pixel, with an alpha channel appended when given."""
-    rows = image[::-1].reshape(-1, image.shape[-1])
+    one row per pixel, with the (height, width) `alpha` appended as a channel when given."""
     if alpha is not None:
-        rows = np.concatenate([rows, np.full((len(rows), 1), alpha, dtype=rows.dtype)], axis=1)
-    return np.ascontiguousarray(rows, dtype=np.float32)
+        image = np.concatenate([image, alpha[..., None].astype(image.dtype)], axis=2)
+    return np.ascontiguousarray(image[::-1].reshape(-1, image.shape[-1]), dtype=np.float32)
 
 
 def scene_passes(scene):
@@ -63,7 +63,11 @@ def render_final(engine, depsgraph):
     if take_extraction(depsgraph):
         return
     scene = depsgraph.scene_eval
-    width, height = render_resolution(scene)
+    layout = output_layout(scene)
+    if layout.empty:
+        raise LPVError("The render region is narrower than a pixel; draw a larger one (Ctrl-B) or clear it "
+                       "(Ctrl-Alt-B).")
+    width, height = layout.size
     engine.update_stats("", "LPV Preview: reading the scene")
     settings = settings_from_properties(scene.lpv_preview, width=width, height=height)
     display = display_settings_from_properties(scene.lpv_preview)
@@ -78,13 +82,13 @@ def render_final(engine, depsgraph):
                         progress=lambda sets: engine.update_stats("", f"LPV Preview: {sets} VPL sets averaged"))
     frame_stats.remember(frame.stats)
     engine.update_progress(0.9)
-    result = engine.begin_result(0, 0, width, height)
+    result = engine.begin_result(0, 0, *layout.region_size)  # Blender's result holds the region alone
     layer = result.layers[0]
     for render_pass in passes:
-        alpha = 1.0 if render_pass.channels == "RGBA" else None  # the pipeline's images are RGB
+        alpha = layout.combined_alpha(frame.coverage) if render_pass.channels == "RGBA" else None  # ours are RGB
         # foreach_set of a flat array: ~300 times faster than assigning `rect` a 2-D array.
         layer.passes[render_pass.blender_name].rect.foreach_set(
-            result_pixels(frame.passes[render_pass.name], alpha=alpha).ravel())
+            result_pixels(layout.region_of(frame.passes[render_pass.name]), alpha=alpha).ravel())
     engine.end_result(result)
     engine.update_progress(1.0)
     engine.update_stats("", f"LPV Preview: {frame.stats['converge_ms']:.0f} ms, {frame.stats['accumulated_vpls']} VPLs")

@@ -28,13 +28,15 @@ def _open_output(path, spec):
 
 
 def write_exr(path, passes, metadata=None):
-    """All passes in one float EXR, channels named '<pass>.R', '<pass>.G', '<pass>.B';
-    `metadata` ({name: text}) goes into its header (`read_exr_metadata`)."""
+    """All passes in one float EXR, channels named '<pass>.R', '<pass>.G', '<pass>.B' (and
+    '<pass>.A' for a pass with alpha); `metadata` ({name: text}) goes into its header
+    (`read_exr_metadata`)."""
     import OpenImageIO as oiio
     names = list(passes)
     height, width, _ = passes[names[0]].shape
-    spec = oiio.ImageSpec(width, height, 3 * len(names), "float")
-    spec.channelnames = tuple(f"{name}.{c}" for name in names for c in CHANNELS)
+    channels = [f"{name}.{c}" for name in names for c in (*CHANNELS, "A")[:passes[name].shape[2]]]
+    spec = oiio.ImageSpec(width, height, len(channels), "float")
+    spec.channelnames = tuple(channels)
     spec.attribute("compression", "zip")
     for name, text in (metadata or {}).items():
         spec.attribute(name, text)
@@ -103,10 +105,18 @@ def tone_map(image, key=0.18, exposure_of=None):
 
 def write_png(path, image, tone_mapped=True, exposure_of=None):
     """An 8-bit PNG of a linear image, tone-mapped (`tone_map`, exposure from `exposure_of`
-    when given), or of display values in [0, 1] as they are with `tone_mapped=False`."""
+    when given), or of display values in [0, 1] as they are with `tone_mapped=False`; an
+    image with alpha keeps it (premultiplied colour, as Blender renders it, unassociated
+    for the PNG)."""
     import OpenImageIO as oiio
-    height, width, _ = image.shape
-    display = tone_map(image, exposure_of=exposure_of) if tone_mapped else np.clip(image, 0.0, 1.0)
-    output = _open_output(path, oiio.ImageSpec(width, height, 3, "uint8"))
+    height, width, channels = image.shape
+    colour = image[..., :3]
+    if channels == 4:
+        alpha = np.clip(image[..., 3:], 0.0, 1.0)
+        colour = np.where(alpha > 0, colour / np.maximum(alpha, 1e-6), 0.0)
+    display = tone_map(colour, exposure_of=exposure_of) if tone_mapped else np.clip(colour, 0.0, 1.0)
+    if channels == 4:
+        display = np.concatenate([display, alpha], axis=2)
+    output = _open_output(path, oiio.ImageSpec(width, height, channels, "uint8"))
     output.write_image(np.ascontiguousarray(np.round(display * 255).astype(np.uint8)))
     output.close()

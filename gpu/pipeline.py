@@ -59,12 +59,15 @@ def render_once(scene, settings, glc=None, **render_args):
 @dataclass
 class Frame:
     """The passes (name -> (height, width, 3) float32 linear, top row first), statistics,
-    and the combined image as a viewport draws it ((height, width, 4), bottom row first,
-    in the caller's buffer; None unless asked for)."""
+    the combined image as a viewport draws it ((height, width, 4), bottom row first, in
+    the caller's buffer; None unless asked for), and with the combined pass its coverage
+    ((height, width): 1 where the camera sees a surface or an emitter, 0 where it sees the
+    background; Film Transparent's alpha)."""
 
     passes: dict
     stats: dict
     display: object = None
+    coverage: object = None
 
 
 class Pipeline:
@@ -194,10 +197,10 @@ class Pipeline:
         self._accumulated = (view, sets, accumulated_vpls)
         self._shown_keys = tuple(keys)
         self.last_origin = scene.world_origin
-        images, display = self._read(scene, passes, display_into, display_settings, read, stats)
+        images, coverage, display = self._read(scene, passes, display_into, display_settings, read, stats)
         stats["total_ms"] = (time.perf_counter() - start) * 1000.0
         stats.update(self._statistics(scene, maps, lit, indirect, vpl_count, sets, accumulated_vpls))
-        return Frame(images, stats, display)
+        return Frame(images, stats, display, coverage)
 
     def _check_fits(self, scene, passes, display):
         """Refuse a frame the machine cannot hold (capacity.py), asked again only when what
@@ -304,15 +307,19 @@ class Pipeline:
                            s.indirect_intensity, display, sets - 1, glow=glowing)
 
     def _read(self, scene, passes, display_into, display_settings, read, stats):
-        """The `passes` read back (with `read`; debug ones drawn first) and the viewport's
-        rows into `display_into` (when given)."""
+        """The `passes` read back (with `read`; debug ones drawn first), the combined one's
+        coverage, and the viewport's rows into `display_into` (when given)."""
         if read and any(name in DEBUG_PASS_NAMES for name in passes):
             with self.glc.timed(stats, "debug_ms"):
                 self.draw_debug_passes(scene, display_settings)
         with self.glc.timed(stats, "readback_ms"):
-            images = {name: self.targets.read(name) for name in passes} if read else {}
+            images = {name: self.targets.read(name) for name in passes if name != "combined"} if read else {}
+            coverage = None
+            if read and "combined" in passes:
+                combined = self.targets.read_rgba("combined")
+                images["combined"], coverage = np.ascontiguousarray(combined[..., :3]), combined[..., 3].copy()
             display = None if display_into is None else self.targets.read_display_into(display_into)
-        return images, display
+        return {name: images[name] for name in passes if name in images}, coverage, display
 
     def _statistics(self, scene, maps, lit, indirect, vpl_count, sets, accumulated_vpls):
         s = self.settings
@@ -353,7 +360,7 @@ class Pipeline:
                 if key.endswith("_ms") and key != "total_ms":
                     spent[key] = spent.get(key, 0.0) + value
         if not single:
-            frame.passes, _ = self._read(scene, passes, None, display_settings, True, spent)
+            frame.passes, frame.coverage, _ = self._read(scene, passes, None, display_settings, True, spent)
             frame.stats.update({key: value for key, value in spent.items() if key != "total_ms"})
         frame.stats["converge_ms"] = (time.perf_counter() - start) * 1000.0
         return frame

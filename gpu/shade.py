@@ -69,9 +69,14 @@ class FrameTargets:
 
     def read(self, name):
         """An output image as (height, width, 3) float32, top row first."""
+        return np.ascontiguousarray(self.read_rgba(name)[..., :3])
+
+    def read_rgba(self, name):
+        """An output image with its alpha as (height, width, 4) float32, top row first: the
+        combined image's alpha is the coverage (1 where the camera sees a surface or an
+        emitter, 0 where it sees the background)."""
         width, height = self.size
-        image = np.frombuffer(getattr(self, name).read(), dtype=np.float32).reshape(height, width, 4)
-        return np.ascontiguousarray(image[::-1, :, :3])
+        return np.frombuffer(getattr(self, name).read(), dtype=np.float32).reshape(height, width, 4)[::-1]
 
     def read_display_into(self, out):
         """The composite as shade_indirect wrote it into the display buffer (RGBA float32,

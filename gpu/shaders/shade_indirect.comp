@@ -5,7 +5,9 @@
 // offset by a fraction of a cell (light_grid_levels.glsl). The grids
 // hold an LPV (INDIRECT 0) or a light grid (INDIRECT 1); with VPL gathering (INDIRECT 2)
 // the irradiance is the pixel's own, gathered before. A still image averages VPL sets: the
-// indirect image holds the mean of the `accumulated` sets before this one.
+// indirect image holds the mean of the `accumulated` sets before this one. The combined
+// image's alpha is the pixel's coverage: 1 where it sees a surface or an emitter's glow,
+// 0 where it sees the background (Film Transparent); the viewport's rows stay opaque.
 #include "common.glsl"
 #include "gbuffer.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -39,7 +41,8 @@ void main() {
     vec4 direct_light = imageLoad(direct, pixel);
     vec3 light = vec3(0.0);
     vec3 p, n, albedo;
-    if (gbuffer_surface(pixel, p, n, albedo)) {
+    bool surface = gbuffer_surface(pixel, p, n, albedo);
+    if (surface) {
         vec3 irradiance = vec3(0.0);
 #if INDIRECT == 2
         irradiance = texelFetch(gathered, pixel, 0).rgb;
@@ -51,7 +54,12 @@ void main() {
     if (accumulated > 0) light = mix(imageLoad(indirect, pixel).rgb, light, 1.0 / float(accumulated + 1));
     imageStore(indirect, pixel, vec4(light, 1.0));
     vec4 composite = vec4(direct_light.rgb + light, 1.0);
-    if (add_glow) composite.rgb += imageLoad(glow, pixel).rgb;
-    imageStore(combined, pixel, composite);
+    float coverage = surface ? 1.0 : 0.0;
+    if (add_glow) {
+        vec3 glowing = imageLoad(glow, pixel).rgb;
+        composite.rgb += glowing;
+        if (any(greaterThan(glowing, vec3(0.0)))) coverage = 1.0;
+    }
+    imageStore(combined, pixel, vec4(composite.rgb, coverage));
     if (write_display) display_rows[pixel.y * imageSize(combined).x + pixel.x] = composite;
 }

@@ -113,7 +113,12 @@ def full_frame(settings, lpv_scene):
     """A frame of `lpv_scene` with every stage redone and the shaders and Poisson cells
     of the first set already made (the time a settled preview takes for a full update),
     averaging the VPL sets the settings ask for (its stats' `converge_ms` is the time of
-    them all)."""
+    them all), on the GL thread (gpu/gl_thread.py): never on Blender's."""
+    from ..gpu.gl_thread import GLThread
+    return GLThread.shared().call(_full_frame, settings, lpv_scene)
+
+
+def _full_frame(settings, lpv_scene):
     from ..gpu.pipeline import Pipeline
     pipeline = Pipeline(settings)
     try:

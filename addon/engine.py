@@ -2,10 +2,11 @@
 
 F12 and batch renders go to final_render.render_final; the viewport keeps one
 viewport.ViewportSession per 3D view: `view_update` notes which parts of the scene
-changed, `view_draw` lets the session render what they touch and draws the image with
-Blender's `gpu` module (viewport_draw.py, imported only when a viewport opens: in
-background mode Blender has no drawing). Errors a user can fix are reported in one
-line, never as a traceback.
+changed, `view_draw` hands the session's GL thread (gpu/gl_thread.py) the frame they
+need and draws the last finished one with Blender's `gpu` module (viewport_draw.py,
+imported only when a viewport opens: in background mode Blender has no drawing); a frame
+finished later tags a redraw. Blender's own GL context is never touched. Errors a user
+can fix are reported in one line, never as a traceback.
 """
 import bpy
 
@@ -18,6 +19,8 @@ from .viewport import ViewportSession, viewport_camera
 from .viewport_corrections import REBUILD_SECONDS
 
 ENGINE_ID = "LPV_PREVIEW"
+POLL_SECONDS = 0.01
+"""How often Blender's thread looks whether the GL thread has finished a frame."""
 
 
 class LPVPreviewEngine(bpy.types.RenderEngine):
@@ -31,6 +34,7 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         self.session = None
         self.region = None  # the 3D view region whose overlays this engine's session feeds
         self.redraw_pending = False
+        self.polling = False
 
     def __del__(self):
         try:
@@ -69,23 +73,43 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
         self.region = region.as_pointer()
         camera = viewport_camera(context.region_data)
         try:
-            frame = self.session.frame_to_draw(depsgraph, camera, (region.width, region.height), context.space_data)
+            frame = self.session.redraw(depsgraph, camera, (region.width, region.height), context.space_data)
         except LPVError as error:
             self.report({"ERROR"}, str(error))
             return
-        self.session.display.draw(self, depsgraph.scene, (region.width, region.height))
-        overlay.show(self.region, self.session.overlays)
-        sets = frame.stats["vpl_sets"]
-        samples = frame.stats.get("correction_samples")
-        self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms" +
-                          (f", {sets} VPL sets" if sets > 1 else "") +
-                          (f", {samples:,} Cycles samples" if samples else ""))
+        if frame is not None:
+            self.session.display.draw(self, depsgraph.scene, (region.width, region.height))
+            overlay.show(self.region, self.session.overlays)
+            sets = frame.stats["vpl_sets"]
+            samples = frame.stats.get("correction_samples")
+            self.update_stats("", f"LPV Preview: {frame.stats['total_ms']:.0f} ms" +
+                              (f", {sets} VPL sets" if sets > 1 else "") +
+                              (f", {samples:,} Cycles samples" if samples else ""))
         properties = depsgraph.scene.lpv_preview
-        if self.session.converging(display_settings_from_properties(properties),
-                                   correction_settings_from_properties(properties)):
+        if self.session.rendering:
+            self.redraw_when_rendered()
+        elif self.session.converging(display_settings_from_properties(properties),
+                                     correction_settings_from_properties(properties)):
             self.tag_redraw()  # a still view goes on converging
         elif self.session.corrections.streaming:
             self.redraw_later()  # samples go on coming
+
+    def redraw_when_rendered(self):
+        """Draw again once the GL thread has finished the frame it makes (once)."""
+        if self.polling:
+            return
+        self.polling = True
+
+        def poll():
+            try:
+                if self.session is not None and self.session.rendering and not self.session.frame_done:
+                    return POLL_SECONDS
+                self.polling = False
+                self.tag_redraw()
+            except ReferenceError:  # the engine was freed meanwhile
+                pass
+            return None
+        bpy.app.timers.register(poll, first_interval=POLL_SECONDS)
 
     def redraw_later(self):
         """Draw again in REBUILD_SECONDS (once), to show the samples come by then."""

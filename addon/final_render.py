@@ -1,14 +1,17 @@
 """F12 and batch renders through the engine: the evaluated scene at the render resolution,
 written into the RenderResult as Combined and our passes (gpu/passes.py), so they reach
 the compositor and multi-layer EXRs; a render region writes its pixels alone, and Film
-Transparent gives Combined the frame's coverage as alpha (gpu/output_layout.py). Blender 5.0 writes a multi-layer EXR as one part
+Transparent gives Combined the frame's coverage as alpha (gpu/output_layout.py). The
+frame renders on the GL thread (gpu/gl_thread.py); Blender's thread waits, answering Esc. Blender 5.0 writes a multi-layer EXR as one part
 per pass: a reader must walk every part.
 """
+import threading
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..gpu.errors import LPVError
+from ..gpu.gl_thread import GLThread
 from ..gpu.passes import render_passes
 from ..gpu.pipeline import render_once
 from . import frame_stats
@@ -50,6 +53,30 @@ def result_pixels(image, alpha=None):
     return np.ascontiguousarray(image[::-1].reshape(-1, image.shape[-1]), dtype=np.float32)
 
 
+WAIT_SECONDS = 0.05
+"""How often Blender's thread looks at Esc and the progress while the GL thread renders."""
+
+
+def wait_for(job, engine, stop, averaged):
+    """The frame of `job` (a Future of the GL thread), Blender's thread meanwhile showing
+    the VPL sets `averaged` so far and setting `stop` when Esc (engine.test_break) or
+    Ctrl-C asks, which ends the render after the set it is making."""
+    shown = 0
+    try:
+        while True:
+            try:
+                return job.result(timeout=WAIT_SECONDS)
+            except TimeoutError:
+                if engine.test_break():
+                    stop.set()
+                if len(averaged) > shown:
+                    shown = len(averaged)
+                    engine.update_stats("", f"LPV Preview: {averaged[-1]} VPL sets averaged")
+    except BaseException:
+        stop.set()
+        raise
+
+
 def scene_passes(scene):
     """The render passes of `scene` (None: a view layer without one): ours, and the debug
     ones when its "Debug passes" is on."""
@@ -77,9 +104,10 @@ def render_final(engine, depsgraph):
         raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
     engine.update_progress(0.2)
     engine.update_stats("", "LPV Preview: rendering")
-    frame = render_once(lpv_scene, settings, passes=tuple(p.name for p in passes), display_settings=display,
-                        stop=engine.test_break,
-                        progress=lambda sets: engine.update_stats("", f"LPV Preview: {sets} VPL sets averaged"))
+    stop, averaged = threading.Event(), []
+    job = GLThread.shared().submit(render_once, lpv_scene, settings, passes=tuple(p.name for p in passes),
+                                   display_settings=display, stop=stop.is_set, progress=averaged.append)
+    frame = wait_for(job, engine, stop, averaged)
     frame_stats.remember(frame.stats)
     engine.update_progress(0.9)
     result = engine.begin_result(0, 0, *layout.region_size)  # Blender's result holds the region alone

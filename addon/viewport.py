@@ -7,9 +7,11 @@ Blender's GPU buffer and draws it. Nothing here draws, so it runs and is tested 
 background mode.
 """
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
+from ..gpu.gl_thread import GLThread
 from ..gpu.pipeline import Pipeline
 from ..gpu.scene import Camera
 from . import frame_stats, overlay
@@ -26,42 +28,79 @@ def viewport_camera(region_data):
 
 
 class DisplayRows:
-    """Where a viewport frame's combined image lands: one float32 buffer of the view's
-    size that the pipeline reads into directly (Pipeline.render's `display_into`).
-    Here a numpy array; viewport_draw.ViewportImage makes it Blender's GPU buffer, so the
-    image goes from our GL context to Blender's texture with one copy."""
+    """Where viewport frames' combined images land: two float32 buffers, the one drawn
+    (`rows`, of `size`) and the one the GL thread renders the next frame into (`target`;
+    Pipeline.render's `display_into`), swapped when that frame is done (`present`), so
+    Blender's thread never draws a frame being written. Here numpy arrays;
+    viewport_draw.ViewportImage makes them Blender's GPU buffers, so the image goes from
+    our GL context to Blender's texture with one copy."""
 
     def __init__(self):
-        self.size = None
-        self.rows = None
-        self.fresh = False  # rows hold a frame not yet drawn
+        self._front = self._back = None  # (size, rows, what allocate gave for drawing them)
+        self.fresh = False  # the front rows hold a frame not yet drawn
 
     def allocate(self, count):
-        return np.empty(count, dtype=np.float32)
+        """Rows for `count` floats, and what draws them (nothing here)."""
+        return np.empty(count, dtype=np.float32), None
+
+    @property
+    def size(self):
+        return self._front[0] if self._front is not None else None
+
+    @property
+    def rows(self):
+        """The rows drawn: the last finished frame's."""
+        return self._front[1] if self._front is not None else None
+
+    @property
+    def handle(self):
+        return self._front[2] if self._front is not None else None
 
     def target(self, size):
         """The buffer the next frame of `size` (width, height) goes into."""
-        if self.size != size:
-            self.rows = self.allocate(size[0] * size[1] * 4)
-            self.size = size
+        if self._back is None or self._back[0] != size:
+            self._back = (size, *self.allocate(size[0] * size[1] * 4))
+        return self._back[1]
+
+    def present(self):
+        """The frame rendered into `target` is done: it becomes the one drawn."""
+        self._front, self._back = self._back, self._front
         self.fresh = True
-        return self.rows
+
+
+@dataclass
+class FrameJob:
+    """A frame the GL thread renders for the view: the extracted scene, its settings and
+    size, whether it adds a VPL set to the last one, and what it depends on."""
+
+    scene: object
+    settings: object
+    display: object  # DisplaySettings
+    size: tuple
+    accumulate: bool
+    depends_on: tuple
+    extract_ms: float
+    future: object = None
 
 
 class ViewportSession:
     """A viewport's pipeline and scene: what changed since the last draw decides what
-    is extracted again; the pipeline's caches decide which stages run again."""
+    is extracted again; the pipeline's caches decide which stages run again. The pipeline
+    lives on the GL thread (gpu/gl_thread.py): Blender's thread extracts the scene and
+    hands frames over, `frame_to_draw` waiting for each, `redraw` never."""
 
-    def __init__(self, display=None):
-        self.pipeline = Pipeline()
+    def __init__(self, display=None, gl=None):
+        self.gl = gl or GLThread.shared()
+        self.pipeline = self.gl.call(Pipeline)
         self.sync = SceneSync()
         self.display = display or DisplayRows()
         self.overlays = overlay.OverlayData()
-        self.corrections = ViewportCorrections()
+        self.corrections = ViewportCorrections(self.gl)
         self.pending = set(EVERYTHING)
         self.edited = True  # what Cycles renders changed since the last redraw
         self.scene = None  # the Scene last extracted
         self._shown = None  # (what the last drawn frame depends on, that frame)
+        self._job = None  # the FrameJob the GL thread renders now
 
     def note_updates(self, updates):
         parts = changed_parts(updates)
@@ -70,43 +109,110 @@ class ViewportSession:
 
     def frame(self, depsgraph, camera, size, view3d=None, settings=None, accumulate=False):
         """Render the current scene from `camera` at `size` (width, height), with the
-        scene's settings unless given; with `accumulate`, another VPL set averaged into
-        the last frame's indirect light (Pipeline.render)."""
+        scene's settings unless given, and wait for it; with `accumulate`, another VPL
+        set averaged into the last frame's indirect light (Pipeline.render)."""
+        properties = depsgraph.scene.lpv_preview
+        if settings is None:
+            settings = settings_from_properties(properties, width=size[0], height=size[1])
+        job = self._job_for(depsgraph, camera, size, view3d, settings, display_settings_from_properties(properties),
+                            accumulate)
+        return self._finish(job, self.gl.call(self._render, job))
+
+    def _job_for(self, depsgraph, camera, size, view3d, settings, display, accumulate):
+        """The scene extracted for a frame (on Blender's thread: bpy), as a FrameJob."""
         start = time.perf_counter()
         scene = self.sync.scene(depsgraph, self.pending, camera, view3d)
         self.scene = scene
         self.pending = set()
-        extract_ms = (time.perf_counter() - start) * 1000.0
-        if settings is None:
-            settings = settings_from_properties(depsgraph.scene.lpv_preview, width=size[0], height=size[1])
-        frame = self.pipeline.render(scene, settings, passes=(), display_into=self.display.target(size),
-                                     vpl_set=self.pipeline.vpl_pattern + 1 if accumulate else None,
-                                     accumulate=accumulate)
-        frame.stats["extract_ms"] = extract_ms
-        frame.stats["extracted"] = list(self.sync.extracted)
-        frame_stats.remember(frame.stats)
+        return FrameJob(scene, settings, display, size, accumulate, (camera.key(), settings),
+                        (time.perf_counter() - start) * 1000.0)
+
+    def _render(self, job):
+        """On the GL thread: the job's frame into the display's back rows, the overlays
+        brought up to it."""
+        frame = self.pipeline.render(job.scene, job.settings, passes=(), display_into=self.display.target(job.size),
+                                     vpl_set=self.pipeline.vpl_pattern + 1 if job.accumulate else None,
+                                     accumulate=job.accumulate)
+        self.overlays.update(self.pipeline, job.display)
         return frame
 
-    def frame_to_draw(self, depsgraph, camera, size, view3d=None):
-        """The frame for a redraw: a new one when an edit is pending or the view, its size
-        or the settings changed; while they stay, one more VPL set averaged in until the
-        still view has `viewport_vpl_sets` (`converging`), then the last one again
-        (Blender redraws the viewport for many reasons that change nothing we show).
-        With viewport corrections on, the view is rendered at most
-        `correction_viewport_width` wide, and corrected by what the Cycles samples
-        of it brought (addon/viewport_corrections.py) instead of converging."""
-        properties = depsgraph.scene.lpv_preview
+    def _finish(self, job, frame):
+        """On Blender's thread: the job's frame is done, and shown from now on."""
+        self.display.present()
+        frame.stats["extract_ms"] = job.extract_ms
+        frame.stats["extracted"] = list(self.sync.extracted)
+        frame_stats.remember(frame.stats)
+        self._shown = (job.depends_on, frame)
+        return frame
+
+    def _next_job(self, depsgraph, camera, size, view3d, properties):
+        """The FrameJob a redraw needs (None: the frame shown is still the view's): a new
+        frame when an edit is pending or the view, its size or the settings changed; while
+        they stay, one more VPL set averaged in until the still view has
+        `viewport_vpl_sets` (Blender redraws the viewport for many reasons that change
+        nothing we show)."""
         correction = correction_settings_from_properties(properties)
-        if correction.viewport_corrections:
-            size = corrected_size(size, correction.correction_viewport_width)
         settings = settings_from_properties(properties, width=size[0], height=size[1])
         display = display_settings_from_properties(properties)
-        depends_on = (camera.key(), settings)
-        if self._shown is None or self._shown[0] != depends_on:
-            self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings))
-        elif self.pending or self.converging(display, correction):  # the pipeline starts again if the scene changed
-            self._shown = (depends_on, self.frame(depsgraph, camera, size, view3d, settings, accumulate=True))
-        self.overlays.update(self.pipeline, display)
+        if self._shown is None or self._shown[0] != (camera.key(), settings):
+            return self._job_for(depsgraph, camera, size, view3d, settings, display, False)
+        if self.pending or self.converging(display, correction):  # the pipeline starts again if the scene changed
+            return self._job_for(depsgraph, camera, size, view3d, settings, display, True)
+        return None
+
+    def _view_size(self, properties, size):
+        """The size a view of `size` renders at: at most `correction_viewport_width` wide
+        while corrected toward Cycles."""
+        correction = correction_settings_from_properties(properties)
+        return corrected_size(size, correction.correction_viewport_width) if correction.viewport_corrections else size
+
+    def frame_to_draw(self, depsgraph, camera, size, view3d=None):
+        """The frame for a redraw, waiting for it to render when the view needs a new one
+        (`_next_job`). With viewport corrections on, the view is rendered at most
+        `correction_viewport_width` wide, and corrected by what the Cycles samples of it
+        brought (addon/viewport_corrections.py) instead of converging."""
+        properties = depsgraph.scene.lpv_preview
+        size = self._view_size(properties, size)
+        job = self._next_job(depsgraph, camera, size, view3d, properties)
+        if job is not None:
+            self._finish(job, self.gl.call(self._render, job))
+        else:
+            self.gl.call(self.overlays.update, self.pipeline, display_settings_from_properties(properties))
+        return self._corrected(depsgraph, camera)
+
+    def redraw(self, depsgraph, camera, size, view3d=None):
+        """A redraw on Blender's thread, which never waits for a render: the frame the GL
+        thread finished is taken, and the next one the view needs starts while none is
+        being made. Returns the frame to draw (None until the first is done)."""
+        if self._job is not None:
+            if not self._job.future.done():
+                return self._shown[1] if self._shown is not None else None
+            job, self._job = self._job, None
+            self._finish(job, job.future.result())
+            return self._corrected(depsgraph, camera)
+        properties = depsgraph.scene.lpv_preview
+        job = self._next_job(depsgraph, camera, self._view_size(properties, size), view3d, properties)
+        if job is not None:
+            job.future = self.gl.submit(self._render, job)
+            self._job = job
+            return self._shown[1] if self._shown is not None else None
+        self.gl.call(self.overlays.update, self.pipeline, display_settings_from_properties(properties))
+        return self._corrected(depsgraph, camera)
+
+    @property
+    def rendering(self):
+        """Whether the GL thread makes a frame a later redraw takes."""
+        return self._job is not None
+
+    @property
+    def frame_done(self):
+        """Whether the frame the GL thread makes is done, for a redraw to take."""
+        return self._job is not None and self._job.future.done()
+
+    def _corrected(self, depsgraph, camera):
+        """The frame shown, corrected toward Cycles while viewport corrections are on."""
+        properties = depsgraph.scene.lpv_preview
+        correction = correction_settings_from_properties(properties)
         frame = self._shown[1]
         edited, self.edited = self.edited, False
         if not correction.viewport_corrections:
@@ -125,4 +231,6 @@ class ViewportSession:
 
     def release(self):
         self.corrections.stop()
-        self.pipeline.release()
+        if self._job is not None:
+            self._job.future.cancel()
+        self.gl.call(self.pipeline.release)

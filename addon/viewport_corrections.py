@@ -41,9 +41,11 @@ def corrected_size(size, width):
 
 
 class ViewportCorrections:
-    """One viewport's workers, corrections and the frame they correct."""
+    """One viewport's workers, corrections and the frame they correct; the G-buffer is
+    read on `gl`, the GL thread that owns the pipeline (gpu/gl_thread.py)."""
 
-    def __init__(self):
+    def __init__(self, gl):
+        self.gl = gl
         self.workers = self.corrector = self.folder = None
         self.worker_count = None
         self.copies = []  # the scene copies written, newest last
@@ -106,7 +108,7 @@ class ViewportCorrections:
             self.rested = self.shown
             settings = replace(pipeline.settings, width=1, height=1)  # what the preview depends on but the size
             self._write(self.corrector.rest(key, scene.camera, tuple(map(tuple, np.linalg.inv(camera.view))),
-                                            self.preview, pipeline.read_gbuffer(scene), projection, settings), frame,
+                                            self.preview, self.gl.call(pipeline.read_gbuffer, scene), projection, settings), frame,
                         display)
             return
         self.corrector.receive(timeout=0)

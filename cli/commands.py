@@ -45,15 +45,20 @@ def command_render(args):
 
 def check_methods_fit(bpy_scene, settings, methods, indirect_methods):
     """Refuse, before any Cycles reference is rendered, a comparison whose frames our
-    renderer cannot make here (no OpenGL 4.5, too large for the driver or the memory)."""
+    renderer cannot make here (no OpenGL 4.5, too large for the driver or the memory), on
+    the GL thread its frames render on (addon/comparison.py)."""
     from ..addon.render_scene import scene_to_render
     from ..gpu.capacity import check_frame_fits
     from ..gpu.context import GLContext
-    glc = GLContext.shared()
+    from ..gpu.gl_thread import GLThread
     scene = scene_to_render(bpy_scene, (settings.width, settings.height))
-    for method in methods:
-        for indirect in indirect_methods:
-            check_frame_fits(glc, settings.with_changes(method=method, indirect_method=indirect), scene)
+
+    def check():
+        for method in methods:
+            for indirect in indirect_methods:
+                check_frame_fits(GLContext.shared(), settings.with_changes(method=method, indirect_method=indirect),
+                                 scene)
+    GLThread.shared().call(check)
 
 
 def command_compare(args):

@@ -1,10 +1,20 @@
-"""A headless OpenGL 4.5 context through EGL, the shaders it runs, and wall-clock timing.
+"""Our OpenGL 4.5 context, the shaders it runs, and wall-clock timing.
 
-The GPU driver is used when there is one, Mesa's llvmpipe otherwise. Setting the
-environment variable LPV_PREVIEW_NO_GPU=1 makes context creation fail as it would on a
-machine without any OpenGL 4.5 driver, so that path can be tested.
+The context is made through the platform's own interface: EGL on Linux (headless, beside
+Wayland, and beside X11 on a thread of its own; GLX where EGL cannot make one and a
+display is there), WGL on Windows. The environment variable LPV_PREVIEW_GL_BACKEND
+(`egl`, `glx`, `wgl`) picks one instead. macOS has none: Apple's OpenGL stops at 4.1.
+The GPU driver is used when there is one, Mesa's llvmpipe otherwise. Setting
+LPV_PREVIEW_NO_GPU=1 makes context creation fail as it would on a machine without any
+OpenGL 4.5 driver, so that path can be tested.
+
+A context is current on the thread that made it and used there only: each thread that
+renders has its own (`GLContext.shared()`). Inside Blender that is one thread of ours
+(gpu/gl_thread.py), never Blender's drawing thread, whose own context stays current.
 """
 import os
+import sys
+import threading
 import time
 from contextlib import contextmanager
 from pathlib import Path
@@ -13,45 +23,83 @@ from .errors import LPVError
 
 SHADER_DIR = Path(__file__).parent / "shaders"
 NO_GPU_VARIABLE = "LPV_PREVIEW_NO_GPU"
-INSTALL_HINT = ("install an OpenGL 4.5 driver with compute shaders and EGL (a GPU driver, or Mesa on "
-                "Debian/Ubuntu: apt-get install libegl1 libgl1-mesa-dri), which macOS lacks: Apple's OpenGL "
-                "stops at 4.1")
+BACKEND_VARIABLE = "LPV_PREVIEW_GL_BACKEND"
+BACKENDS = {"egl": "egl", "glx": None, "wgl": None}
+"""Our names for the context interfaces and moderngl's backend argument for each (None:
+glcontext's default for the platform, GLX on Linux and WGL on Windows)."""
+
+
+def platform_backends(platform=None, environment=None):
+    """The interfaces to try, in order, on `platform` (sys.platform) with `environment`
+    (os.environ): the one LPV_PREVIEW_GL_BACKEND names, else the platform's."""
+    platform = sys.platform if platform is None else platform
+    environment = os.environ if environment is None else environment
+    chosen = environment.get(BACKEND_VARIABLE, "").strip().lower()
+    if chosen:
+        if chosen not in BACKENDS:
+            raise LPVError(f"{BACKEND_VARIABLE}={chosen} names no OpenGL interface; set it to one of "
+                           f"{', '.join(BACKENDS)}, or unset it.")
+        return (chosen,)
+    if platform.startswith("win"):
+        return ("wgl",)
+    if platform == "darwin":
+        raise LPVError("LPV Preview needs OpenGL 4.5 with compute shaders, which macOS lacks (Apple's OpenGL stops "
+                       "at 4.1); render on Linux or Windows.")
+    return ("egl", "glx") if environment.get("DISPLAY") else ("egl",)
+
+
+def install_hint(platform=None):
+    """What to do when no OpenGL 4.5 context can be made on `platform`."""
+    platform = sys.platform if platform is None else platform
+    if platform.startswith("win"):
+        return ("install your GPU vendor's current driver, with OpenGL 4.5 (Windows' own display driver has "
+                "none)")
+    return ("install an OpenGL 4.5 driver with EGL: your GPU vendor's, or Mesa's (Debian/Ubuntu: apt-get install "
+            f"libegl1 libgl1-mesa-dri); beside X11, {BACKEND_VARIABLE}=glx uses GLX instead")
 
 
 class GLContext:
-    """One standalone moderngl context and a cache of the programs compiled in it.
+    """One standalone moderngl context, current on the thread that made it, and a cache
+    of the programs compiled in it.
 
-    `GLContext.shared()` is the process's one context: moderngl objects do not make their
-    own context current, so everything of ours lives in one context. An EEVEE render in
-    the same process makes Blender's GPU context current and leaves it so: it goes inside
-    `foreign_render()`.
+    `GLContext.shared()` is the calling thread's one context: moderngl objects do not
+    make their own context current, so everything a thread renders lives in its one
+    context. An EEVEE render on the same thread makes Blender's GPU context current and
+    leaves it so: it goes inside `foreign_render()`.
     """
 
-    _shared = None
+    _threads = threading.local()
 
     @classmethod
     def shared(cls):
         if os.environ.get(NO_GPU_VARIABLE):
             cls()  # raises the same error a machine without OpenGL 4.5 gives
-        if cls._shared is None:
-            cls._shared = cls()
-        return cls._shared
+        if getattr(cls._threads, "context", None) is None:
+            cls._threads.context = cls()
+        return cls._threads.context
 
     def __init__(self):
         if os.environ.get(NO_GPU_VARIABLE):
             raise LPVError(f"No OpenGL 4.5 context is available ({NO_GPU_VARIABLE} is set); "
-                           f"unset it, or {INSTALL_HINT}.")
+                           f"unset it, or {install_hint()}.")
         try:
             import moderngl
         except ImportError as error:
             raise LPVError(f"The Python package moderngl is missing ({error}); run the README's set-up command.")
-        try:
-            self.gl = moderngl.create_standalone_context(require=450, backend="egl")
-        except Exception as error:  # moderngl raises plain Exception for a missing EGL or GL 4.5
-            raise LPVError(f"No OpenGL 4.5 context could be created through EGL ({error}); {INSTALL_HINT}.")
+        failures = []
+        for backend in platform_backends():
+            try:
+                options = {"backend": BACKENDS[backend]} if BACKENDS[backend] else {}
+                self.gl = moderngl.create_standalone_context(require=450, **options)
+                break
+            except Exception as error:  # moderngl raises plain Exception for a missing library or GL 4.5
+                failures.append(f"{backend.upper()}: {str(error).strip().splitlines()[0] if str(error) else error}")
+        else:
+            raise LPVError(f"No OpenGL 4.5 context could be made ({'; '.join(failures)}); {install_hint()}.")
+        self.backend = backend
         self.renderer = self.gl.info["GL_RENDERER"]
         self.version = self.gl.info["GL_VERSION"]
-        self.is_software = "llvmpipe" in self.renderer.lower() or "softpipe" in self.renderer.lower()
+        self.is_software = any(name in self.renderer.lower() for name in ("llvmpipe", "softpipe", "swrast"))
         self._programs = {}
         self._free = {}  # (kind, size, components, dtype) -> released textures to reuse
 
@@ -59,12 +107,13 @@ class GLContext:
     @contextmanager
     def foreign_render(cls):
         """A block in which Blender renders with its GPU (EEVEE), which leaves its own
-        context current: ours, once made, is current again after it."""
+        context current: this thread's, once made, is current again after it."""
         try:
             yield
         finally:
-            if cls._shared is not None:
-                cls._shared.gl.__enter__()
+            context = getattr(cls._threads, "context", None)
+            if context is not None:
+                context.gl.__enter__()
 
     def texture(self, size, components, dtype="f4"):
         """A 2D texture with nearest filtering, reused from `recycle` when one of the same

@@ -110,9 +110,9 @@ def test_a_render_without_a_gpu_fails_with_one_clear_message(tmp_path):
     output = result.stdout + result.stderr
     reported = [line for line in output.splitlines() if line.startswith("REPORTED:")]
     assert reported == ["REPORTED: Error: No OpenGL 4.5 context is available (LPV_PREVIEW_NO_GPU is set); unset "
-                        "it, or install an OpenGL 4.5 driver with compute shaders and EGL (a GPU driver, or Mesa on "
-                        "Debian/Ubuntu: apt-get install libegl1 libgl1-mesa-dri), which macOS lacks: Apple's OpenGL "
-                        "stops at 4.1."], output
+                        "it, or install an OpenGL 4.5 driver with EGL: your GPU vendor's, or Mesa's (Debian/Ubuntu: "
+                        "apt-get install libegl1 libgl1-mesa-dri); beside X11, LPV_PREVIEW_GL_BACKEND=glx uses GLX "
+                        "instead."], output
     assert "Traceback" not in output
 
 

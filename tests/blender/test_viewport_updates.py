@@ -144,8 +144,8 @@ def test_the_viewport_reads_the_combined_image_bottom_row_first_into_its_own_buf
     assert np.shares_memory(drawn.display, session.display.rows)
     assert drawn.display.shape == (48, 48, 4) and session.display.fresh
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    alone = session.pipeline.render(session.sync.scene(depsgraph, set(), extract_camera(depsgraph, (48, 48))),
-                                    passes=("combined",)).passes["combined"]
+    scene = session.sync.scene(depsgraph, set(), extract_camera(depsgraph, (48, 48)))
+    alone = session.gl.call(session.pipeline.render, scene, passes=("combined",)).passes["combined"]  # its thread
     assert alone.mean() > 0
     np.testing.assert_array_equal(drawn.display[::-1, :, :3], alone)
     np.testing.assert_array_equal(drawn.display[..., 3], 1.0)
@@ -167,8 +167,8 @@ def test_overlay_data_follows_the_light_side_and_the_overlay_settings(cornell_sc
             "wdpm", True, True, True)
         drawn = draw()
         overlays = session.overlays
-        assert len(overlays.vpls.positions) == drawn.stats["vpl_count"] - int(
-            (~session.pipeline.last_light_maps[0].vpls.read()["valid"]).sum())
+        invalid = session.gl.call(lambda: int((~session.pipeline.last_light_maps[0].vpls.read()["valid"]).sum()))
+        assert len(overlays.vpls.positions) == drawn.stats["vpl_count"] - invalid
         assert overlays.slice.image.shape == (16, 16, 4) and overlays.slice.light.sum() > 0
         assert overlays.warp_status.shape[:2] == session.pipeline.last_light_maps[0].warp.texture.size[::-1]
         shown = (overlays.vpls, overlays.slice, overlays.warp_status)

@@ -3,7 +3,7 @@ scenes and a missing GPU give our error, never a crash."""
 import numpy as np
 import pytest
 
-from lpv_preview.gpu.context import GLContext
+from lpv_preview.gpu.context import GLContext, install_hint, platform_backends
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.scene import Camera, Light, Scene
 from lpv_preview.gpu.settings import PARAMETERS, Settings
@@ -81,3 +81,34 @@ def test_no_gpu_gives_one_clear_error(monkeypatch):
     with pytest.raises(LPVError) as error:
         GLContext()
     assert "OpenGL 4.5" in str(error.value) and "install" in str(error.value)
+
+
+def test_each_platform_makes_its_context_through_its_own_interface():
+    """WGL on Windows (glcontext's Windows wheel has no EGL), EGL on Linux, GLX after it
+    where a display is there; LPV_PREVIEW_GL_BACKEND picks one; macOS is refused."""
+    assert platform_backends("win32", {}) == ("wgl",)
+    assert platform_backends("linux", {}) == ("egl",)
+    assert platform_backends("linux", {"DISPLAY": ":0", "WAYLAND_DISPLAY": "wayland-0"}) == ("egl", "glx")
+    assert platform_backends("linux", {"LPV_PREVIEW_GL_BACKEND": "GLX"}) == ("glx",)
+    with pytest.raises(LPVError, match="names no OpenGL interface; set it to one of egl, glx, wgl"):
+        platform_backends("linux", {"LPV_PREVIEW_GL_BACKEND": "vulkan"})
+    with pytest.raises(LPVError, match="macOS lacks"):
+        platform_backends("darwin", {})
+    assert "GPU vendor's current driver" in install_hint("win32") and "apt-get" not in install_hint("win32")
+    assert "apt-get install libegl1" in install_hint("linux")
+
+
+def test_a_context_belongs_to_the_thread_that_made_it():
+    import threading
+    here = GLContext.shared()
+    assert GLContext.shared() is here
+    made = []
+
+    def make():
+        made.append(GLContext.shared())
+        made[0].release()  # on its own thread, where it is current
+
+    thread = threading.Thread(target=make)
+    thread.start()
+    thread.join()
+    assert made[0] is not here and made[0].renderer == here.renderer

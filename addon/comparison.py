@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..gpu.errors import LPVError
-from ..gpu.metrics import error_map, figure_text, heat_map, image_errors
+from ..gpu.metrics import RELATIVE_EPSILON, error_map, figure_text, heat_map, image_errors
 from ..gpu.passes import COMPARED_PASS_NAMES as IMAGES
 from ..gpu.settings import INDIRECT_METHODS, METHODS
 from .cycles_reference import cycles_reference_in_parts, reference_key
@@ -256,13 +256,50 @@ def markdown_table(comparison):
     return "\n".join(lines) + "\n"
 
 
+TABLE_LEGEND = (
+    ("method", "what made the row: our RSM method and indirect method (and the VPL sets it averages), a peer "
+               "(EEVEE with ray tracing; Cycles at 1 or 4 samples denoised by OpenImageDenoise, combined only), "
+               "or \"Cycles seed 1\": the reference rendered again with another seed, its own noise. A row whose "
+               "figures are as good as that row's is as close to Cycles as the reference can tell"),
+    ("reference", "the Cycles reference the row is measured against: one bounce (light that bounced off one "
+                  f"surface at most) or full GI (up to {REFERENCE_BOUNCES['full_gi']} bounces)"),
+    ("ms", "the row's render time in milliseconds (ours: every stage redone, shaders compiled; a peer: its "
+           "wall time); lower is faster"),
+    ("Cycles s", "the reference's render time in seconds"),
+    ("indirect …, combined …", "the image measured: indirect is the light that bounced off a surface before "
+                               "reaching the camera, combined is the whole image (direct plus indirect)"),
+    ("PSNR dB", "peak signal-to-noise ratio in decibels, the peak being the reference's brightest pixel; "
+                "higher is better"),
+    ("relMSE", f"relative mean squared error, mean of (ours − Cycles)² / (Cycles² + {RELATIVE_EPSILON}): errors in "
+               "dark parts "
+               "count as much as in bright ones; lower is better, 0 is identical"),
+    ("SSIM", "structural similarity of the brightness, from −1 to 1: whether shapes and gradients match; higher "
+             "is better, 1 is identical"),
+    ("FLIP", "NVIDIA's perceptual difference (HDR-FLIP), from 0 to 1: how different the two look when flipped "
+             "between; lower is better"),
+    ("MSE", "mean squared error in the images' linear units; lower is better; defined when the reference is "
+            "black"),
+    ("mean, Cycles mean", "the average pixel value of the row's image and of the reference's: the closer the "
+                          "two, the less the image is too dark or too bright"),
+    ("—", "undefined: the reference is black there (a relative figure has no scale; MSE and the means say how "
+          "far from black the row is), the images are identical (PSNR), or a peer has no such image"),
+)
+"""Each column of the comparison table (or group of them), what it is and which way is
+better: written under the table, so the report explains itself."""
+
+
+def markdown_legend():
+    """TABLE_LEGEND as a Markdown list under the heading "Legend"."""
+    return "\n## Legend\n\n" + "".join(f"- **{column}**: {text}.\n" for column, text in TABLE_LEGEND)
+
+
 def _json_number(value):
     """JSON has no infinity: an undefined figure (the infinite PSNR of identical images) is null."""
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
 def write_report(comparison, folder):
-    """comparison.json and comparison.md, PNGs of every reference and method image, and
+    """comparison.json and comparison.md (the table and its legend), PNGs of every reference and method image, and
     heat maps of each method's indirect error against each reference; returns the rows."""
     import json
     import os
@@ -299,5 +336,5 @@ def write_report(comparison, folder):
     with open(os.path.join(folder, "comparison.json"), "w") as handle:
         json.dump(report, handle, indent=2, default=float, allow_nan=False)
     with open(os.path.join(folder, "comparison.md"), "w") as handle:
-        handle.write(markdown_table(comparison))
+        handle.write(markdown_table(comparison) + markdown_legend())
     return report["rows"]

@@ -32,7 +32,7 @@ def _sweep_section(path, report, page_dir):
     folder = Path(path).parent
     plots = sorted(folder.glob(f"pareto_{name}_*.png")) + sorted(folder.glob(f"scaling_{name}_*.png"))
     lines = [f"## Sweep `{name}` on the {label}", "",
-             f"Measured {report.get('date', 'before reports were dated')}; report [{relative}]({relative}).", ""]
+             f"From the report [{relative}]({relative}); the command below makes it again.", ""]
     lines += [f"![{plot.stem}]({os.path.relpath(plot, page_dir)})" for plot in plots]
     if plots:
         lines.append("")
@@ -54,7 +54,7 @@ def _presets_summary(reports):
     for path, report in reports:
         if report.get("choose_presets"):
             lines += [f"Chosen by `choose_presets` (bench/sweep_report.py) from the `{report['sweep']}` sweep on "
-                      f"{machine_line(report['machine'])} ({report.get('date', '')}); the values live in "
+                      f"{machine_line(report['machine'])}; the values live in "
                       f"gpu/settings.py `PRESETS`. Mean over its scenes:", "", *presets_table(choose_presets(report)),
                       ""]
     for path, report in reports:

@@ -43,18 +43,26 @@ def indirect_method_list(text):
     return method_list(text, INDIRECT_METHODS)
 
 
-def add_setting_flags(parser):
+SCENE_SIZE = {"width": "the scene's render resolution", "height": "the scene's render resolution"}
+"""What --width and --height default to where a command takes the image size from the
+scene (demo, render, compare): gpu/settings.py's 640×480 would mislead there."""
+
+
+def add_setting_flags(parser, size_defaults=None):
     """One flag per parameter of gpu/settings.py, defaulting to None (= not given), and
-    --preset, whose values the flags given override."""
+    --preset, whose values the flags given override. `size_defaults` ({"width": text,
+    "height": text}) says what the image size is when not given, where that is not the
+    parameter's default (SCENE_SIZE)."""
     parser.add_argument("--preset", choices=tuple(PRESETS), help="start from this preset of gpu/settings.py: "
                         + "; ".join(f"{name}: {describe_preset(name)}" for name in PRESETS))
     for name, field in PARAMETERS.items():
-        add_parameter_flag(parser, name, field)
+        add_parameter_flag(parser, name, field, default_text=(size_defaults or {}).get(name))
 
 
-def add_parameter_flag(parser, name, field, flag=None):
+def add_parameter_flag(parser, name, field, flag=None, default_text=None):
     """The flag of one parameter of gpu/settings.py (`flag`: its name, else the parameter's
-    with dashes), defaulting to None (= not given), its range and default in its help."""
+    with dashes), defaulting to None (= not given), its range and default in its help
+    (`default_text`: what it is when not given, where not the parameter's default)."""
     meta = field.metadata
     flag = flag or "--" + name.replace("_", "-")
     if field.type in (bool, "bool"):
@@ -62,7 +70,8 @@ def add_parameter_flag(parser, name, field, flag=None):
                             help=meta["description"])
         return
     kind = {"int": int, "float": float, "str": str}.get(field.type, field.type)
-    limits = f" ({meta['min']}..{meta['max']}, default {field.default})" if meta["min"] is not None else ""
+    default = f"default: {default_text}" if default_text else f"default {field.default}"
+    limits = f" ({meta['min']}..{meta['max']}, {default})" if meta["min"] is not None else ""
     parser.add_argument(flag, dest=name, type=kind, default=None, choices=meta["choices"],
                         help=meta["description"] + limits)
 

@@ -6,8 +6,8 @@ from ..gpu.scene_edits import LIGHT_KIND_NAMES
 from ..gpu.settings import COMPARISON_PARAMETERS, ComparisonSettings
 from .bench_command import add_bench_modes, command_bench
 from .commands import command_compare, command_demo, command_export, command_render
-from .flags import (add_correction_flags, add_debug_passes_flag, add_setting_flags, indirect_method_list,
-                    lower_first, method_list, positive_int)
+from .flags import (SCENE_SIZE, add_correction_flags, add_debug_passes_flag, add_setting_flags,
+                    indirect_method_list, lower_first, method_list, positive_int)
 
 DESCRIPTION = ("Command line: `python -m lpv_preview demo | render FILE.blend | compare FILE.blend | export SCENE | "
                "bench`.")
@@ -24,7 +24,7 @@ def add_demo_command(commands):
     command.add_argument("--scene", default=demo.SCENES[0], choices=demo.SCENES)
     command.add_argument("--triangles", type=int, help=triangles_help())
     command.add_argument("--out", default="out", help="output folder (default: out)")
-    add_setting_flags(command)
+    add_setting_flags(command, SCENE_SIZE)
     add_debug_passes_flag(command)
     add_correction_flags(command, scheduler=False)  # a demo scene is never saved where a cluster could read it
     command.set_defaults(run=command_demo)
@@ -37,7 +37,7 @@ def add_render_command(commands):
     command.add_argument("--out", default="out", help="output folder (default: out)")
     command.add_argument("--frames", help="render these frames, like 1-24, one EXR each (frame_0001.exr ...)")
     command.add_argument("--overwrite", action="store_true", help="with --frames: render frames already written too")
-    add_setting_flags(command)
+    add_setting_flags(command, SCENE_SIZE)
     add_debug_passes_flag(command)
     add_correction_flags(command)
     command.set_defaults(run=command_render)
@@ -65,7 +65,7 @@ def add_compare_command(commands):
                               f"{','.join(comparison.indirect_methods)}; only --indirect-method's when that is given)")
     command.add_argument("--no-peers", action="store_true",
                          help="do not " + lower_first(COMPARISON_PARAMETERS["compare_peers"].metadata["description"]))
-    add_setting_flags(command)
+    add_setting_flags(command, SCENE_SIZE)
     command.set_defaults(run=command_compare)
 
 
@@ -103,7 +103,8 @@ def add_bench_command(commands):
     command.add_argument("--emitters-up-to", type=int, default=10, choices=range(11), metavar="N",
                          help="largest emitter count's power of 4 for --emitters (default 10: 1,048,576)")
     add_bench_modes(command)
-    add_setting_flags(command)
+    add_setting_flags(command, {"width": "960 for Table 1; a sweep's or measurement's own otherwise",
+                                "height": "540 for Table 1; a sweep's or measurement's own otherwise"})
     command.set_defaults(run=command_bench)
 
 

@@ -19,9 +19,11 @@ EMITTER_LIGHTS = ("grid", "brute_force")
 EMITTER_INTERPOLATIONS = ("trilinear", "tricubic", "supersampled")
 
 
-def _param(default, description, minimum=None, maximum=None, choices=None):
+def _param(default, description, minimum=None, maximum=None, choices=None, expert=False):
+    """A parameter's field; `expert` marks one an artist should not need to change (an
+    internal of a stage, or a switch for tests and references): docs/settings.md marks it."""
     return field(default=default, metadata={
-        "description": description, "min": minimum, "max": maximum, "choices": choices})
+        "description": description, "min": minimum, "max": maximum, "choices": choices, "expert": expert})
 
 
 class Validated:
@@ -69,31 +71,36 @@ class Settings(Validated):
                                   choices=INDIRECT_METHODS)
     lpv_resolution: int = _param(16, "Cells along each side of each grid of the indirect light", 4, 128)
     grid_levels: int = _param(3, "Most nested grid levels around what the camera sees, each twice the size of "
-                                 "the one before (cascades)", 1, 4)
+                                 "the one before (cascades)", 1, 4, expert=True)
     propagation_iterations: int = _param(8, "Propagation steps through the volume", 1, 64)
-    warp_alpha: float = _param(0.7, "WDPM step damping per iteration while the error exceeds a texel", 0.05, 1.0)
-    tessellated_warp_alpha: float = _param(0.9, "TWDPM step damping per iteration (the thesis: 0.9)", 0.05, 1.0)
-    tessellation_unit: float = _param(0.1, "TDPM map length per tessellated segment (thesis eq. 8-9)", 0.005, 2.0)
-    warp_iterations: int = _param(16, "Most fixed-point iterations per texel of the warp", 1, 64)
-    warp_significant_figures: int = _param(2, "Significant figures of the warp's approximate-error stop", 1, 6)
+    warp_alpha: float = _param(0.7, "WDPM step damping per iteration while the error exceeds a texel", 0.05, 1.0,
+                               expert=True)
+    tessellated_warp_alpha: float = _param(0.9, "TWDPM step damping per iteration (the thesis: 0.9)", 0.05, 1.0,
+                                           expert=True)
+    tessellation_unit: float = _param(0.1, "TDPM map length per tessellated segment (thesis eq. 8-9)", 0.005, 2.0,
+                                      expert=True)
+    warp_iterations: int = _param(16, "Most fixed-point iterations per texel of the warp", 1, 64, expert=True)
+    warp_significant_figures: int = _param(2, "Significant figures of the warp's approximate-error stop", 1, 6,
+                                           expert=True)
     occlusion: bool = _param(True, "Block propagation with the geometry volume")
     grid_phases: int = _param(2, "Light grids half a cell apart whose indirect light is averaged: the picture "
-                                 "depends less on where cell boundaries fall", 1, 2)
+                                 "depends less on where cell boundaries fall", 1, 2, expert=True)
     grid_shift: float = _param(0.0, "Shift of the light grid against the scene, in cells along every axis "
-                                    "(the picture should not depend on it: for invariance tests)", 0.0, 1.0)
+                                    "(the picture should not depend on it: for invariance tests)", 0.0, 1.0,
+                                expert=True)
     emission_samples: int = _param(4096, "Points sampled on emissive surfaces, in proportion to their power, whose "
                                          "light every pixel gathers as direct light", 16, 1048576)
     emitter_light: str = _param("grid", "How point emitters (emissive particles and instances, point lights beyond "
                                         "the light-map budget) light the pixels: through the emitter grid's 3D "
                                         "textures (grid) or every pixel summing every emitter (brute_force, the "
-                                        "reference)", choices=EMITTER_LIGHTS)
+                                        "reference)", choices=EMITTER_LIGHTS, expert=True)
     emitter_interpolation: str = _param("supersampled", "How the emitter grid is read at a pixel: trilinear, tricubic "
                                                     "(Catmull-Rom) or super-sampled (eight trilinear reads)",
-                                        choices=EMITTER_INTERPOLATIONS)
+                                        choices=EMITTER_INTERPOLATIONS, expert=True)
     emitter_shadows: bool = _param(True, "Shade the point emitters' light by what stands between: the ratio of a "
                                          "light grid's irradiance with visibility to without, at every pixel")
     emitter_grid_resolution: int = _param(32, "Cells along each side of the emitter grid (rounded up to a power of "
-                                              "two)", 8, 256)
+                                              "two)", 8, 256, expert=True)
     emitter_bounce_samples: int = _param(2048, "Points on the surfaces that the emitters light (and their light "
                                                "bounces from) for the indirect light", 16, 65536)
     light_map_budget: int = _param(3, "Point lights that get light maps (the strongest at the view): the others "
@@ -101,14 +108,14 @@ class Settings(Validated):
                                       "shades it", 0, 4096)
     light_cutoff: float = _param(0.001, "Share of the light at the view that the weakest lights and emitters may "
                                         "give together and be skipped (bounded by intensity over distance²)",
-                                 0.0, 0.5)
+                                 0.0, 0.5, expert=True)
     bounces: int = _param(1, "Diffuse bounces of the indirect light: above 1 the VPLs are lit by one another "
                              "that many times less one, as Cycles' full global illumination (light grid and VPL "
                              "gathering)", 1, 8)
     singularity_bound: float = _param(1.0, "How far a VPL's 1/r² is bounded next to it: r² grows by this times the "
                                            "area the VPL stands for over pi (1: as a disk of that area lights its "
                                            "axis; 0: unbounded, exact on average but spiky); the n-th VPL set of a "
-                                           "converging frame's pixel gather takes 1/n of it", 0.0, 16.0)
+                                           "converging frame's pixel gather takes 1/n of it", 0.0, 16.0, expert=True)
     converge_sets: int = _param(1, "VPL sets a rendered frame averages, each another Poisson pattern over the light "
                                    "maps: its indirect light converges toward every texel's", 1, 4096)
     converge_seconds: float = _param(0.0, "Seconds a rendered frame goes on averaging VPL sets; above zero it "

@@ -6,12 +6,14 @@ import time
 
 from .. import demo
 from ..gpu.errors import LPVError
+from ..gpu.image_io import openimageio
 from ..gpu.settings import ComparisonSettings
 from .flags import check_setting_flags, check_writable, correction_from, parse_frames, pass_names, settings_for_blend
 
 
 def command_demo(args):
     from ..addon.batch import render_to_files
+    openimageio()  # the images are written at the end: refused before any work where they cannot be
     check_writable(args.out)
     check_setting_flags(args)
     correction = correction_from(args)
@@ -27,6 +29,7 @@ def command_demo(args):
 def command_render(args):
     from ..addon.batch import open_blend, render_animation, render_to_files
     frames = parse_frames(args.frames) if args.frames else None
+    openimageio()  # the images are written at the end: refused before any work where they cannot be
     check_writable(args.out)
     check_setting_flags(args)
     correction = correction_from(args)
@@ -63,6 +66,7 @@ def command_compare(args):
     from ..addon.comparison import comparison_steps, write_report
     from ..addon.cycles_reference import run_to_end
     from ..addon.cycles_reference import ReferenceCache
+    openimageio()  # the images are written at the end: refused before any work where they cannot be
     check_writable(args.out)
     check_setting_flags(args)
     start = time.perf_counter()

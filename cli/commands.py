@@ -96,6 +96,9 @@ def command_export(args):
     from ..gpu.scene_file import cycles_reference_path
     if args.cycles_width and not args.cycles_samples:
         raise LPVError("--cycles-width needs --cycles-samples: the Cycles reference is rendered only when asked.")
+    if not args.out.endswith(".npz"):  # NumPy would add the suffix, beside a folder or the path given
+        example = os.path.join(args.out, f"{args.scene}.npz") if os.path.isdir(args.out) else f"{args.out}.npz"
+        raise LPVError(f"--out '{args.out}' is not a .npz file's path; give one like {example}.")
     check_writable(os.path.dirname(args.out))
     options = {key: value for key, value in (("triangles", args.triangles), ("lights", args.lights),
                                              ("light_kind", args.light_kind), ("cycles_samples", args.cycles_samples),

@@ -106,3 +106,14 @@ def command_export(args):
     scene = demo.export_npz(args.scene, args.out, **options)
     return {"scene": args.scene, "file": args.out, "triangles": scene.triangle_count, "lights": len(scene.lights),
             **({"cycles_reference": str(cycles_reference_path(args.out))} if args.cycles_samples else {})}
+
+
+def software_renderer_warning():
+    """The warning for this command's frames when the process's OpenGL context is a
+    software rasterizer (addon/frame_stats.py), or None: no frame rendered, or on a GPU."""
+    from ..addon.frame_stats import renderer_warning
+    from ..gpu.context import GLContext
+    glc = GLContext._shared  # made by the first frame; a refusal before it leaves None
+    if glc is None:
+        return None
+    return renderer_warning({"renderer": glc.renderer, "software_renderer": glc.is_software})

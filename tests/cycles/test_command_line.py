@@ -273,3 +273,32 @@ def test_odd_inputs_are_refused_in_one_sentence(argv, error, tmp_path, capsys):
     assert main([arg.replace("TMP", str(tmp_path)) for arg in argv]) == 2
     assert capsys.readouterr().err.strip().splitlines() == ["lpv_preview: " + error.replace("TMP", str(tmp_path))]
     assert sorted(os.listdir(tmp_path)) == before
+
+
+def test_the_renderer_is_named_and_a_software_one_warned_of_once(glc, tmp_path, capsys):
+    """stats.json and each EXR's header name the OpenGL renderer; on a software rasterizer
+    (llvmpipe here) they carry the warning too, and each command prints it once."""
+    from lpv_preview.addon.batch import RENDERER_ATTRIBUTE, RENDERER_WARNING_ATTRIBUTE
+    from lpv_preview.addon.frame_stats import renderer_warning
+    from lpv_preview.gpu.image_io import read_exr_metadata
+    warning = renderer_warning({"renderer": glc.renderer, "software_renderer": glc.is_software})
+    assert (warning is not None) == glc.is_software
+    assert main(["demo", "--out", str(tmp_path / "demo"), "--width", "32", "--height", "24"]) == 0
+    captured = capsys.readouterr()
+    stats = json.loads((tmp_path / "demo" / "stats.json").read_text())
+    assert stats["renderer"] == glc.renderer and stats["software_renderer"] == glc.is_software
+    assert stats.get("renderer_warning") == warning
+    printed = [line for line in captured.err.splitlines() if line.startswith("lpv_preview: warning: ")]
+    assert printed == ([f"lpv_preview: warning: {warning}"] if warning else [])
+    exrs = [tmp_path / "demo" / "passes.exr"]
+    blend = tmp_path / "cornell.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))  # the demo scene just built
+    assert main(["render", str(blend), "--frames", "1-2", "--out", str(tmp_path / "frames"), "--width", "32",
+                 "--height", "24"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err.count("lpv_preview: warning: ") == (1 if warning else 0)
+    assert json.loads(captured.out[captured.out.index("{\n"):])["renderer"] == glc.renderer
+    exrs += [tmp_path / "frames" / "frame_0001.exr", tmp_path / "frames" / "frame_0002.exr"]
+    for exr in exrs:
+        assert read_exr_metadata(exr, RENDERER_ATTRIBUTE) == glc.renderer
+        assert read_exr_metadata(exr, RENDERER_WARNING_ATTRIBUTE) == warning

@@ -8,7 +8,8 @@ measures every RSM method against CM (the thesis's Table 1), runs declared sweep
 writes the benchmarks page.
 Each render writes a multi-layer EXR (combined, direct, indirect), tone-mapped PNGs of
 combined and indirect, and stats.json. Errors a user can fix print one line, no traceback,
-and exit with status 2; Ctrl-C stops a command with one line and status 130.
+and exit with status 2; Ctrl-C stops a command with one line and status 130; a command
+whose frames a software rasterizer rendered warns of it in one line.
 
 This file is the entry point only: the flags and the commands are in cli/, the work in
 the packages they call; bpy and the GPU are imported by the commands that need them.
@@ -16,6 +17,7 @@ the packages they call; bpy and the GPU are imported by the commands that need t
 import json
 import sys
 
+from .cli.commands import software_renderer_warning
 from .cli.parser import build_parser
 from .gpu.errors import LPVError
 
@@ -34,6 +36,9 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f"\nlpv_preview: {STOPPED}", file=sys.stderr)
         return 130
+    warning = software_renderer_warning()
+    if warning:
+        print(f"lpv_preview: warning: {warning}", file=sys.stderr)
     print(json.dumps(result, indent=2))
     return 0
 

@@ -16,6 +16,7 @@ from ..gpu.image_io import read_exr_metadata, write_exr, write_png
 from ..gpu.pipeline import Pipeline, render_once
 from .corrected_render import corrected_frame, workers_for
 from .extract import output_layout
+from .frame_stats import renderer_warning
 from .render_scene import scene_to_render
 
 
@@ -30,14 +31,27 @@ def open_blend(path):
     return bpy.context.scene
 
 
+RENDERER_ATTRIBUTE = "lpv_preview_renderer"
+RENDERER_WARNING_ATTRIBUTE = "lpv_preview_renderer_warning"
+"""The EXR header attributes naming the OpenGL renderer that made the frame and, for a
+software rasterizer, warning of it (frame_stats.py `renderer_warning`)."""
+
+
+def renderer_metadata(stats):
+    """The EXR header attributes that name the renderer of a frame with these statistics."""
+    warning = renderer_warning(stats)
+    return {RENDERER_ATTRIBUTE: stats["renderer"], **({RENDERER_WARNING_ATTRIBUTE: warning} if warning else {})}
+
+
 def write_outputs(frame, layout, out_dir, extra_stats):
-    """passes.exr (every pass of the frame), PNGs of combined and indirect, stats.json;
-    the images as `layout` (gpu/output_layout.py) writes them."""
+    """passes.exr (every pass of the frame, its renderer in the header), PNGs of combined
+    and indirect, stats.json; the images as `layout` (gpu/output_layout.py) writes them."""
     images = layout.written(frame.passes, frame.coverage)
-    write_exr(os.path.join(out_dir, "passes.exr"), images)
+    write_exr(os.path.join(out_dir, "passes.exr"), images, renderer_metadata(frame.stats))
     write_png(os.path.join(out_dir, "combined.png"), images["combined"])
     write_png(os.path.join(out_dir, "indirect.png"), images["indirect"])
-    stats = {**extra_stats, **frame.stats}
+    warning = renderer_warning(frame.stats)
+    stats = {**extra_stats, **frame.stats, **({"renderer_warning": warning} if warning else {})}
     with open(os.path.join(out_dir, "stats.json"), "w") as handle:
         json.dump(stats, handle, indent=2)
     return stats
@@ -115,13 +129,13 @@ def why_render_again(recorded, wanted):
     return None if recorded.get("passes") == wanted["passes"] else "with other passes"
 
 
-def write_frame(path, passes, record):
-    """The frame's EXR, `record` in its header, under a temporary name and renamed when
-    complete, so an interrupted frame is never taken for a finished one; the temporary
-    file is removed when the writing fails or Ctrl-C stops it."""
+def write_frame(path, passes, record, metadata=None):
+    """The frame's EXR, `record` (and `metadata`) in its header, under a temporary name and
+    renamed when complete, so an interrupted frame is never taken for a finished one; the
+    temporary file is removed when the writing fails or Ctrl-C stops it."""
     partial = path + ".partial.exr"
     try:
-        write_exr(partial, passes, {FRAME_RECORD: json.dumps(record, sort_keys=True)})
+        write_exr(partial, passes, {**(metadata or {}), FRAME_RECORD: json.dumps(record, sort_keys=True)})
         os.replace(partial, path)
     finally:
         if os.path.exists(partial):
@@ -163,6 +177,7 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
                   if seconds > 0 and todo else nullcontext())
     with correcting as workers:
         pipeline = Pipeline(settings)
+        renderer = {"renderer": pipeline.glc.renderer, "software_renderer": pipeline.glc.is_software}
         try:
             for done, frame in enumerate(todo):
                 started = time.perf_counter()
@@ -172,14 +187,16 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
                 if workers is not None:
                     corrected[frame] = correct(workers, pipeline, scene, result, seconds, frame, rebuild)
                     rebuild = corrected[frame]["correction_rebuild_seconds"]
-                write_frame(frame_path(out_dir, frame), layout.written(result.passes, result.coverage), record)
+                write_frame(frame_path(out_dir, frame), layout.written(result.passes, result.coverage), record,
+                            renderer_metadata(result.stats))
                 timings.append(time.perf_counter() - started)
                 print_progress(done + 1, len(todo), frame, timings)
         finally:
             pipeline.release()
     return {"out": os.path.abspath(out_dir), "frames": [frames.start, frames[-1]], "rendered": len(todo),
             "skipped": len(frames) - len(todo), "rendered_again": again,
-            "seconds_per_frame": sum(timings) / len(timings) if timings else 0.0, "corrections": corrected}
+            "seconds_per_frame": sum(timings) / len(timings) if timings else 0.0, "corrections": corrected,
+            **renderer}
 
 
 

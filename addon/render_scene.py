@@ -49,6 +49,11 @@ def scene_to_render(scene, resolution=None):
             if scene.camera is None:
                 raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
             reason = first_line(error).removeprefix("Error: ")
+            if reason.startswith("Image too small"):
+                render = scene.render
+                raise LPVError(f"Scene '{scene.name}' renders {render.resolution_percentage} % of "
+                               f"{render.resolution_x} x {render.resolution_y} pixels, too small for Blender; raise "
+                               f"its Output resolution or percentage.") from None
             raise LPVError(f"Blender cannot render scene '{scene.name}': {reason}.") from None
         finally:
             pending_extractions.remove(request)

@@ -9,7 +9,7 @@ from ..gpu.pipeline import STAGES as PIPELINE_STAGES
 from .comparison import IMAGES, last_comparison, row_label
 from .cycles_reference import ReferenceCache
 from .engine import ENGINE_ID
-from .frame_stats import last_stats
+from .frame_stats import last_stats, renderer_warning
 from .properties import settings_from_properties
 
 SETTING_GROUPS = {
@@ -59,11 +59,22 @@ def draw_settings(layout, properties, group):
         row.prop(properties, name)
 
 
+def renderer_lines(stats):
+    """The statistics panel's lines (text, icon) on the OpenGL renderer: its name, and a
+    warning when it is a software rasterizer."""
+    if "renderer" not in stats:
+        return []
+    warning = renderer_warning(stats)
+    return [(f"Renderer: {stats['renderer']}", "NONE")] + ([(warning, "ERROR")] if warning else [])
+
+
 def draw_statistics(layout, stats):
     if not stats:
         layout.label(text="Render a frame to see its statistics")
         return
     column = layout.column(align=True)
+    for text, icon in renderer_lines(stats):
+        column.label(text=text, icon=icon)
     for key, label in STAGES:
         if key in stats:
             row = column.row()

@@ -34,6 +34,20 @@ def read_report(path):
         raise LPVError(f"Cannot read the sweep report '{path}' ({error}); give a sweep_NAME.json file.")
 
 
+SWEEP_REPORT_KEYS = ("sweep", "description", "machine", "repeats", "points")
+"""What `bench --sweep` writes and its Markdown and plots read."""
+
+
+def read_sweep_report(path):
+    """A sweep's JSON report, or one clear error when the file is none (Table 1's, say)."""
+    report = read_report(path)
+    missing = [key for key in SWEEP_REPORT_KEYS if not isinstance(report, dict) or key not in report]
+    if missing:
+        raise LPVError(f"'{path}' is not a sweep report (it lacks {', '.join(missing)}); give a sweep_NAME.json file "
+                       f"that `bench --sweep NAME` wrote.")
+    return report
+
+
 def scene_label(scene):
     return os.path.splitext(os.path.basename(scene))[0]
 

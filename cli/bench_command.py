@@ -11,10 +11,10 @@ from .flags import check_setting_flags, check_writable, command_line, positive_i
 
 
 def bench_report(args, log):
-    from ..bench.sweep_report import read_report, write_sweep_outputs
+    from ..bench.sweep_report import read_sweep_report, write_sweep_outputs
     check_writable(args.out)
     same_folder = os.path.abspath(args.out) == os.path.abspath(os.path.dirname(args.report))
-    return write_sweep_outputs(read_report(args.report), args.out, write_json=not same_folder)
+    return write_sweep_outputs(read_sweep_report(args.report), args.out, write_json=not same_folder)
 
 
 def bench_page(args, log):

@@ -6,12 +6,14 @@ import time
 
 from .. import demo
 from ..gpu.errors import LPVError
+from ..gpu.image_io import openimageio
 from ..gpu.settings import ComparisonSettings
 from .flags import check_setting_flags, check_writable, correction_from, parse_frames, pass_names, settings_for_blend
 
 
 def command_demo(args):
     from ..addon.batch import render_to_files
+    openimageio()  # the images are written at the end: refused before any work where they cannot be
     check_writable(args.out)
     check_setting_flags(args)
     correction = correction_from(args)
@@ -27,6 +29,7 @@ def command_demo(args):
 def command_render(args):
     from ..addon.batch import open_blend, render_animation, render_to_files
     frames = parse_frames(args.frames) if args.frames else None
+    openimageio()  # the images are written at the end: refused before any work where they cannot be
     check_writable(args.out)
     check_setting_flags(args)
     correction = correction_from(args)
@@ -68,6 +71,7 @@ def command_compare(args):
     from ..addon.comparison import comparison_steps, write_report
     from ..addon.cycles_reference import run_to_end
     from ..addon.cycles_reference import ReferenceCache
+    openimageio()  # the images are written at the end: refused before any work where they cannot be
     check_writable(args.out)
     check_setting_flags(args)
     start = time.perf_counter()
@@ -97,6 +101,9 @@ def command_export(args):
     from ..gpu.scene_file import cycles_reference_path
     if args.cycles_width and not args.cycles_samples:
         raise LPVError("--cycles-width needs --cycles-samples: the Cycles reference is rendered only when asked.")
+    if not args.out.endswith(".npz"):  # NumPy would add the suffix, beside a folder or the path given
+        example = os.path.join(args.out, f"{args.scene}.npz") if os.path.isdir(args.out) else f"{args.out}.npz"
+        raise LPVError(f"--out '{args.out}' is not a .npz file's path; give one like {example}.")
     check_writable(os.path.dirname(args.out))
     options = {key: value for key, value in (("triangles", args.triangles), ("lights", args.lights),
                                              ("light_kind", args.light_kind), ("cycles_samples", args.cycles_samples),
@@ -104,3 +111,14 @@ def command_export(args):
     scene = demo.export_npz(args.scene, args.out, **options)
     return {"scene": args.scene, "file": args.out, "triangles": scene.triangle_count, "lights": len(scene.lights),
             **({"cycles_reference": str(cycles_reference_path(args.out))} if args.cycles_samples else {})}
+
+
+def software_renderer_warning():
+    """The warning for this command's frames when the process's OpenGL context is a
+    software rasterizer (addon/frame_stats.py), or None: no frame rendered, or on a GPU."""
+    from ..addon.frame_stats import renderer_warning
+    from ..gpu.context import GLContext
+    glc = GLContext.last_made  # made by the first frame, on whichever thread; a refusal before it leaves None
+    if glc is None:
+        return None
+    return renderer_warning({"renderer": glc.renderer, "software_renderer": glc.is_software})

@@ -19,11 +19,41 @@ WORKER_DEATHS_ALLOWED = 3
 """Worker deaths a request may see before it is given up (Dask's allowed-failures)."""
 
 
+TLS_SETTINGS = ("distributed.comm.tls.ca-file, distributed.comm.tls.client.cert and distributed.comm.tls.client.key "
+                "in Dask's configuration (README, \"Corrections toward Cycles\")")
+"""Where a user gives the certificates that reach a studio's scheduler."""
+
+
 def check_scheduler(scheduler):
-    """Refuse a scheduler address that is not TLS (before any work)."""
-    if scheduler is not None and not scheduler.startswith("tls://"):
+    """Refuse, before any work, a scheduler address that is not TLS or that Dask's
+    configuration gives no certificates for (Dask would fail deep in its connection)."""
+    if scheduler is None:
+        return
+    if not scheduler.startswith("tls://"):
         raise LPVError(f"The Dask scheduler '{scheduler}' is not a tls:// address; a scheduler runs whatever code it "
                        f"is sent, so reach it over TLS only (see the README).")
+    check_tls_configuration(scheduler)
+
+
+def check_tls_configuration(scheduler):
+    """Refuse a TLS scheduler when Dask's configuration has no CA file, client certificate
+    and key, or ones that cannot be loaded; a configured security loader gives its own."""
+    try:
+        import dask
+        from distributed.security import Security
+    except ImportError:
+        raise LPVError("The Cycles sample workers need Dask distributed, which this Python lacks; install "
+                       "requirements.txt (bash scripts/setup.sh).") from None
+    if dask.config.get("distributed.client.security-loader", None):
+        return
+    try:
+        context = Security().get_connection_args("client")["ssl_context"]
+    except (OSError, ValueError) as error:  # a missing or unreadable file, a bad key, an unknown TLS version
+        raise LPVError(f"Dask's TLS certificates for the scheduler '{scheduler}' cannot be loaded "
+                       f"({first_line(error)}); fix {TLS_SETTINGS}.") from None
+    if context is None:
+        raise LPVError(f"The Dask scheduler '{scheduler}' needs TLS certificates, which Dask's configuration lacks; "
+                       f"set {TLS_SETTINGS}.")
 
 
 class SampleWorkers:
@@ -58,9 +88,13 @@ class SampleWorkers:
                     self.client = Client(self.cluster)
             except (OSError, RuntimeError, TimeoutError) as error:
                 self.close()
-                where = f"the Dask scheduler at '{scheduler}'" if scheduler else f"{workers} local workers"
-                raise LPVError(f"The Cycles sample workers could not start ({where}: {first_line(error)}); they "
-                               f"need a Python with the bpy module and Dask (bash scripts/setup.sh).") from None
+                if scheduler is not None:
+                    raise LPVError(f"The Dask scheduler at '{scheduler}' could not be reached ({first_line(error)}); "
+                                   f"check that it runs there and accepts the certificates of {TLS_SETTINGS}.") \
+                        from None
+                raise LPVError(f"The Cycles sample workers could not start ({workers} local workers: "
+                               f"{first_line(error)}); they need a Python with the bpy module and Dask "
+                               f"(bash scripts/setup.sh).") from None
         # a local worker is one core: Cycles alone would take them all in each (start as many
         # workers as cores); a remote worker's own machine decides
         self.threads = 1 if self.cluster is not None else None

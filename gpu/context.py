@@ -69,6 +69,9 @@ class GLContext:
     """
 
     _threads = threading.local()
+    last_made = None
+    """The context this process made last, on any thread: what names the renderer a
+    command's frames used."""
 
     @classmethod
     def shared(cls):
@@ -97,6 +100,7 @@ class GLContext:
         else:
             raise LPVError(f"No OpenGL 4.5 context could be made ({'; '.join(failures)}); {install_hint()}.")
         self.backend = backend
+        GLContext.last_made = self
         self.renderer = self.gl.info["GL_RENDERER"]
         self.version = self.gl.info["GL_VERSION"]
         self.is_software = any(name in self.renderer.lower() for name in ("llvmpipe", "softpipe", "swrast"))

@@ -1,9 +1,12 @@
 """Writing passes: one multi-layer EXR (linear float) and tone-mapped PNGs, via OpenImageIO.
 
 OpenImageIO is imported when an image is written, so the rest of gpu/ runs where it is
-missing (the GPU machine).
+missing (the GPU machine); where this Python lacks it, Blender's bundled copy serves.
 """
+import importlib.machinery
+import importlib.util
 import os
+import sys
 
 import numpy as np
 
@@ -11,10 +14,48 @@ from .errors import LPVError
 from .colour import LUMINANCE_WEIGHTS
 
 CHANNELS = ("R", "G", "B")
+NO_OPENIMAGEIO = ("Reading and writing images needs the OpenImageIO module, which neither this Python nor Blender's "
+                  "bundled packages hold; use Blender 5.0 from blender.org, which ships it, or install "
+                  "requirements.txt (bash scripts/setup.sh).")
+
+
+def openimageio():
+    """The OpenImageIO module: this Python's, else the copy Blender ships among its own
+    Python's packages (Blender as a module leaves that folder off sys.path); refused in one
+    sentence where neither is, so callers can check before any work."""
+    try:
+        import OpenImageIO
+        return OpenImageIO
+    except ImportError:
+        pass
+    for folder in blender_package_folders():
+        spec = importlib.machinery.PathFinder.find_spec("OpenImageIO", [folder])
+        if spec is not None:
+            module = importlib.util.module_from_spec(spec)
+            sys.modules["OpenImageIO"] = module
+            try:
+                spec.loader.exec_module(module)
+            except ImportError:
+                del sys.modules["OpenImageIO"]
+                continue
+            return module
+    raise LPVError(NO_OPENIMAGEIO)
+
+
+def blender_package_folders():
+    """The folders of Blender's bundled Python packages (Linux and macOS, then Windows),
+    when bpy is loaded; gpu/ does not import bpy itself."""
+    bpy = sys.modules.get("bpy")
+    utils = getattr(bpy, "utils", None)
+    if utils is None:
+        return []
+    python = os.path.join(utils.resource_path("LOCAL"), "python", "lib")
+    return [os.path.join(python, f"python{sys.version_info[0]}.{sys.version_info[1]}", "site-packages"),
+            os.path.join(python, "site-packages")]
 
 
 def _open_output(path, spec):
-    import OpenImageIO as oiio
+    oiio = openimageio()
     directory = os.path.dirname(os.path.abspath(path))
     try:
         os.makedirs(directory, exist_ok=True)
@@ -31,7 +72,7 @@ def write_exr(path, passes, metadata=None):
     """All passes in one float EXR, channels named '<pass>.R', '<pass>.G', '<pass>.B' (and
     '<pass>.A' for a pass with alpha); `metadata` ({name: text}) goes into its header
     (`read_exr_metadata`)."""
-    import OpenImageIO as oiio
+    oiio = openimageio()
     names = list(passes)
     height, width, _ = passes[names[0]].shape
     channels = [f"{name}.{c}" for name in names for c in (*CHANNELS, "A")[:passes[name].shape[2]]]
@@ -49,7 +90,7 @@ def write_exr(path, passes, metadata=None):
 def read_exr_metadata(path, name):
     """The text attribute `name` of an EXR's header, or None when the file has none or
     cannot be read."""
-    import OpenImageIO as oiio
+    oiio = openimageio()
     image = oiio.ImageInput.open(str(path))
     if image is None:
         oiio.geterror()  # an unreadable file is an answer here: take OpenImageIO's message
@@ -62,7 +103,7 @@ def read_exr_metadata(path, name):
 def read_exr_channels(path):
     """{channel name: (height, width) float32, top row first} over every part of an EXR
     (Blender 5.0 writes a multi-layer EXR as one part per pass)."""
-    import OpenImageIO as oiio
+    oiio = openimageio()
     image = oiio.ImageInput.open(str(path))
     if image is None:
         raise LPVError(f"Cannot read '{path}' ({oiio.geterror()}); check the path.")
@@ -108,7 +149,7 @@ def write_png(path, image, tone_mapped=True, exposure_of=None):
     when given), or of display values in [0, 1] as they are with `tone_mapped=False`; an
     image with alpha keeps it (premultiplied colour, as Blender renders it, unassociated
     for the PNG)."""
-    import OpenImageIO as oiio
+    oiio = openimageio()
     height, width, channels = image.shape
     colour = image[..., :3]
     if channels == 4:

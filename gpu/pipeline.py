@@ -334,7 +334,8 @@ class Pipeline:
             "dropped_triangles": dict(scene.dropped), "images": [image.name for image in scene.images],
             "approximated_materials": list(scene.approximated_materials), "rsm_resolution": s.rsm_resolution,
             "rsm_faces": int(sum(m.rsm.face_count for m in maps)), **indirect.statistics(s),
-            "image_size": [s.width, s.height], "renderer": self.glc.renderer})
+            "image_size": [s.width, s.height], "renderer": self.glc.renderer,
+            "software_renderer": self.glc.is_software})
         return stats
 
     def render_converged(self, scene, settings=None, passes=PASS_NAMES, display_settings=None, stop=None,

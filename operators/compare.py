@@ -14,6 +14,7 @@ from ..addon.cycles_reference import ReferenceCache, run_to_end
 from ..addon.extract import render_resolution
 from ..addon.properties import comparison_settings_from_properties, settings_from_properties
 from ..gpu.errors import LPVError
+from ..gpu.image_io import openimageio
 
 IMAGE_PREFIX = "LPV Compare"
 TICK_SECONDS = 0.05
@@ -21,6 +22,7 @@ TICK_SECONDS = 0.05
 
 def comparison_of(scene):
     """The comparison generator for `scene`'s own settings at its render resolution."""
+    openimageio()  # the references are read from EXRs: refused before any render where nothing can read one
     properties = scene.lpv_preview
     compare = comparison_settings_from_properties(properties)
     if not compare.methods:

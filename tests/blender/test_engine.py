@@ -204,3 +204,19 @@ def test_toggling_debug_passes_refreshes_the_view_layers_passes(cornell):
         cornell.lpv_preview.debug_passes = False
         cornell.compositing_node_group = saved
         bpy.data.node_groups.remove(tree)
+
+
+def test_the_statistics_panel_names_the_renderer_of_an_f12_render(cornell, glc):
+    """After F12 the panel's statistics start with the OpenGL renderer and, for a software
+    rasterizer (llvmpipe here), the warning F12's own report can give (renderer_warning)."""
+    from lpv_preview.addon.frame_stats import last_stats, renderer_warning
+    from lpv_preview.addon.ui import renderer_lines
+    bpy.ops.render.render()
+    stats = last_stats()
+    assert stats["renderer"] == glc.renderer and stats["software_renderer"] == glc.is_software
+    warning = renderer_warning(stats)
+    assert (warning is not None) == glc.is_software
+    assert renderer_lines(stats) == [(f"Renderer: {glc.renderer}", "NONE")] + ([(warning, "ERROR")] if warning else [])
+    if warning:
+        assert warning.startswith(f"OpenGL renders on the CPU here ({glc.renderer})") and warning.count(". ") == 0
+    assert renderer_lines({}) == []  # no frame yet: the panel asks for one

@@ -216,3 +216,89 @@ def test_compare_is_refused_before_the_cycles_references_where_our_renderer_cann
     err = capsys.readouterr().err.strip()
     assert err.startswith("lpv_preview: No OpenGL 4.5 context is available") and len(err.splitlines()) == 1, err
     assert not cache.exists() or not any(cache.iterdir())
+
+
+
+TINY = ["--out", "TMP/out", "--width", "32", "--height", "24"]
+
+
+def saved_blend(path, edit):
+    """The Cornell box at 32 x 24 after `edit(scene)`, saved at `path`; an empty file when
+    `edit` is None."""
+    from lpv_preview.demo import build
+    if edit is None:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+    else:
+        edit(build("cornell", resolution=(32, 24)))
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+
+
+def without_camera(scene):
+    bpy.data.objects.remove(scene.camera)
+
+
+def at_one_percent(scene):
+    scene.render.resolution_percentage = 1
+
+
+ODD_BLENDS = {"EMPTY": None, "NO_CAMERA": without_camera, "ONE_PERCENT": at_one_percent}
+"""The .blend files a user might give, by the name the arguments below give them."""
+
+
+@pytest.mark.parametrize("argv, error", [
+    (["render", "TMP/EMPTY.blend", *TINY],
+     "The scene has no camera; add a camera and make it the scene's active camera."),
+    (["render", "TMP/NO_CAMERA.blend", "--correct-seconds", "1", *TINY],
+     "The scene has no camera; add a camera and make it the scene's active camera."),
+    (["compare", "TMP/NO_CAMERA.blend", "--samples", "1", "--no-cache", *TINY],
+     "The scene has no camera; add a camera and make it the scene's active camera."),
+    (["render", "TMP/ONE_PERCENT.blend", *TINY],
+     "Scene 'Scene' renders 1 % of 32 x 24 pixels, too small for Blender; raise its Output resolution or percentage."),
+    (["export", "cornell", "--out", "TMP"], "--out 'TMP' is not a .npz file's path; give one like TMP/cornell.npz."),
+    (["export", "cornell", "--out", "TMP/scene"],
+     "--out 'TMP/scene' is not a .npz file's path; give one like TMP/scene.npz."),
+    (["bench", "--report", "TMP/table.json", "--out", "TMP/out"],
+     "'TMP/table.json' is not a sweep report (it lacks sweep, description, repeats, points); give a "
+     "sweep_NAME.json file that `bench --sweep NAME` wrote."),
+], ids=["empty scene", "no camera, corrected", "compare without camera", "1 % resolution", "export to a folder",
+        "export without .npz", "bench report of another JSON"])
+def test_odd_inputs_are_refused_in_one_sentence(argv, error, tmp_path, capsys):
+    """What a user might try (issue 29): each ends in one sentence that names the fix and
+    status 2, never a traceback, and leaves no output behind."""
+    for name, edit in ODD_BLENDS.items():
+        if any(f"/{name}." in arg for arg in argv):
+            saved_blend(tmp_path / f"{name}.blend", edit)
+    (tmp_path / "table.json").write_text(json.dumps({"machine": {}, "rows": []}))  # Table 1's, say
+    before = sorted(os.listdir(tmp_path))
+    assert main([arg.replace("TMP", str(tmp_path)) for arg in argv]) == 2
+    assert capsys.readouterr().err.strip().splitlines() == ["lpv_preview: " + error.replace("TMP", str(tmp_path))]
+    assert sorted(os.listdir(tmp_path)) == before
+
+
+def test_the_renderer_is_named_and_a_software_one_warned_of_once(glc, tmp_path, capsys):
+    """stats.json and each EXR's header name the OpenGL renderer; on a software rasterizer
+    (llvmpipe here) they carry the warning too, and each command prints it once."""
+    from lpv_preview.addon.batch import RENDERER_ATTRIBUTE, RENDERER_WARNING_ATTRIBUTE
+    from lpv_preview.addon.frame_stats import renderer_warning
+    from lpv_preview.gpu.image_io import read_exr_metadata
+    warning = renderer_warning({"renderer": glc.renderer, "software_renderer": glc.is_software})
+    assert (warning is not None) == glc.is_software
+    assert main(["demo", "--out", str(tmp_path / "demo"), "--width", "32", "--height", "24"]) == 0
+    captured = capsys.readouterr()
+    stats = json.loads((tmp_path / "demo" / "stats.json").read_text())
+    assert stats["renderer"] == glc.renderer and stats["software_renderer"] == glc.is_software
+    assert stats.get("renderer_warning") == warning
+    printed = [line for line in captured.err.splitlines() if line.startswith("lpv_preview: warning: ")]
+    assert printed == ([f"lpv_preview: warning: {warning}"] if warning else [])
+    exrs = [tmp_path / "demo" / "passes.exr"]
+    blend = tmp_path / "cornell.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))  # the demo scene just built
+    assert main(["render", str(blend), "--frames", "1-2", "--out", str(tmp_path / "frames"), "--width", "32",
+                 "--height", "24"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err.count("lpv_preview: warning: ") == (1 if warning else 0)
+    assert json.loads(captured.out[captured.out.index("{\n"):])["renderer"] == glc.renderer
+    exrs += [tmp_path / "frames" / "frame_0001.exr", tmp_path / "frames" / "frame_0002.exr"]
+    for exr in exrs:
+        assert read_exr_metadata(exr, RENDERER_ATTRIBUTE) == glc.renderer
+        assert read_exr_metadata(exr, RENDERER_WARNING_ATTRIBUTE) == warning

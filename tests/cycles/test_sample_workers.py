@@ -125,6 +125,29 @@ def test_a_saved_file_is_corrected_by_a_remote_cluster_over_tls(cornell_blend, t
     assert os.listdir(worker_temporary) == []  # its renderer's folder went as it ended
 
 
+@pytest.mark.parametrize("certificates, words", [
+    ({}, "needs TLS certificates, which Dask's configuration lacks; set distributed.comm.tls.ca-file"),
+    ({"ca-file": "/nonexistent/ca.pem", "client.cert": "/nonexistent/cert.pem"}, "cannot be loaded"),
+], ids=["none", "missing files"])
+def test_a_tls_scheduler_without_certificates_is_refused_before_the_scene_is_opened(cornell_blend, certificates,
+                                                                                      words, tmp_path, capsys):
+    """Without Dask's TLS settings Dask itself ends in a 30-line traceback (`TLS expects a
+    ssl_context`): the command refuses in one sentence naming the settings, before any work."""
+    import dask
+    import distributed  # noqa: F401 (its defaults in Dask's configuration before the `set`, which removes new keys)
+    tls = {f"distributed.comm.tls.{name}": certificates.get(name)
+           for name in ("ca-file", "client.cert", "client.key")}
+    marker = bpy.data.texts.new("untouched").name  # opening the .blend would replace it
+    with dask.config.set(tls):
+        assert main(["render", cornell_blend, "--out", str(tmp_path / "out"), "--width", "32", "--height", "24",
+                     "--correct-seconds", "5", "--scheduler", "tls://127.0.0.1:1"]) == 2
+    error = capsys.readouterr().err.strip().splitlines()
+    assert len(error) == 1 and error[0].startswith("lpv_preview: ") and words in error[0], error
+    assert "README" in error[0]
+    assert marker in bpy.data.texts
+    bpy.data.texts.remove(bpy.data.texts[marker])
+
+
 def test_corrections_too_large_for_the_free_memory_are_refused(tmp_path, capsys, monkeypatch):
     from lpv_preview.corrections import corrector
     monkeypatch.setattr(corrector, "available_host_bytes", lambda: 2 ** 30)

@@ -1,5 +1,6 @@
 """Rendering a Blender scene outside the RenderEngine, for the command line: one frame to
-a multi-layer EXR, tone-mapped PNGs and stats.json, or an animation to one EXR a frame.
+a multi-layer EXR, PNGs through the scene's colour management (as F12 saves them) and
+stats.json, or an animation to one EXR a frame.
 """
 import json
 import os
@@ -18,6 +19,7 @@ from .corrected_render import corrected_frame, workers_for
 from .extract import output_layout
 from .frame_stats import renderer_warning
 from .render_scene import scene_to_render
+from .view_transform import scene_view_transform
 
 
 def open_blend(path):
@@ -43,13 +45,14 @@ def renderer_metadata(stats):
     return {RENDERER_ATTRIBUTE: stats["renderer"], **({RENDERER_WARNING_ATTRIBUTE: warning} if warning else {})}
 
 
-def write_outputs(frame, layout, out_dir, extra_stats):
+def write_outputs(frame, layout, out_dir, extra_stats, view_transform):
     """passes.exr (every pass of the frame, its renderer in the header), PNGs of combined
-    and indirect, stats.json; the images as `layout` (gpu/output_layout.py) writes them."""
+    and indirect through `view_transform` (gpu/colour_management.py), stats.json; the
+    images as `layout` (gpu/output_layout.py) writes them."""
     images = layout.written(frame.passes, frame.coverage)
     write_exr(os.path.join(out_dir, "passes.exr"), images, renderer_metadata(frame.stats))
-    write_png(os.path.join(out_dir, "combined.png"), images["combined"])
-    write_png(os.path.join(out_dir, "indirect.png"), images["indirect"])
+    write_png(os.path.join(out_dir, "combined.png"), images["combined"], view_transform)
+    write_png(os.path.join(out_dir, "indirect.png"), images["indirect"], view_transform)
     warning = renderer_warning(frame.stats)
     stats = {**extra_stats, **frame.stats, **({"renderer_warning": warning} if warning else {})}
     with open(os.path.join(out_dir, "stats.json"), "w") as handle:
@@ -60,7 +63,7 @@ def write_outputs(frame, layout, out_dir, extra_stats):
 def render_to_files(bpy_scene, settings, passes, out_dir, extra_stats, correction=None, blend_path=None,
                     scheduler=None):
     """Render `passes` of what F12 shows of `bpy_scene` with `settings` and write them to
-    `out_dir`; returns the statistics written. With `correction` (CorrectionSettings)
+    `out_dir`, the PNGs through its colour management; returns the statistics written. With `correction` (CorrectionSettings)
     asking for seconds, the combined image is corrected toward Cycles by sample workers
     opening `blend_path` (None: a copy of the scene as it is) on this machine, or on the
     Dask cluster at `scheduler`."""
@@ -72,7 +75,8 @@ def render_to_files(bpy_scene, settings, passes, out_dir, extra_stats, correctio
         frame = corrected_frame(bpy_scene, scene, settings, passes, correction, blend_path, scheduler)
     else:
         frame = render_once(scene, settings, passes=passes)
-    return write_outputs(frame, layout, out_dir, {**extra_stats, "extract_ms": extract_ms})
+    return write_outputs(frame, layout, out_dir, {**extra_stats, "extract_ms": extract_ms},
+                         scene_view_transform(bpy_scene))
 
 
 def checked_layout(bpy_scene, settings):

@@ -298,36 +298,38 @@ def _json_number(value):
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
-def write_report(comparison, folder):
-    """comparison.json and comparison.md (the table and its legend), PNGs of every reference and method image, and
-    heat maps of each method's indirect error against each reference; returns the rows."""
+def write_report(comparison, folder, view_transform=None):
+    """comparison.json and comparison.md (the table and its legend), PNGs of every
+    reference, method and peer image through `view_transform` (gpu/colour_management.py
+    ViewTransform: the scene's colour management, as F12 saves a PNG; None: the default,
+    Blender's Standard view on sRGB), one for all so that they compare by eye, and
+    false-colour heat maps of each method's indirect error against each reference; returns
+    the rows."""
     import json
     import os
     import re
 
+    from ..gpu.colour_management import ViewTransform
     from ..gpu.image_io import write_png
+    view_transform = view_transform or ViewTransform()
     try:
         os.makedirs(folder, exist_ok=True)
     except OSError as error:
         raise LPVError(f"Cannot create the output folder '{folder}' ({error.strerror}); choose a writable folder.")
-    # One exposure for each image type (that of the first reference), so the PNGs compare by eye.
-    exposure = {image: getattr(next(iter(comparison.references.values())), image) for image in IMAGES}
     for kind, reference in comparison.references.items():
         for image in IMAGES:
-            write_png(os.path.join(folder, f"cycles_{kind}_{image}.png"), getattr(reference, image),
-                      exposure_of=exposure[image])
+            write_png(os.path.join(folder, f"cycles_{kind}_{image}.png"), getattr(reference, image), view_transform)
     for result in comparison.methods:
         name = f"{result.method}_{result.indirect_method}"
         for image in IMAGES:
-            write_png(os.path.join(folder, f"ours_{name}_{image}.png"), result.images[image],
-                      exposure_of=exposure[image])
+            write_png(os.path.join(folder, f"ours_{name}_{image}.png"), result.images[image], view_transform)
         for kind in comparison.references:
             write_png(os.path.join(folder, f"error_{name}_{kind}_indirect.png"),
-                      comparison.heat_map(result, kind), tone_mapped=False)
+                      comparison.heat_map(result, kind), view_transform=None)
     for peer in comparison.peers:
         name = re.sub(r"[^a-z0-9]+", "_", peer.name.lower()).strip("_") + (f"_{peer.kind}" if peer.kind else "")
         for image, pixels in peer.images.items():
-            write_png(os.path.join(folder, f"peer_{name}_{image}.png"), pixels, exposure_of=exposure[image])
+            write_png(os.path.join(folder, f"peer_{name}_{image}.png"), pixels, view_transform)
     rows = comparison.table()
     report = {"samples": comparison.samples, "resolution": list(comparison.resolution),
               "references": {kind: reference.settings for kind, reference in comparison.references.items()},

@@ -6,7 +6,7 @@ import time
 
 from .. import demo
 from ..gpu.errors import LPVError
-from ..gpu.image_io import openimageio
+from ..gpu.image_library import openimageio
 from ..gpu.settings import ComparisonSettings
 from .flags import check_setting_flags, check_writable, correction_from, parse_frames, pass_names, settings_for_blend
 
@@ -65,12 +65,14 @@ def check_methods_fit(bpy_scene, settings, methods, indirect_methods):
 
 
 def command_compare(args):
-    """Cycles references and each method's errors against them, written to args.out;
-    every step, part of a Cycles render and the references' estimated time on stderr."""
+    """Cycles references and each method's errors against them, written to args.out, the
+    PNGs through the scene's colour management; every step, part of a Cycles render and
+    the references' estimated time on stderr."""
     from ..addon.batch import open_blend
     from ..addon.comparison import comparison_steps, write_report
     from ..addon.cycles_reference import run_to_end
     from ..addon.cycles_reference import ReferenceCache
+    from ..addon.view_transform import scene_view_transform
     openimageio()  # the images are written at the end: refused before any work where they cannot be
     check_writable(args.out)
     check_setting_flags(args)
@@ -82,7 +84,7 @@ def command_compare(args):
                        f"({', '.join(demo.SCENES)}).")
     else:
         bpy_scene = open_blend(args.file)
-    settings = settings_for_blend(bpy_scene, args)
+    settings, view_transform = settings_for_blend(bpy_scene, args), scene_view_transform(bpy_scene)
     # --indirect-method alone compares that one; else the list (default every one).
     indirect_methods = args.indirect_methods or ([args.indirect_method] if args.indirect_method
                                                  else ComparisonSettings().indirect_methods)
@@ -93,7 +95,7 @@ def command_compare(args):
                              peers=not args.no_peers)
     progress = lambda step: print(f"[{time.perf_counter() - start:5.0f} s {step[0]:4.0%}] {step[1]}", file=sys.stderr,
                                   flush=True)
-    rows = write_report(run_to_end(steps, progress), args.out)
+    rows = write_report(run_to_end(steps, progress), args.out, view_transform)
     return {"rows": rows, "out": os.path.abspath(args.out), "command_ms": (time.perf_counter() - start) * 1000}
 
 

@@ -1,57 +1,18 @@
-"""Writing passes: one multi-layer EXR (linear float) and tone-mapped PNGs, via OpenImageIO.
+"""Writing passes: one multi-layer EXR (linear float) and 8-bit PNGs through a view
+transform (gpu/colour_management.py), via OpenImageIO.
 
 OpenImageIO is imported when an image is written, so the rest of gpu/ runs where it is
 missing (the GPU machine); where this Python lacks it, Blender's bundled copy serves.
 """
-import importlib.machinery
-import importlib.util
 import os
-import sys
 
 import numpy as np
 
+from .colour_management import ViewTransform, display_values
 from .errors import LPVError
-from .colour import LUMINANCE_WEIGHTS
+from .image_library import openimageio
 
 CHANNELS = ("R", "G", "B")
-NO_OPENIMAGEIO = ("Reading and writing images needs the OpenImageIO module, which neither this Python nor Blender's "
-                  "bundled packages hold; use Blender 5.0 from blender.org, which ships it, or install "
-                  "requirements.txt (bash scripts/setup.sh).")
-
-
-def openimageio():
-    """The OpenImageIO module: this Python's, else the copy Blender ships among its own
-    Python's packages (Blender as a module leaves that folder off sys.path); refused in one
-    sentence where neither is, so callers can check before any work."""
-    try:
-        import OpenImageIO
-        return OpenImageIO
-    except ImportError:
-        pass
-    for folder in blender_package_folders():
-        spec = importlib.machinery.PathFinder.find_spec("OpenImageIO", [folder])
-        if spec is not None:
-            module = importlib.util.module_from_spec(spec)
-            sys.modules["OpenImageIO"] = module
-            try:
-                spec.loader.exec_module(module)
-            except ImportError:
-                del sys.modules["OpenImageIO"]
-                continue
-            return module
-    raise LPVError(NO_OPENIMAGEIO)
-
-
-def blender_package_folders():
-    """The folders of Blender's bundled Python packages (Linux and macOS, then Windows),
-    when bpy is loaded; gpu/ does not import bpy itself."""
-    bpy = sys.modules.get("bpy")
-    utils = getattr(bpy, "utils", None)
-    if utils is None:
-        return []
-    python = os.path.join(utils.resource_path("LOCAL"), "python", "lib")
-    return [os.path.join(python, f"python{sys.version_info[0]}.{sys.version_info[1]}", "site-packages"),
-            os.path.join(python, "site-packages")]
 
 
 def _open_output(path, spec):
@@ -127,37 +88,19 @@ def read_exr(path):
             if all(f"{layer}.{c}" in channels for c in CHANNELS)}
 
 
-def tone_map(image, key=0.18, exposure_of=None):
-    """Linear HDR to display sRGB in [0, 1]: Reinhard's photographic operator, auto exposure.
-
-    The exposure maps the log-average luminance of the lit pixels of `exposure_of` (by
-    default the image itself) to `key`: images tone-mapped with one `exposure_of` can be
-    compared by eye.
-    """
-    image = np.maximum(np.asarray(image, dtype=np.float64), 0.0)
-    source = image if exposure_of is None else np.maximum(np.asarray(exposure_of, dtype=np.float64), 0.0)
-    luminance = source @ LUMINANCE_WEIGHTS
-    lit = luminance[luminance > 1e-9]
-    average = np.exp(np.mean(np.log(lit))) if lit.size else 1.0
-    scaled = image * (key / average)
-    mapped = scaled / (1.0 + scaled)
-    return np.where(mapped <= 0.0031308, 12.92 * mapped, 1.055 * np.power(mapped, 1 / 2.4) - 0.055)
-
-
-def write_png(path, image, tone_mapped=True, exposure_of=None):
-    """An 8-bit PNG of a linear image, tone-mapped (`tone_map`, exposure from `exposure_of`
-    when given), or of display values in [0, 1] as they are with `tone_mapped=False`; an
-    image with alpha keeps it (premultiplied colour, as Blender renders it, unassociated
-    for the PNG)."""
+def write_png(path, image, view_transform=ViewTransform()):
+    """An 8-bit PNG of a linear image (premultiplied (height, width, 4) with alpha, kept
+    straight in the PNG) through `view_transform` (gpu/colour_management.py: a scene's
+    colour management, as F12 saves a PNG; by default Blender's "Standard" view on sRGB),
+    or of display values in [0, 1] as they are with `view_transform=None` (a false-colour
+    heat map). Values are rounded to the nearest code value, as Blender rounds them, with
+    no dither."""
     oiio = openimageio()
     height, width, channels = image.shape
-    colour = image[..., :3]
-    if channels == 4:
-        alpha = np.clip(image[..., 3:], 0.0, 1.0)
-        colour = np.where(alpha > 0, colour / np.maximum(alpha, 1e-6), 0.0)
-    display = tone_map(colour, exposure_of=exposure_of) if tone_mapped else np.clip(colour, 0.0, 1.0)
-    if channels == 4:
-        display = np.concatenate([display, alpha], axis=2)
+    if view_transform is None:
+        display = np.clip(np.asarray(image, dtype=np.float32), 0.0, 1.0)
+    else:
+        display = display_values(image, view_transform)
     output = _open_output(path, oiio.ImageSpec(width, height, channels, "uint8"))
     output.write_image(np.ascontiguousarray(np.round(display * 255).astype(np.uint8)))
     output.close()

@@ -14,7 +14,7 @@ from ..addon.cycles_reference import ReferenceCache, run_to_end
 from ..addon.extract import render_resolution
 from ..addon.properties import comparison_settings_from_properties, settings_from_properties
 from ..gpu.errors import LPVError
-from ..gpu.image_io import openimageio
+from ..gpu.image_library import openimageio
 
 IMAGE_PREFIX = "LPV Compare"
 TICK_SECONDS = 0.05

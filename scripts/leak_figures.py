@@ -4,9 +4,10 @@ method, as a Markdown table on stdout and PNGs in OUT_DIR:
     .venv/bin/python scripts/leak_figures.py OUT_DIR [--width 160 --height 120 --samples 256] [--export]
 
 Each PNG shows ours (left) beside Cycles (right), the indirect light above and diffuse
-direct plus indirect below, tone-mapped alike with the exposure of Cycles' picture (or,
-where the view sees no light at all, of the light it would get without the box that
-holds it in: closed_box). Our settings are the defaults but for the image size.
+direct plus indirect below, through the scene's view transform (AgX) with one exposure
+that brings the log-average of Cycles' picture (or, where the view sees no light at all,
+of the light it would get without the box that holds it in: closed_box) to middle grey.
+Our settings are the defaults but for the image size.
 
 "ours/Cycles" is the ratio of the indirect means; where Cycles' indirect is black it is
 undefined, as PSNR is, and "ours indirect / direct" is the leak's size: our indirect
@@ -18,12 +19,16 @@ and full-GI indirect images beside it, for scripts/convergence.py on a machine w
 Blender.
 """
 import argparse
+import math
 import os
+from dataclasses import replace
 
 import numpy as np
 
 from lpv_preview.addon.cycles_reference import cycles_reference
 from lpv_preview.addon.render_scene import scene_to_render
+from lpv_preview.addon.view_transform import scene_view_transform
+from lpv_preview.gpu.colour import LUMINANCE_WEIGHTS
 from lpv_preview.gpu.image_io import write_png
 from lpv_preview.gpu.metrics import figure_text, image_errors
 from lpv_preview.gpu.pipeline import render_once
@@ -35,10 +40,22 @@ BLACK = 1e-6
 """An indirect mean below this is Cycles' zero (its one-bounce image of a lone plane)."""
 
 
-def side_by_side(ours, reference, exposure_of, path):
+MIDDLE_GREY = 0.18
+
+
+def exposure_for(image):
+    """The exposure in stops that brings the log-average luminance of the lit pixels of
+    `image` to middle grey (0 for an image with none)."""
+    luminance = np.maximum(np.asarray(image, dtype=np.float64), 0.0) @ LUMINANCE_WEIGHTS
+    lit = luminance[luminance > 1e-9]
+    return math.log2(MIDDLE_GREY) - float(np.mean(np.log2(lit))) if lit.size else 0.0
+
+
+def side_by_side(ours, reference, view_transform, exposure_of, path):
     indirect = np.concatenate([ours.passes["indirect"], reference.indirect], axis=1)
     combined = np.concatenate([ours.passes["direct"] + ours.passes["indirect"], reference.combined], axis=1)
-    write_png(path, np.concatenate([indirect, combined], axis=0), exposure_of=exposure_of)
+    write_png(path, np.concatenate([indirect, combined], axis=0),
+              replace(view_transform, exposure=view_transform.exposure + exposure_for(exposure_of)))
 
 
 def main():
@@ -81,7 +98,8 @@ def main():
                   f"| {figure_text(ratio, '.3f')} | {leak:.4f}{marked} | {float(direct.mean()):.4g}{marked} "
                   f"| {ours.stats['lpv_cell_size']:.4g} | {ours.stats['grid_levels']} |", flush=True)
             exposure_of = direct if reference.combined.max() <= 0.0 else reference.combined
-            side_by_side(ours, reference, exposure_of, os.path.join(args.out, f"{name}_{method}.png"))
+            side_by_side(ours, reference, scene_view_transform(built.scene), exposure_of,
+                         os.path.join(args.out, f"{name}_{method}.png"))
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs everything LPV Preview needs on a fresh Debian/Ubuntu machine and is quick when
-# it already has: Mesa's EGL/OpenGL (llvmpipe) when missing, then a Python 3.11 virtual
+# it already has: Mesa's EGL/OpenGL (llvmpipe) and Xvfb when missing, then a Python 3.11 virtual
 # environment in .venv with the pinned packages of requirements.txt, and the repository
 # linked into it as the package `lpv_preview`.
 set -euo pipefail
@@ -13,6 +13,7 @@ missing=()
 for package in libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri; do
   dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
 done
+command -v Xvfb >/dev/null 2>&1 || missing+=(xvfb)  # a real X server for the GL-context tests
 python=$(command -v python3.11 || true)
 [ -n "$python" ] || missing+=(python3.11 python3.11-venv)
 if [ ${#missing[@]} -gt 0 ]; then

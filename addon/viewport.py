@@ -146,11 +146,8 @@ class ViewportSession:
         return frame
 
     def _next_job(self, depsgraph, camera, size, view3d, properties):
-        """The FrameJob a redraw needs (None: the frame shown is still the view's): a new
-        frame when an edit is pending or the view, its size or the settings changed; while
-        they stay, one more VPL set averaged in until the still view has
-        `viewport_vpl_sets` (Blender redraws the viewport for many reasons that change
-        nothing we show)."""
+        """The FrameJob a redraw needs (`redraw`), or None: the frame shown is still the
+        view's (Blender redraws the viewport for many reasons that change nothing we show)."""
         correction = correction_settings_from_properties(properties)
         settings = settings_from_properties(properties, width=size[0], height=size[1])
         display = display_settings_from_properties(properties)
@@ -167,23 +164,23 @@ class ViewportSession:
         return corrected_size(size, correction.correction_viewport_width) if correction.viewport_corrections else size
 
     def frame_to_draw(self, depsgraph, camera, size, view3d=None):
-        """The frame for a redraw, waiting for it to render when the view needs a new one
-        (`_next_job`). With viewport corrections on, the view is rendered at most
-        `correction_viewport_width` wide, and corrected by what the Cycles samples of it
-        brought (addon/viewport_corrections.py) instead of converging."""
-        properties = depsgraph.scene.lpv_preview
-        size = self._view_size(properties, size)
-        job = self._next_job(depsgraph, camera, size, view3d, properties)
-        if job is not None:
-            self._finish(job, self.gl.call(self._render, job))
-        else:
-            self.gl.call(self.overlays.update, self.pipeline, display_settings_from_properties(properties))
-        return self._corrected(depsgraph, camera)
+        """The frame for a redraw, as `redraw` gives it but waiting for the frame the view
+        needs to render (scripts and tests)."""
+        frame = self.redraw(depsgraph, camera, size, view3d)
+        if self._job is not None:
+            self._job.future.exception()  # waits; the next redraw raises what it raised
+            frame = self.redraw(depsgraph, camera, size, view3d)
+        return frame
 
     def redraw(self, depsgraph, camera, size, view3d=None):
         """A redraw on Blender's thread, which never waits for a render: the frame the GL
         thread finished is taken, and the next one the view needs starts while none is
-        being made. Returns the frame to draw (None until the first is done)."""
+        being made: a new frame when an edit is pending or the view, its size or the
+        settings changed; while they stay, one more VPL set averaged in until the still
+        view has `viewport_vpl_sets`. With viewport corrections on, the view is rendered at
+        most `correction_viewport_width` wide, and corrected by what the Cycles samples of
+        it brought (addon/viewport_corrections.py) instead of converging. Returns the
+        frame to draw (None until the first is done)."""
         if self._job is not None:
             if not self._job.future.done():
                 return self._shown[1] if self._shown is not None else None

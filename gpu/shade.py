@@ -15,8 +15,8 @@ class FrameTargets:
 
     The G-buffer is a depth texture and one packed RGBA32UI texel per pixel (normal and
     albedo, shaders/gbuffer.glsl), 20 bytes a pixel where position, normal and albedo as
-    float images took 52: on the H100, whose raster units are few, writing them was most
-    of a camera move (docs/performance.md).
+    float images would take 52: the H100 has few raster units, and the G-buffer is most of
+    a camera move (docs/performance.md).
     """
 
     def __init__(self, gl, width, height):

@@ -8,10 +8,8 @@ DIR/city1200k_point.npz (1920×1080), made with `python -m lpv_preview export` (
 last: `export city --triangles 1200000 --lights 1`), and times every stage redone
 (warm-up excluded, no image read back) at each preset, one VPL set a frame, with each
 indirect method, VPL count and number of bounces asked for in place of the preset's;
-`set_ms` is the median frame of a still view adding another VPL set.
-It runs on the package it is given as well as on this one's first version (295b65b,
-before bench/ existed), so a before/after comparison uses one driver
-(docs/numerical_stability.md).
+`set_ms` is the median frame of a still view adding another VPL set. It also runs on
+an older copy of the package (one without bench/), so two versions compare on one driver.
 """
 import argparse
 import json

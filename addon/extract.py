@@ -11,6 +11,7 @@ import numpy as np
 from ..gpu.output_layout import OutputLayout
 from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene, SurfaceImage, local_origin
 from .materials import MaterialSurfaces
+from .world import world_of
 from .point_emitters import PointEmitters
 
 MESH_LIKE_TYPES = {"MESH", "SURFACE", "META"}
@@ -52,7 +53,7 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     """
     geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
     camera = extract_camera(depsgraph, resolution)
-    return Scene(**geometry, lights=[]).in_local_frame(lights, camera).sanitize()
+    return Scene(**geometry, lights=[]).in_local_frame(lights, camera, world_of(depsgraph.scene_eval)).sanitize()
 
 
 def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):

@@ -2,7 +2,7 @@
 
 A depsgraph update names the data blocks it touched. `changed_parts` sorts them into the
 three parts the pipeline's caches depend on (docs/architecture.md, "A viewport update:
-what each edit redoes"): the camera, the lights, the geometry (triangles and albedo). `SceneSync` then
+what each edit redoes"): the camera, the lights (with the world), the geometry (triangles and albedo). `SceneSync` then
 re-extracts just those parts, so a camera move costs no extraction and keeps every
 cached light map and the LPV; the pipeline's content keys decide the rest.
 """
@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 from ..gpu.scene import Scene
 from .extract import MESH_LIKE_TYPES, extract_parts
+from .world import world_of
 
 CAMERA, LIGHTS, GEOMETRY = "camera", "lights", "geometry"
 EVERYTHING = frozenset((CAMERA, LIGHTS, GEOMETRY))
@@ -21,7 +22,7 @@ GEOMETRY_DATA = {"MESH", "MATERIAL", "NODETREE", "IMAGE", "CURVE", "METABALL", "
 EVERYTHING_DATA = {"COLLECTION", "SCENE"}
 """Edits that may show or hide anything: visibility, instancing, the active camera."""
 
-PART_DATA = {"OBJECT", "LIGHT", "CAMERA"} | GEOMETRY_DATA | EVERYTHING_DATA
+PART_DATA = {"OBJECT", "LIGHT", "CAMERA", "WORLD"} | GEOMETRY_DATA | EVERYTHING_DATA
 """Data blocks whose edits `changed_parts` sorts into the parts (or leaves out, as the
 scene's own settings)."""
 
@@ -70,12 +71,14 @@ def changed_parts(updates):
                 parts.add(CAMERA)
             elif update.object_type in INSTANCER_TYPES and (update.geometry or update.transform or update.shading):
                 parts.add(GEOMETRY)
-        elif update.id_type == "LIGHT":
+        elif update.id_type in ("LIGHT", "WORLD"):
             parts.add(LIGHTS)
         elif update.id_type == "CAMERA":
             parts.add(CAMERA)
         elif update.id_type in GEOMETRY_DATA:
             parts.add(GEOMETRY)
+            if update.id_type == "NODETREE":
+                parts.add(LIGHTS)  # a world's node tree too
         elif update.id_type in EVERYTHING_DATA and (update.geometry or update.transform):
             parts.update(EVERYTHING)
     return frozenset(parts)
@@ -98,11 +101,12 @@ class SceneSync:
             self._scene = self._scene.in_local_frame(camera=camera)
             return self._scene
         geometry, lights = extract_parts(depsgraph, view3d, read_geometry, read_lights)
+        world = world_of(depsgraph.scene_eval) if read_lights else self._scene.world  # the world goes with the lights
         if read_geometry:
             lights = lights if read_lights else self._scene.world_lights()
-            self._scene = Scene(**geometry, lights=[]).in_local_frame(lights, camera)
+            self._scene = Scene(**geometry, lights=[]).in_local_frame(lights, camera, world)
             self._scene = self._scene.sanitize()
         else:
-            self._scene = self._scene.in_local_frame(lights, camera)
+            self._scene = self._scene.in_local_frame(lights, camera, world)
             self._scene.require_lights()
         return self._scene

@@ -31,6 +31,7 @@ from .settings import DisplaySettings, Settings
 from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, read_gbuffer_record, render_gbuffer, render_glow,
                     seen_points, shade_direct, shade_indirect)
 from .surface_emitters import SurfaceEmission
+from .world_light import WorldLight
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES
 
@@ -81,6 +82,7 @@ class Pipeline:
         self._lights = {}                             # light cache key -> LightMaps
         self._indirect = KeyedCache(releases=True)   # what the content depends on -> IndirectMethod
         self._emission = None      # SurfaceEmission of the emissive surfaces, over the last frame's levels
+        self._world = None         # WorldLight: the world's emitters and background map
         self._emitter_grid = KeyedCache(releases=True)     # resolution -> EmitterGrid of the point emitters
         self._emitter_shadows = KeyedCache(releases=True)  # grids -> EmitterShadows of the point emitters
         self._frame_lights = KeyedCache()  # what it depends on -> the last frame's FrameLights
@@ -211,8 +213,8 @@ class Pipeline:
             raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
         if not scene.sanitized:
             scene.sanitize()
-        fits = (s, scene.geometry_key(), tuple(light.key() for light in scene.lights), scene.point_emitters_key(),
-                tuple(passes), display)
+        lights = tuple(light.key() for light in scene.lights) + ((scene.world.key(),) if scene.world else ())
+        fits = (s, scene.geometry_key(), lights, scene.point_emitters_key(), tuple(passes), display)
         if fits != self._fits:
             check_frame_fits(self.glc, s, scene, passes, display, held_bytes=self.gpu_bytes())
             self._fits = fits
@@ -281,15 +283,22 @@ class Pipeline:
                     self._emitted_light(scene, targets, levels, indirect)
                 render_glow(self.glc, self._mesh.value, scene.camera, targets,
                             (self._emitter_grid.value.emitters, drawn) if drawn else None)
+        elif self._world_lights(scene):
+            with self.glc.timed(stats, "world_ms"):
+                self._emitted_light(scene, targets, levels, indirect)
+
+    def _world_lights(self, scene):
+        return scene.world is not None and scene.world.lights_anything and self.settings.world_samples > 0
 
     def _emitted_light(self, scene, targets, levels, indirect):
-        """Add the direct light of the scene's emissive surfaces into the direct image,
-        gathered through the pixel gather the indirect method names."""
+        """Add the direct light of the scene's emissive surfaces and its world into the
+        direct image, gathered through the pixel gather the indirect method names."""
         s = self.settings
         gather = indirect.emission_gather(self._emission, levels)
         bind_gbuffer(targets)
+        world = [(self._world.emitters, self._world.count)] if self._world_lights(scene) else []
         self._emission.add_light(gather, self._mesh.value, targets, gbuffer_uniforms(scene.camera),
-                                 scene.camera.position, s.singularity_bound, self.vpl_pattern)
+                                 scene.camera.position, s.singularity_bound, self.vpl_pattern, world)
 
     def _composite(self, scene, targets, indirect, sets, display, glowing, stats):
         """The indirect image (the method's per-pixel gather first, when it has one; this
@@ -303,8 +312,13 @@ class Pipeline:
                 indirect.gather_pixels(targets, gbuffer_uniforms(scene.camera), scene.camera.position,
                                        s.singularity_bound / sets, self.vpl_pattern)
         with self.glc.timed(stats, "indirect_ms"):
+            world = None
+            if scene.world is not None:
+                if self._world is None:
+                    self._world = WorldLight(self.glc)
+                world = self._world.background_texture(scene.world)
             shade_indirect(self.glc, targets, scene.camera, indirect, len(indirect.levels), s.grid_phases,
-                           s.indirect_intensity, display, sets - 1, glow=glowing)
+                           s.indirect_intensity, display, sets - 1, glow=glowing, world=world)
 
     def _read(self, scene, passes, display_into, display_settings, read, stats):
         """The `passes` read back (with `read`; debug ones drawn first), the combined one's
@@ -332,7 +346,8 @@ class Pipeline:
             "skipped_lights": lit.skipped_lights, "point_emitters": len(lit.emitters),
             "skipped_emitters": lit.skipped_emitters, "triangles": scene.triangle_count,
             "dropped_triangles": dict(scene.dropped), "images": [image.name for image in scene.images],
-            "approximated_materials": list(scene.approximated_materials), "rsm_resolution": s.rsm_resolution,
+            "approximated_materials": list(scene.approximated_materials),
+            "world": scene.world is not None, "world_approximated": list(scene.world.approximated) if scene.world else [], "rsm_resolution": s.rsm_resolution,
             "rsm_faces": int(sum(m.rsm.face_count for m in maps)), **indirect.statistics(s),
             "image_size": [s.width, s.height], "renderer": self.glc.renderer,
             "software_renderer": self.glc.is_software})
@@ -400,12 +415,18 @@ class Pipeline:
                                   (lit.key, self._mesh.key, s.singularity_bound))
             sources.append((grid.emitters, grid.count))
             key += lit.key
+        if (scene.emission is not None or self._world_lights(scene)) and self._emission is None:
+            self._emission = SurfaceEmission(self.glc)
         if scene.emission is not None:
-            if self._emission is None:
-                self._emission = SurfaceEmission(self.glc)
             self._emission.sample(scene, s.emission_samples, self.vpl_pattern)
             sources.append((self._emission.emitters, self._emission.count))
             key += (scene.geometry_key(), s.emission_samples)
+        if self._world_lights(scene):
+            if self._world is None:
+                self._world = WorldLight(self.glc)
+            self._world.sample(scene, s.world_samples, self.vpl_pattern)
+            sources.append((self._world.emitters, self._world.count))
+            key += (scene.world.key(), s.world_samples)
         # what the bounce marches through and bounds, whichever method gathers it
         return sources, key + ((self._mesh.key, s.emitter_bounce_samples, s.singularity_bound) if sources else ())
 
@@ -415,6 +436,7 @@ class Pipeline:
         for cache in (self._mesh, self._indirect, self._emitter_grid, self._emitter_shadows):
             held += cache.value.resources() if cache.value is not None else ()
         held += self._emission.resources() if self._emission is not None else ()
+        held += self._world.resources() if self._world is not None else ()
         for maps in self._lights.values():
             held += maps.resources()
         held += self.targets.resources() if self.targets is not None else ()
@@ -431,6 +453,9 @@ class Pipeline:
         if self._emission is not None:
             self._emission.release()
             self._emission = None
+        if self._world is not None:
+            self._world.release()
+            self._world = None
         if self._indirect.value is not None:
             self._indirect.value.forget()
         self._indirect.forget()  # keep the volumes' memory, forget their content

@@ -214,7 +214,8 @@ class Scene:
     (emissive particles and instances): position xyz, flux rgb (W, sent alike in every
     direction) and the area of the surface it comes from (m²: the camera sees a sphere of
     that surface, and 1/r² next to it is bounded as a disc of that area bounds it; None:
-    none).
+    none). `world` (gpu/world.py World; None: none) lights the scene from afar and is
+    what the camera sees where it sees no surface.
     `approximated_materials` names the materials whose colour the extraction could only
     approximate. Positions, lights and camera are relative to the world point `origin`
     (float64; None: the world origin), which `sanitize` moves to the scene when it is far
@@ -236,6 +237,7 @@ class Scene:
     image_layers: np.ndarray = None
     emission: np.ndarray = None
     point_emitters: np.ndarray = None
+    world: object = None
     images: list = field(default_factory=list)
     approximated_materials: list = field(default_factory=list)
     origin: np.ndarray = None
@@ -263,11 +265,11 @@ class Scene:
         """Where the scene's positions are relative to, in world space (float64)."""
         return np.zeros(3) if self.origin is None else np.asarray(self.origin, dtype=np.float64)
 
-    def in_local_frame(self, lights=None, camera=None):
+    def in_local_frame(self, lights=None, camera=None, world=False):
         """This scene with world-space `lights` and `camera` (those given) placed relative
-        to its origin."""
+        to its origin, and with `world` (a World or None; False: the one it has)."""
         origin = self.world_origin
-        changes = {}
+        changes = {} if world is False else {"world": world}
         if lights is not None:
             changes["lights"] = [replace(light, position=light.position - origin) for light in lights]
         if camera is not None:
@@ -376,8 +378,10 @@ class Scene:
         return self
 
     def require_lights(self):
-        if not self.lights and (self.emission is None or not np.any(self.emission)) and self.point_emitter_count == 0:
-            raise LPVError("The scene has no lights; add a point, spot, area or sun light, or an emissive material.")
+        if not self.lights and (self.emission is None or not np.any(self.emission)) and \
+                self.point_emitter_count == 0 and (self.world is None or not self.world.lights_anything):
+            raise LPVError("The scene has no lights; add a point, spot, area or sun light, an emissive material, or a "
+                           "world that emits light.")
 
     @property
     def point_emitter_count(self):

@@ -245,12 +245,13 @@ def read_gbuffer_record(glc, targets, camera):
 
 
 def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, display=False, accumulated=0,
-                   glow=False):
+                   glow=False, world=None):
     """Look the indirect grids (gpu/indirect.py: `levels` nested levels of `phases` grids
     each) up at every pixel and write the indirect and combined images, and with `display`
     the combined one into the display buffer too. With `accumulated` > 0 the indirect
     image holds the mean of that many VPL sets' light, which this set's joins. With `glow`
-    the composite adds the glow image (render_glow)."""
+    the composite adds the glow image (render_glow); with `world` (the background map's
+    texture, gpu/world_light.py) it shows the world where the camera sees no surface."""
     program = glc.compute("shade_indirect", LEVELS=levels, PHASES=phases,
                           INDIRECT=INDIRECT_METHODS.index(indirect.name))
     bind_gbuffer(targets)
@@ -263,8 +264,12 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
     if display:
         targets.display_buffer().bind_to_storage_buffer(0)
     grids = indirect.grids
+    world_unit = 1 + max(int(np.max(unit)) for unit in units.values())
+    if world is not None:
+        world.use(location=world_unit)
     set_uniforms(program, **gbuffer_uniforms(camera), **units, write_display=display,
                  grid_origins=np.array([grid.origin for grid in grids]),
                  cell_sizes=np.array([grid.cell_size for grid in grids]), grid_size=grids[0].size,
-                 intensity=intensity, accumulated=accumulated, add_glow=glow)
+                 intensity=intensity, accumulated=accumulated, add_glow=glow, add_world=world is not None,
+                 world_background=world_unit)
     dispatch(program, *targets.size)

@@ -71,7 +71,8 @@ def sample_surface_emitters(triangles, emission, count, pattern):
 
 class SurfaceEmission:
     """The emitters of a scene's emissive surfaces, and for indirect methods other than
-    VPL gathering a pixel gather of its own to add their light to the direct image."""
+    VPL gathering a pixel gather of its own to add their light, and the world's, to the
+    direct image."""
 
     def __init__(self, glc):
         self.glc = glc
@@ -101,12 +102,14 @@ class SurfaceEmission:
             self._own = VPLGather(self.glc, levels)
         return self._own
 
-    def add_light(self, gather, mesh, targets, uniforms, camera_position, singularity_bound, pattern):
-        """Gather the emitters' irradiance at every pixel with `gather` (a VPLGather; its
-        occupancy voxelised once per mesh) and add albedo / π times it to the direct
-        image. `uniforms` are the G-buffer's, its textures bound."""
+    def add_light(self, gather, mesh, targets, uniforms, camera_position, singularity_bound, pattern, others=()):
+        """Gather the irradiance of the emitters (and of the emitter sets `others`: the
+        world's) at every pixel with `gather` (a VPLGather; its occupancy voxelised once
+        per mesh) and add albedo / π times it to the direct image. `uniforms` are the
+        G-buffer's, its textures bound."""
+        sets = ([(self.emitters, self.count)] if self.emitters is not None else []) + list(others)
         gather.occupancy.voxelise(mesh)
-        gather.gather(targets, uniforms, camera_position, [(self.emitters, self.count)], singularity_bound, pattern)
+        gather.gather(targets, uniforms, camera_position, sets, singularity_bound, pattern)
         add_irradiance(self.glc, targets, uniforms, gather.filtered)
 
     def resources(self):

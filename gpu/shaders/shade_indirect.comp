@@ -8,6 +8,7 @@
 // indirect image holds the mean of the `accumulated` sets before this one. The combined
 // image's alpha is the pixel's coverage: 1 where it sees a surface or an emitter's glow,
 // 0 where it sees the background (Film Transparent); the viewport's rows stay opaque.
+// There the world's background map (gpu/world.py, equirectangular) is seen along the ray.
 #include "common.glsl"
 #include "gbuffer.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -34,6 +35,15 @@ uniform float intensity;
 uniform int accumulated;
 uniform bool add_glow;   // the emissive surfaces' own radiance (shade.py render_glow)
 layout(rgba32f, binding = 3) uniform readonly image2D glow;
+uniform bool add_world;  // the world seen where no surface is
+uniform sampler2D world_background;
+
+// The world's radiance along the unit direction `d`, as Blender's Environment Texture maps
+// it (the texture's first row looks straight down).
+vec3 world_radiance(vec3 d) {
+    vec2 uv = vec2(0.5 - atan(d.y, d.x) / (2.0 * PI), 1.0 - acos(clamp(d.z, -1.0, 1.0)) / PI);
+    return textureLod(world_background, uv, 0.0).rgb;
+}
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -55,6 +65,8 @@ void main() {
     imageStore(indirect, pixel, vec4(light, 1.0));
     vec4 composite = vec4(direct_light.rgb + light, 1.0);
     float coverage = surface ? 1.0 : 0.0;
+    if (!surface && add_world)
+        composite.rgb += world_radiance(normalize(gbuffer_unproject(pixel, 1.0) - gbuffer_unproject(pixel, 0.0)));
     if (add_glow) {
         vec3 glowing = imageLoad(glow, pixel).rgb;
         composite.rgb += glowing;

@@ -70,7 +70,9 @@ def test_a_scene_lit_only_by_emission_renders_its_direct_light_as_cycles_does():
 def test_a_scene_without_lights_or_emission_is_refused_in_one_sentence():
     built = room_lit_by_a_panel()
     bpy.data.objects["Panel"].hide_render = True
-    with pytest.raises(LPVError, match="no lights; add a point, spot, area or sun light, or an emissive material"):
+    built.world = None  # a world lights a scene too
+    with pytest.raises(LPVError, match="no lights; add a point, spot, area or sun light, an emissive material, or "
+                                       "a world that emits light"):
         render_once(scene_to_render(built, SIZE), Settings(width=SIZE[0], height=SIZE[1]))
 
 

@@ -1,0 +1,301 @@
+"""The scene's world as gpu/world.py radiance maps, its node tree evaluated as Cycles
+evaluates it for each direction: Background (and Emission) shaders' colour times
+strength, mixed and added; colours from RGB nodes, Environment Textures (equirectangular
+and mirror ball) at the direction a Mapping node turns, the Sky Texture's Preetham
+model, Mix Color and Light Path's Is Camera Ray (the camera's map and the lighting's
+differ). Anything else takes its socket's own value and is named as approximated."""
+import math
+
+import numpy as np
+
+from ..gpu.world import World, directions_of, map_coordinates
+from .materials import _linear_pixels, linked_node, linked_output
+
+PROCEDURAL_SIZE = (64, 128)
+"""The maps' size (height, width) of a world without images: smooth enough at this size."""
+LIGHTING_SIZE = (64, 128)
+"""The lighting map's size: what is drawn from is its power, not its detail."""
+BACKGROUND_WIDTH = 2048
+"""The camera's map is at most this wide (an image's own width below it)."""
+MAGENTA = (1.0, 0.0, 1.0)
+"""What Blender shows of a missing image."""
+
+
+def world_of(scene):
+    """The World of a bpy scene, None when it has no world that emits anything."""
+    world = scene.world
+    if world is None:
+        return None
+    output = _output_node(world)
+    if output is None:
+        colour = np.array(world.color, dtype=np.float32)
+        return World.uniform(colour) if np.any(colour > 0) else None
+    evaluation = WorldEvaluation()
+    size = evaluation.map_size(output.inputs["Surface"])
+    background = evaluation.radiance(output.inputs["Surface"], directions_of(*size), camera=True)
+    lighting = evaluation.radiance(output.inputs["Surface"], directions_of(*size), camera=False)
+    if not np.any(lighting > 0) and not np.any(background > 0):
+        return None
+    return World(_downsampled(lighting, LIGHTING_SIZE), background.astype(np.float32),
+                 tuple(dict.fromkeys(evaluation.approximated)))
+
+
+def _output_node(world):
+    if world.node_tree is None:
+        return None
+    outputs = [node for node in world.node_tree.nodes if node.type == "OUTPUT_WORLD"
+               and node.target in ("ALL", "CYCLES")]
+    active = [node for node in outputs if node.is_active_output]
+    return (active or outputs or [None])[0]
+
+
+def _downsampled(image, size):
+    """`image` box-filtered to `size` (height, width) when larger (it divides evenly or
+    is sampled at the nearest texels)."""
+    height, width = size
+    if image.shape[0] <= height:
+        return image.astype(np.float32)
+    rows = np.linspace(0, image.shape[0], height + 1).astype(int)
+    columns = np.linspace(0, image.shape[1], width + 1).astype(int)
+    summed = np.add.reduceat(np.add.reduceat(image.astype(np.float64), rows[:-1], axis=0), columns[:-1], axis=1)
+    counts = np.diff(rows)[:, None, None] * np.diff(columns)[None, :, None]
+    return (summed / counts).astype(np.float32)
+
+
+class WorldEvaluation:
+    """One evaluation of a world's node tree over many directions at once."""
+
+    def __init__(self):
+        self.approximated = []
+
+    def map_size(self, socket):
+        """The map size the tree needs: its widest Environment Texture's (at most
+        BACKGROUND_WIDTH wide), else PROCEDURAL_SIZE."""
+        widths = [node.image.size[0] for node in _upstream_nodes(socket)
+                  if node.type == "TEX_ENVIRONMENT" and node.image is not None and node.image.size[0] > 0]
+        if not widths:
+            return PROCEDURAL_SIZE
+        width = min(max(widths), BACKGROUND_WIDTH)
+        return max(width // 2, 1), width
+
+    def radiance(self, socket, directions, camera):
+        """The shader linked to `socket` for rays along `directions` (..., 3): what a
+        camera ray sees, or with `camera` false what lights a surface."""
+        node = linked_node(socket)
+        shape = directions.shape[:-1] + (3,)
+        if node is None:
+            return np.zeros(shape)
+        if node.type in ("BACKGROUND", "EMISSION"):
+            return self.colour(node.inputs["Color"], directions, camera) * \
+                self.value(node.inputs["Strength"], directions, camera)[..., None]
+        if node.type == "ADD_SHADER":
+            return self.radiance(node.inputs[0], directions, camera) + self.radiance(node.inputs[1], directions, camera)
+        if node.type == "MIX_SHADER":
+            fac = np.clip(self.value(node.inputs["Fac"], directions, camera), 0.0, 1.0)[..., None]
+            return (1 - fac) * self.radiance(node.inputs[1], directions, camera) + \
+                fac * self.radiance(node.inputs[2], directions, camera)
+        self.approximated.append(f"{node.bl_label}: black")
+        return np.zeros(shape)
+
+    def value(self, socket, directions, camera):
+        """A float input for each direction."""
+        node = linked_node(socket)
+        if node is None:
+            return np.full(directions.shape[:-1], float(socket.default_value))
+        if node.type == "LIGHT_PATH":
+            output = linked_output(socket)
+            if output == "Is Camera Ray":
+                return np.full(directions.shape[:-1], 1.0 if camera else 0.0)
+            self.approximated.append(f"Light Path {output}: 0")
+            return np.zeros(directions.shape[:-1])
+        if node.type == "VALUE":
+            return np.full(directions.shape[:-1], float(node.outputs[0].default_value))
+        if node.type == "MATH" and node.operation in ("MULTIPLY", "ADD"):
+            a = self.value(node.inputs[0], directions, camera)
+            b = self.value(node.inputs[1], directions, camera)
+            return a * b if node.operation == "MULTIPLY" else a + b
+        colour = self.colour(socket, directions, camera)  # a colour into a float: its luminance-free mean
+        return colour.mean(axis=-1)
+
+    def colour(self, socket, directions, camera):
+        """A colour input for each direction, (..., 3) linear."""
+        node = linked_node(socket)
+        shape = directions.shape[:-1] + (3,)
+        if node is None:
+            value = socket.default_value
+            value = [value] * 3 if isinstance(value, float) else list(value)[:3]
+            return np.broadcast_to(np.array(value, dtype=np.float64), shape)
+        if node.type == "RGB":
+            return np.broadcast_to(np.array(node.outputs[0].default_value[:3], dtype=np.float64), shape)
+        if node.type == "TEX_ENVIRONMENT":
+            return self.environment(node, directions, camera)
+        if node.type == "TEX_SKY":
+            return self.sky(node, directions, camera)
+        if node.type == "MIX" and node.data_type == "RGBA" and node.blend_type in ("MIX", "MULTIPLY", "ADD"):
+            fac = np.clip(self.value(node.inputs["Factor"], directions, camera), 0.0, 1.0)[..., None]
+            a, b = (self.colour(node.inputs[index], directions, camera) for index in (6, 7))
+            blended = {"MIX": b, "MULTIPLY": a * b, "ADD": a + b}[node.blend_type]
+            return (1 - fac) * a + fac * blended
+        if node.type == "VALUE" or node.type == "MATH":
+            return np.repeat(self.value(socket, directions, camera)[..., None], 3, axis=-1)
+        self.approximated.append(f"{node.bl_label}: its output's value")
+        output = node.outputs[linked_output(socket)] if linked_output(socket) in node.outputs else node.outputs[0]
+        value = getattr(output, "default_value", (0.0, 0.0, 0.0))
+        value = [value] * 3 if isinstance(value, float) else list(value)[:3]
+        return np.broadcast_to(np.array(value, dtype=np.float64), shape)
+
+    def vector(self, socket, directions, camera):
+        """The vector a texture reads: the direction, through a Mapping node when one is linked."""
+        node = linked_node(socket)
+        if node is None or node.type == "TEX_COORD":
+            return directions
+        if node.type == "MAPPING":
+            inner = self.vector(node.inputs["Vector"], directions, camera)
+            return mapped(inner, node)
+        self.approximated.append(f"{node.bl_label} vector: the direction")
+        return directions
+
+    def environment(self, node, directions, camera):
+        if node.image is None:
+            return np.broadcast_to(np.array(MAGENTA), directions.shape[:-1] + (3,))
+        pixels = _linear_pixels(node.image)
+        if pixels is None:
+            self.approximated.append(f"{node.image.name}: missing, magenta")
+            return np.broadcast_to(np.array(MAGENTA), directions.shape[:-1] + (3,))
+        vector = self.vector(node.inputs["Vector"], directions, camera)
+        length = np.linalg.norm(vector, axis=-1, keepdims=True)
+        vector = vector / np.maximum(length, 1e-30)
+        if node.projection == "MIRROR_BALL":
+            u, v = mirror_ball_coordinates(vector)
+        else:
+            u, v = map_coordinates(vector)
+        return _bilinear(pixels, u, v, wrap=node.projection != "MIRROR_BALL")
+
+    def sky(self, node, directions, camera):
+        if node.sky_type != "PREETHAM":
+            self.approximated.append(f"Sky Texture {node.sky_type.replace('_', ' ').title()}: the Preetham model")
+        vector = self.vector(node.inputs["Vector"], directions, camera)
+        vector = vector / np.maximum(np.linalg.norm(vector, axis=-1, keepdims=True), 1e-30)
+        sun = np.array(node.sun_direction, dtype=np.float64) if node.sky_type in ("PREETHAM", "HOSEK_WILKIE") else \
+            sun_vector(node.sun_elevation, node.sun_rotation)
+        return preetham(vector, sun / max(np.linalg.norm(sun), 1e-30), node.turbidity)
+
+
+def _upstream_nodes(socket, depth=32):
+    found, frontier = [], [socket]
+    for _ in range(depth):
+        nodes = [node for node in (linked_node(s) for s in frontier) if node is not None]
+        found += nodes
+        frontier = [s for node in nodes for s in node.inputs if s.is_linked]
+        if not frontier:
+            break
+    return found
+
+
+def mapped(vector, node):
+    """A Mapping node's output for `vector`: scaled, rotated (XYZ Euler) and, for points,
+    moved; a Texture mapping does the inverse."""
+    location = np.array(node.inputs["Location"].default_value) if "Location" in node.inputs else np.zeros(3)
+    rotation = np.array(node.inputs["Rotation"].default_value) if "Rotation" in node.inputs else np.zeros(3)
+    scale = np.array(node.inputs["Scale"].default_value) if "Scale" in node.inputs else np.ones(3)
+    matrix = euler_matrix(rotation)
+    if node.vector_type == "TEXTURE":
+        out = (vector - (location if node.vector_type != "VECTOR" else 0)) @ matrix
+        return out / np.where(scale == 0, 1.0, scale)
+    out = (vector * scale) @ matrix.T
+    if node.vector_type == "POINT":
+        out = out + location
+    elif node.vector_type == "NORMAL":
+        out = (vector / np.where(scale == 0, 1.0, scale)) @ matrix.T
+        out = out / np.maximum(np.linalg.norm(out, axis=-1, keepdims=True), 1e-30)
+    return out
+
+
+def euler_matrix(rotation):
+    """Blender's XYZ Euler rotation matrix (x first, then y, then z)."""
+    x, y, z = rotation
+    cx, sx, cy, sy, cz, sz = math.cos(x), math.sin(x), math.cos(y), math.sin(y), math.cos(z), math.sin(z)
+    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+def mirror_ball_coordinates(directions):
+    """(u, v from the top) of a mirror ball image seen along -y, as Cycles maps it."""
+    d = np.array(directions, dtype=np.float64)
+    d[..., 1] -= 1.0
+    div = 2.0 * np.sqrt(np.maximum(-0.5 * d[..., 1], 0.0))
+    d = d / np.where(div > 0, div, 1.0)[..., None]
+    return 0.5 * (d[..., 0] + 1.0), 1.0 - 0.5 * (d[..., 2] + 1.0)
+
+
+def _bilinear(pixels, u, v, wrap=True):
+    """`pixels` (height, width, 3, top row first) at (u, v from the top), bilinear."""
+    height, width = pixels.shape[:2]
+    x = u * width - 0.5
+    y = np.clip(v * height - 0.5, 0.0, height - 1.0)
+    x0, y0 = np.floor(x).astype(np.int64), np.floor(y).astype(np.int64)
+    fx, fy = (x - x0)[..., None], (y - y0)[..., None]
+    if wrap:
+        x0, x1 = x0 % width, (x0 + 1) % width
+    else:
+        x0, x1 = np.clip(x0, 0, width - 1), np.clip(x0 + 1, 0, width - 1)
+    y1 = np.minimum(y0 + 1, height - 1)
+    top = pixels[y0, x0] * (1 - fx) + pixels[y0, x1] * fx
+    bottom = pixels[y1, x0] * (1 - fx) + pixels[y1, x1] * fx
+    return top * (1 - fy) + bottom * fy
+
+
+def sun_vector(elevation, rotation):
+    """The direction toward the sun of a Sky Texture's elevation and rotation."""
+    return np.array([math.sin(rotation) * math.cos(elevation), math.cos(rotation) * math.cos(elevation),
+                     math.sin(elevation)])
+
+
+def preetham(directions, sun, turbidity):
+    """The Preetham et al. 1999 daylight model's radiance along `directions` toward the
+    `sun`, converted from its xyY to linear Rec.709 as Cycles' sky does (luminance scaled
+    by its own 0.0666 factor, 1/15 W)."""
+    theta_s = math.acos(min(max(sun[2], -1.0), 1.0))
+    t, t2 = turbidity, turbidity * turbidity
+    chi = (4.0 / 9.0 - t / 120.0) * (math.pi - 2 * theta_s)
+    zenith_y = ((4.0453 * t - 4.9710) * math.tan(chi) - 0.2155 * t + 2.4192) * 0.06
+    ts, ts2, ts3 = theta_s, theta_s ** 2, theta_s ** 3
+    zenith_x = ((0.00166 * ts3 - 0.00375 * ts2 + 0.00209 * ts) * t2 +
+                (-0.02903 * ts3 + 0.06377 * ts2 - 0.03202 * ts + 0.00394) * t +
+                (0.11693 * ts3 - 0.21196 * ts2 + 0.06052 * ts + 0.25886))
+    zenith_yc = ((0.00275 * ts3 - 0.00610 * ts2 + 0.00317 * ts) * t2 +
+                 (-0.04214 * ts3 + 0.08970 * ts2 - 0.04153 * ts + 0.00516) * t +
+                 (0.15346 * ts3 - 0.26756 * ts2 + 0.06670 * ts + 0.26688))
+    coefficients = {
+        "Y": (0.1787 * t - 1.4630, -0.3554 * t + 0.4275, -0.0227 * t + 5.3251, 0.1206 * t - 2.5771,
+              -0.0670 * t + 0.3703),
+        "x": (-0.0193 * t - 0.2592, -0.0665 * t + 0.0008, -0.0004 * t + 0.2125, -0.0641 * t - 0.8989,
+              -0.0033 * t + 0.0452),
+        "y": (-0.0167 * t - 0.2608, -0.0950 * t + 0.0092, -0.0079 * t + 0.2102, -0.0441 * t - 1.6537,
+              -0.0109 * t + 0.0529),
+    }
+
+    def perez(theta, gamma, c):
+        a, b, cc, d, e = c
+        return (1 + a * np.exp(b / np.maximum(np.cos(theta), 0.01))) * \
+            (1 + cc * np.exp(d * gamma) + e * np.cos(gamma) ** 2)
+
+    d = np.asarray(directions, dtype=np.float64)
+    theta = np.arccos(np.clip(d[..., 2], -1.0, 1.0))
+    above = d[..., 2] >= 0
+    theta = np.where(above, theta, math.pi / 2 - 0.001)  # the ground shows the horizon, as Cycles' sky does
+    gamma = np.arccos(np.clip(d @ sun, -1.0, 1.0))
+    values = {}
+    for name, zenith in (("Y", zenith_y), ("x", zenith_x), ("y", zenith_yc)):
+        c = coefficients[name]
+        values[name] = zenith * perez(theta, gamma, c) / perez(0.0, theta_s, c)
+    big_y = values["Y"] * 0.0666  # Cycles' sky_radiance_preetham scales luminance by this
+    x, y = values["x"], values["y"]
+    big_x = x / np.maximum(y, 1e-6) * big_y
+    big_z = (1 - x - y) / np.maximum(y, 1e-6) * big_y
+    xyz = np.stack([big_x, big_y, big_z], axis=-1)
+    to_rec709 = np.array([[3.2404542, -1.5371385, -0.4985314], [-0.9692660, 1.8760108, 0.0415560],
+                          [0.0556434, -0.2040259, 1.0572252]])
+    return np.maximum(xyz @ to_rec709.T, 0.0)

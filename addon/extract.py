@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..gpu.output_layout import OutputLayout
-from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene, SurfaceImage, local_origin
+from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Film, Light, Scene, SurfaceImage, local_origin
 from .materials import MaterialSurfaces
 from .world import world_of
 from .point_emitters import PointEmitters
@@ -53,7 +53,15 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     """
     geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
     camera = extract_camera(depsgraph, resolution)
-    return Scene(**geometry, lights=[]).in_local_frame(lights, camera, world_of(depsgraph.scene_eval)).sanitize()
+    scene = Scene(**geometry, lights=[], film=film_of(depsgraph.scene_eval))
+    return scene.in_local_frame(lights, camera, world_of(depsgraph.scene_eval)).sanitize()
+
+
+def film_of(scene, viewport=False):
+    """The Film of a bpy scene's render settings: its pixel filter, and Film Transparent
+    (not in a `viewport`, which shows the world as Cycles' does)."""
+    render = scene.render
+    return Film(float(render.filter_size), bool(render.film_transparent) and not viewport)
 
 
 def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):

@@ -9,7 +9,7 @@ cached light map and the LPV; the pipeline's content keys decide the rest.
 from dataclasses import dataclass
 
 from ..gpu.scene import Scene
-from .extract import MESH_LIKE_TYPES, extract_parts
+from .extract import MESH_LIKE_TYPES, extract_parts, film_of
 from .world import world_of
 
 CAMERA, LIGHTS, GEOMETRY = "camera", "lights", "geometry"
@@ -77,8 +77,6 @@ def changed_parts(updates):
             parts.add(CAMERA)
         elif update.id_type in GEOMETRY_DATA:
             parts.add(GEOMETRY)
-            if update.id_type == "NODETREE":
-                parts.add(LIGHTS)  # a world's node tree too
         elif update.id_type in EVERYTHING_DATA and (update.geometry or update.transform):
             parts.update(EVERYTHING)
     return frozenset(parts)
@@ -104,7 +102,8 @@ class SceneSync:
         world = world_of(depsgraph.scene_eval) if read_lights else self._scene.world  # the world goes with the lights
         if read_geometry:
             lights = lights if read_lights else self._scene.world_lights()
-            self._scene = Scene(**geometry, lights=[]).in_local_frame(lights, camera, world)
+            film = film_of(depsgraph.scene_eval, viewport=True)
+            self._scene = Scene(**geometry, lights=[], film=film).in_local_frame(lights, camera, world)
             self._scene = self._scene.sanitize()
         else:
             self._scene = self._scene.in_local_frame(lights, camera, world)

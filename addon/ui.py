@@ -14,6 +14,7 @@ from .properties import settings_from_properties
 
 SETTING_GROUPS = {
     "Method": ("method", "rsm_resolution", "vpls_per_light"),
+    "World": ("world_samples",),
     "Emitters": ("emission_samples", "emitter_light", "emitter_interpolation", "emitter_grid_resolution",
                  "emitter_shadows", "emitter_bounce_samples", "light_map_budget", "light_cutoff"),
     "Indirect Light": ("indirect_method", "lpv_resolution", "grid_levels", "propagation_iterations", "occlusion",

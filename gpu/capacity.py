@@ -23,8 +23,9 @@ from .vpl_gather import pixel_gather_bytes
 
 GIB = 2 ** 30
 
-CAMERA_BYTES_PER_PIXEL = 3 * 16 + 16 + 4
-"""Direct, indirect and combined (RGBA32F), the G-buffer's packed texel (RGBA32UI) and depth."""
+CAMERA_BYTES_PER_PIXEL = 4 * 16 + 16 + 4
+"""Direct, its mean over the sets, indirect and combined (RGBA32F), the G-buffer's packed
+texel (RGBA32UI) and depth."""
 SEEN_POINTS_BYTES = VIEW_LATTICE ** 2 * 16  # gpu/shade.py seen_points' buffer
 DEBUG_BYTES_PER_PIXEL = 2 * 16        # VPL Splats and Warp Status (RGBA32F)
 DISPLAY_BYTES_PER_PIXEL = 16          # the viewport's RGBA32F rows

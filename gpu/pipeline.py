@@ -9,7 +9,7 @@ while the region the grids cover stays; a light change redoes that light's RSM a
 and the grids; a geometry change redoes everything.
 """
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -27,13 +27,14 @@ from .keyed_cache import KeyedCache
 from .light_maps import AUTO_METHODS, map_recipe, render_light_maps, sun_region
 from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
+from .pixel_filter import pixel_offset
 from .settings import DisplaySettings, Settings
 from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, read_gbuffer_record, render_gbuffer, render_glow,
                     seen_points, shade_direct, shade_indirect)
 from .surface_emitters import SurfaceEmission
-from .world_light import WorldLight
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES
+from .world_light import WorldLight
 
 
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
@@ -165,18 +166,22 @@ class Pipeline:
         `read` false the passes are made but not read back (the Frame has none): a caller
         that averages more sets reads them once, at the end.
         With `accumulate`, a frame of the same view, scene and settings as the last one
-        averages its indirect light with the last one's, VPL set by VPL set (stats
-        `vpl_sets`, `accumulated_vpls`); anything else starts the average again."""
+        averages its light with the last one's, VPL set by VPL set, each set seen through
+        another point of the pixels (gpu/pixel_filter.py: anti-aliasing; stats `vpl_sets`,
+        `accumulated_vpls`); anything else starts the average again."""
         if settings is not None:
             self.settings = settings
         s = self.settings
         fits = self._check_fits(scene, passes, display_into is not None)
         view = (scene.camera.key(), *fits[:4])
         adding = accumulate and self._accumulated is not None and self._accumulated[0] == view
+        sets = self._accumulated[1] + 1 if adding else 1
+        camera = scene.camera.jittered(pixel_offset(sets - 1, scene.film.filter_width), (s.width, s.height))
+        shot = scene if camera is scene.camera else replace(scene, camera=camera)  # this set's view of the scene
         start = time.perf_counter()
         stats = {}
-        targets = self._gbuffer(scene, stats, again=adding)
-        grids = self._place_grids(scene, targets, stats)
+        targets = self._gbuffer(shot, stats)
+        grids = self._place_grids(scene, targets, stats)  # placed from the first set's view
         levels = list(grids[::s.grid_phases])
         if vpl_set is not None:
             self.vpl_pattern = vpl_set
@@ -187,15 +192,13 @@ class Pipeline:
         maps, keys = self.light_maps(scene, stats, levels, lit.mapped)
         sources, sources_key = self._emitter_sources(scene, s, lit, box, grids, stats)
         vpl_count = int(sum(m.vpl_count for m in maps))
-        sets, accumulated_vpls = (self._accumulated[1] + 1, self._accumulated[2] + vpl_count) if adding \
-            else (1, vpl_count)
+        accumulated_vpls = self._accumulated[2] + vpl_count if adding else vpl_count
         self._accumulated = None  # until this set is in the image
         indirect = self._indirect_light(scene, maps, keys, grids, sources, sources_key, stats)
         drawn = len(lit.emitters) - lit.lights_as_emitters  # the scene's point emitters, not the lamps
         glowing = scene.emission is not None or drawn > 0
-        if not adding:  # another VPL set of the same view finds its direct light made
-            self._direct_light(scene, targets, maps, lit, levels, indirect, drawn, stats)
-        self._composite(scene, targets, indirect, sets, display_into is not None, glowing, stats)
+        self._direct_light(shot, targets, maps, lit, levels, indirect, drawn, stats)
+        self._composite(shot, targets, indirect, sets, display_into is not None, glowing, stats)
         self._accumulated = (view, sets, accumulated_vpls)
         self._shown_keys = tuple(keys)
         self.last_origin = scene.world_origin
@@ -220,15 +223,13 @@ class Pipeline:
             self._fits = fits
         return fits
 
-    def _gbuffer(self, scene, stats, again=False):
-        """The mesh uploaded and the camera's images at the frame's size, with its G-buffer
-        unless this is `again` another VPL set of the same view."""
+    def _gbuffer(self, scene, stats):
+        """The mesh uploaded and the camera's images at the frame's size, with its G-buffer."""
         s = self.settings
         self._upload(scene, stats)
         targets = self._targets.get((s.width, s.height), lambda: FrameTargets(self.glc.gl, s.width, s.height))
-        if not again:
-            with self.glc.timed(stats, "gbuffer_ms"):
-                render_gbuffer(self.glc, self._mesh.value, scene.camera, targets)
+        with self.glc.timed(stats, "gbuffer_ms"):
+            render_gbuffer(self.glc, self._mesh.value, scene.camera, targets)
         return targets
 
     def _place_grids(self, scene, targets, stats):
@@ -313,7 +314,7 @@ class Pipeline:
                                        s.singularity_bound / sets, self.vpl_pattern)
         with self.glc.timed(stats, "indirect_ms"):
             world = None
-            if scene.world is not None:
+            if scene.world is not None and not scene.film.transparent:
                 if self._world is None:
                     self._world = WorldLight(self.glc)
                 world = self._world.background_texture(scene.world)

@@ -140,6 +140,26 @@ class Camera:
     def key(self):
         return hashlib.sha1(self.view.tobytes() + self.projection.tobytes()).hexdigest()[:16]
 
+    def jittered(self, offset, size):
+        """This camera looking through the point `offset` (x, y) pixels from each pixel's
+        centre of an image of `size` (width, height): the projection moved in clip space."""
+        if not any(offset):
+            return self
+        projection = self.projection.copy()
+        for axis in range(2):
+            projection[axis] += 2.0 * offset[axis] / size[axis] * projection[3]
+        return Camera(self.view, projection)
+
+
+@dataclass(frozen=True)
+class Film:
+    """How the camera's image is made of the light, as Blender's Film panel says: the
+    pixel filter's width (Blackman-Harris, in pixels) the anti-aliasing draws from, and
+    whether the world is seen (`transparent`: alpha 0 and no colour where no surface is)."""
+
+    filter_width: float = 1.5
+    transparent: bool = False
+
 
 def look_at_view(eye, forward, up):
     """OpenGL world-to-view matrix of an eye looking along `forward`."""
@@ -215,7 +235,8 @@ class Scene:
     direction) and the area of the surface it comes from (m²: the camera sees a sphere of
     that surface, and 1/r² next to it is bounded as a disc of that area bounds it; None:
     none). `world` (gpu/world.py World; None: none) lights the scene from afar and is
-    what the camera sees where it sees no surface.
+    what the camera sees where it sees no surface; `film` (Film) says how the pixels are
+    filtered and whether that world is seen.
     `approximated_materials` names the materials whose colour the extraction could only
     approximate. Positions, lights and camera are relative to the world point `origin`
     (float64; None: the world origin), which `sanitize` moves to the scene when it is far
@@ -238,6 +259,7 @@ class Scene:
     emission: np.ndarray = None
     point_emitters: np.ndarray = None
     world: object = None
+    film: Film = Film()
     images: list = field(default_factory=list)
     approximated_materials: list = field(default_factory=list)
     origin: np.ndarray = None

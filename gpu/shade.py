@@ -24,11 +24,13 @@ class FrameTargets:
         self.size = (width, height)
         while gl.error != "GL_NO_ERROR":
             pass  # forget earlier errors: Mesa keeps only the first, which would hide an allocation's
-        self.direct, self.indirect, self.combined = (gl.texture(self.size, 4, dtype="f4") for _ in range(3))
+        # `direct` is a VPL set's direct light, `direct_mean` the mean of the sets averaged
+        self.direct, self.direct_mean, self.indirect, self.combined = (gl.texture(self.size, 4, dtype="f4")
+                                                                       for _ in range(4))
         self.surface = gl.texture(self.size, 4, dtype="u4")
         self.depth = gl.depth_texture(self.size)
         if gl.error == "GL_OUT_OF_MEMORY":  # within the limits yet refused: llvmpipe makes no image of 1.5 GiB
-            for texture in (self.direct, self.indirect, self.combined, self.surface, self.depth):
+            for texture in (self.direct, self.direct_mean, self.indirect, self.combined, self.surface, self.depth):
                 texture.release()
             raise LPVError(f"{gl.info['GL_RENDERER']} cannot make {width} x {height} images (GL_OUT_OF_MEMORY); "
                            f"lower the resolution.")
@@ -76,7 +78,8 @@ class FrameTargets:
         combined image's alpha is the coverage (1 where the camera sees a surface or an
         emitter, 0 where it sees the background)."""
         width, height = self.size
-        return np.frombuffer(getattr(self, name).read(), dtype=np.float32).reshape(height, width, 4)[::-1]
+        texture = self.direct_mean if name == "direct" else getattr(self, name)  # the direct pass: the sets' mean
+        return np.frombuffer(texture.read(), dtype=np.float32).reshape(height, width, 4)[::-1]
 
     def read_display_into(self, out):
         """The composite as shade_indirect wrote it into the display buffer (RGBA float32,
@@ -88,7 +91,8 @@ class FrameTargets:
 
     def resources(self):
         """Every texture and buffer made so far (the display and debug ones on request)."""
-        return tuple(resource for resource in (self.depth, self.surface, self.direct, self.indirect, self.combined,
+        return tuple(resource for resource in (self.depth, self.surface, self.direct, self.direct_mean, self.indirect,
+                                               self.combined,
                                                self.seen, self.display, self.vpl_splats, self.warp_status, self.glow)
                      if resource is not None)
 
@@ -258,7 +262,8 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
     units = indirect.lookup_uniforms(first_unit=2)
     targets.direct.bind_to_image(0, read=True, write=False)
     targets.indirect.bind_to_image(1, read=True, write=True)
-    targets.combined.bind_to_image(2, read=False, write=True)
+    targets.combined.bind_to_image(2, read=True, write=True)
+    targets.direct_mean.bind_to_image(4, read=True, write=True)
     if glow:
         targets.glow.bind_to_image(3, read=True, write=False)
     if display:

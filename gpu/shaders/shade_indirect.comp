@@ -4,8 +4,10 @@
 // The indirect light comes from LEVELS nested grids (gpu/grids.py), each PHASES grids
 // offset by a fraction of a cell (light_grid_levels.glsl). The grids
 // hold an LPV (INDIRECT 0) or a light grid (INDIRECT 1); with VPL gathering (INDIRECT 2)
-// the irradiance is the pixel's own, gathered before. A still image averages VPL sets: the
-// indirect image holds the mean of the `accumulated` sets before this one. The combined
+// the irradiance is the pixel's own, gathered before. A still image averages VPL sets, each
+// seen through another point of the pixel (gpu/pixel_filter.py): the indirect, direct mean
+// and combined images hold the means of the `accumulated` sets before this one, which this
+// set's join (the direct image is this set's alone). The combined
 // image's alpha is the pixel's coverage: 1 where it sees a surface or an emitter's glow,
 // 0 where it sees the background (Film Transparent); the viewport's rows stay opaque.
 // There the world's background map (gpu/world.py, equirectangular) is seen along the ray.
@@ -28,7 +30,8 @@ uniform int grid_size;
 #endif
 layout(rgba32f, binding = 0) uniform readonly image2D direct;
 layout(rgba32f, binding = 1) uniform image2D indirect;
-layout(rgba32f, binding = 2) uniform writeonly image2D combined;
+layout(rgba32f, binding = 2) uniform image2D combined;
+layout(rgba32f, binding = 4) uniform image2D direct_mean;
 layout(std430, binding = 0) writeonly buffer Display { vec4 display_rows[]; };
 uniform bool write_display;
 uniform float intensity;
@@ -61,8 +64,12 @@ void main() {
 #endif
         light = albedo / PI * irradiance * intensity;
     }
-    if (accumulated > 0) light = mix(imageLoad(indirect, pixel).rgb, light, 1.0 / float(accumulated + 1));
-    imageStore(indirect, pixel, vec4(light, 1.0));
+    float weight = 1.0 / float(accumulated + 1);  // this set's in the mean
+    vec3 indirect_mean = accumulated > 0 ? mix(imageLoad(indirect, pixel).rgb, light, weight) : light;
+    imageStore(indirect, pixel, vec4(indirect_mean, 1.0));
+    vec3 direct_average = accumulated > 0 ? mix(imageLoad(direct_mean, pixel).rgb, direct_light.rgb, weight)
+                                          : direct_light.rgb;
+    imageStore(direct_mean, pixel, vec4(direct_average, 1.0));
     vec4 composite = vec4(direct_light.rgb + light, 1.0);
     float coverage = surface ? 1.0 : 0.0;
     if (!surface && add_world)
@@ -72,6 +79,8 @@ void main() {
         composite.rgb += glowing;
         if (any(greaterThan(glowing, vec3(0.0)))) coverage = 1.0;
     }
-    imageStore(combined, pixel, vec4(composite.rgb, coverage));
-    if (write_display) display_rows[pixel.y * imageSize(combined).x + pixel.x] = composite;
+    vec4 mean = vec4(composite.rgb, coverage);
+    if (accumulated > 0) mean = mix(imageLoad(combined, pixel), mean, weight);
+    imageStore(combined, pixel, mean);
+    if (write_display) display_rows[pixel.y * imageSize(combined).x + pixel.x] = vec4(mean.rgb, 1.0);
 }

@@ -19,7 +19,7 @@ from ..gpu.scene import LIGHT_KINDS, Camera, Light, Scene
 from ..gpu.settings import METHODS, Settings
 
 SETTINGS = Settings(width=24, height=24, rsm_resolution=32, vpls_per_light=64, lpv_resolution=8,
-                    propagation_iterations=4)
+                    propagation_iterations=4, converge_sets=1)
 
 
 def random_scene(seed):

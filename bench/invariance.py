@@ -26,7 +26,7 @@ METHODS = ("cm", "dpm", "wdpm", "tdpm", "twdpm")
 TRANSLATIONS = (100.0, 1e3, 1234.567, 1e4, 1e5, 1e6)
 GRID_SHIFTS = (0.25, 0.5, 0.75)
 SCALES = (1e-3, 1e3)
-SETTINGS = Settings(width=96, height=96, rsm_resolution=256, vpls_per_light=1024)
+SETTINGS = Settings(width=96, height=96, rsm_resolution=256, vpls_per_light=1024, converge_sets=1)
 ROOM_QUADS = 8
 
 

@@ -377,6 +377,8 @@ class Pipeline:
                 if key.endswith("_ms") and key != "total_ms":
                     spent[key] = spent.get(key, 0.0) + value
         if not single:
+            with self.glc.timed(spent, "gbuffer_ms"):  # the pixels' centres again, for what reads the G-buffer after
+                render_gbuffer(self.glc, self._mesh.value, scene.camera, self.targets)
             frame.passes, frame.coverage, _ = self._read(scene, passes, None, display_settings, True, spent)
             frame.stats.update({key: value for key, value in spent.items() if key != "total_ms"})
         frame.stats["converge_ms"] = (time.perf_counter() - start) * 1000.0

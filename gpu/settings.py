@@ -119,8 +119,10 @@ class Settings(Validated):
                                            "area the VPL stands for over pi (1: as a disk of that area lights its "
                                            "axis; 0: unbounded, exact on average but spiky); the n-th VPL set of a "
                                            "converging frame's pixel gather takes 1/n of it", 0.0, 16.0, expert=True)
-    converge_sets: int = _param(1, "VPL sets a rendered frame averages, each another Poisson pattern over the light "
-                                   "maps: its indirect light converges toward every texel's", 1, 4096)
+    converge_sets: int = _param(1, "VPL sets a rendered frame averages, each another Poisson pattern over the "
+                                   "light maps seen through another point of the pixels: its light converges "
+                                   "toward every texel's and its edges are anti-aliased (1: one sample at each "
+                                   "pixel's centre)", 1, 4096)
     converge_seconds: float = _param(0.0, "Seconds a rendered frame goes on averaging VPL sets; above zero it "
                                           "replaces converge_sets", 0.0, 3600.0)
     indirect_intensity: float = _param(1.0, "Scale of the indirect light", 0.0, 100.0)

@@ -16,7 +16,7 @@ from ..gpu.errors import LPVError
 from ..gpu.image_io import read_exr_metadata, write_exr, write_png
 from ..gpu.pipeline import Pipeline, render_once
 from .corrected_render import corrected_frame, workers_for
-from .extract import output_layout
+from .extract import check_camera, output_layout
 from .frame_stats import renderer_warning
 from .render_scene import scene_to_render
 from .view_transform import scene_view_transform
@@ -81,7 +81,9 @@ def render_to_files(bpy_scene, settings, passes, out_dir, extra_stats, correctio
 
 def checked_layout(bpy_scene, settings):
     """What the render writes of a frame of `settings`' size (addon/extract.py
-    output_layout), refused in one sentence when its region holds no pixel."""
+    output_layout), refused in one sentence when its region holds no pixel or its camera
+    is panoramic (before any frame is read or rendered)."""
+    check_camera(bpy_scene)
     layout = output_layout(bpy_scene, (settings.width, settings.height))
     if layout.empty:
         raise LPVError("The render region is narrower than a pixel; draw a larger one (Ctrl-B) or clear it "

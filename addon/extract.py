@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..gpu.errors import LPVError
 from ..gpu.output_layout import OutputLayout
 from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene, SurfaceImage, local_origin
 from .materials import MaterialSurfaces
@@ -48,10 +49,11 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     that viewport hides (local view, per-viewport collection visibility); objects hidden
     for the whole view layer are already absent from the depsgraph, as are objects
     disabled in renders when the depsgraph is a render one.
-    Raises LPVError when nothing with triangles or no light is visible.
+    Raises LPVError for a panoramic camera (before reading anything else) and when
+    nothing with triangles or no light is visible.
     """
-    geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
     camera = extract_camera(depsgraph, resolution)
+    geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
     return Scene(**geometry, lights=[]).in_local_frame(lights, camera).sanitize()
 
 
@@ -399,12 +401,25 @@ def _light(obj, matrix):
                  name=obj.name, **spot)
 
 
+def check_camera(scene):
+    """Refuse a scene whose camera is panoramic, in one sentence: the G-buffer is a
+    raster of one view and projection matrix, which no panoramic mapping has."""
+    camera = scene.camera
+    data = getattr(camera, "data", None)
+    if getattr(data, "type", None) == "PANO":
+        kind = data.panorama_type.replace("_", " ").lower()
+        raise LPVError(f"The camera '{camera.name}' is panoramic ({kind}), which LPV Preview cannot render; set its "
+                       f"Lens Type to Perspective or Orthographic, or render it with Cycles.")
+
+
 def extract_camera(depsgraph, resolution=None):
-    """The scene camera's view and projection (None without a scene camera)."""
+    """The scene camera's view and projection (None without a scene camera); a
+    panoramic one is refused (check_camera)."""
     scene = depsgraph.scene_eval
     camera = scene.camera
     if camera is None:
         return None
+    check_camera(scene)
     width, height = resolution if resolution is not None else render_resolution(scene)
     projection = camera.calc_matrix_camera(depsgraph, x=int(width), y=int(height),
                                            scale_x=scene.render.pixel_aspect_x,

@@ -156,7 +156,7 @@ def _assemble(meshes, batches, surfaces, emitters=None):
     return {"triangles": triangles, "normals": normals, "albedo": albedo,
             "emission": emission if emission.any() else None, "visibility": visibility,
             "vertex_colors": vertex_colors, "uvs": uvs, "image_layers": image_layers if images else None,
-            "images": images, "approximated_materials": sorted(approximated), "origin": origin,
+            "images": images, "approximated_materials": surfaces.approximated_entries(approximated), "origin": origin,
             "point_emitters": emitters.array(origin) if emitters is not None else None}
 
 

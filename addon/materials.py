@@ -8,7 +8,9 @@ nothing, a UV Map node or Texture Coordinate's UV), a Color Attribute or a geome
 Attribute node, or a Mix of those with a constant factor that multiplies or picks one
 side. Anything else is approximated the way the renderer has always done it (the
 nearest upstream image's average, or the socket's or the material's display colour), and
-the material is named in `approximated`: the panel and stats.json list them.
+the material is named in `approximated`: the panel and stats.json list them. Shaders the
+preview does not render as Cycles does (UNSUPPORTED_SHADERS, PRINCIPLED_UNSUPPORTED, a
+linked Volume) name what they are and what the preview does with them beside the name.
 """
 from dataclasses import dataclass, replace
 
@@ -19,6 +21,47 @@ DEFAULT_ALBEDO = (0.8, 0.8, 0.8)
 
 NON_REFLECTING_SHADERS = {"EMISSION", "HOLDOUT", "BSDF_TRANSPARENT"}
 """Shader nodes that reflect no light diffusely."""
+
+AS_DISPLAY_COLOUR = "rendered as an opaque diffuse surface in the display colour"
+AS_OPAQUE_BLACK = "rendered as an opaque black surface"
+VOLUME = "volume (rendered as an opaque surface)"
+
+UNSUPPORTED_SHADERS = {
+    "BSDF_GLASS": f"glass ({AS_DISPLAY_COLOUR})",
+    "BSDF_REFRACTION": f"refraction ({AS_DISPLAY_COLOUR})",
+    "BSDF_TRANSLUCENT": f"translucency ({AS_DISPLAY_COLOUR})",
+    "SUBSURFACE_SCATTERING": f"subsurface scattering ({AS_DISPLAY_COLOUR})",
+    "BSDF_HAIR": f"hair ({AS_DISPLAY_COLOUR})",
+    "BSDF_HAIR_PRINCIPLED": f"hair ({AS_DISPLAY_COLOUR})",
+    "BSDF_TOON": f"toon ({AS_DISPLAY_COLOUR})",
+    "BSDF_SHEEN": f"sheen ({AS_DISPLAY_COLOUR})",
+    "BSDF_GLOSSY": f"glossy reflection ({AS_DISPLAY_COLOUR})",
+    "BSDF_METALLIC": f"metallic reflection ({AS_DISPLAY_COLOUR})",
+    "BSDF_RAY_PORTAL": f"ray portal ({AS_DISPLAY_COLOUR})",
+    "EEVEE_SPECULAR": f"EEVEE specular ({AS_DISPLAY_COLOUR})",
+    "HOLDOUT": f"holdout ({AS_OPAQUE_BLACK}, not cut out)",
+    "BSDF_TRANSPARENT": f"transparency ({AS_OPAQUE_BLACK})",
+    "PRINCIPLED_VOLUME": VOLUME,
+    "VOLUME_SCATTER": VOLUME,
+    "VOLUME_ABSORPTION": VOLUME,
+    "VOLUME_COEFFICIENTS": VOLUME,
+}
+"""Shader node type -> what it is and what the preview does with it, for the shaders the
+preview does not render as Cycles does: one table, so that the list of approximated
+materials says the same of every material using one."""
+
+PRINCIPLED_UNSUPPORTED = {
+    "Transmission Weight": "transmission (rendered opaque: the transmitted part is black)",
+    "Subsurface Weight": "subsurface scattering (rendered as plain diffuse)",
+    "Alpha": "alpha (ignored: rendered opaque)",
+}
+"""Principled BSDF inputs -> what the preview does with them, where they differ from
+their no-effect value (Alpha 1, the others 0) or are linked."""
+
+PRINCIPLED_NO_EFFECT = {"Alpha": 1.0}
+"""The value at which a PRINCIPLED_UNSUPPORTED input has no effect (0 when not here)."""
+
+COLOUR_APPROXIMATED = "diffuse colour approximated"
 
 UPSTREAM_IMAGE_SEARCH_DEPTH = 8
 """How many nodes back from a colour socket an Image Texture is still looked for."""
@@ -65,6 +108,7 @@ class MaterialSurfaces:
         self._averages = {}
         self.images = {}            # image pointer -> (H, W, 3) linear pixels, top row first
         self.approximated = set()   # material names
+        self.unsupported = {}       # material name -> what of it the preview does not support, in words
 
     def palette(self, obj, size):
         """The BaseColour of the object's material slots 0..size-1; indices past the last
@@ -82,10 +126,21 @@ class MaterialSurfaces:
             colour = replace(evaluation.material(material), emission=evaluation.emission(material))
             if colour.image is not None and self.pixels(colour.image) is None:  # a missing file: no pixels
                 colour, evaluation.approximated = replace(colour, image=None), True
-            if evaluation.approximated:
+            if evaluation.approximated or evaluation.unsupported:
                 self.approximated.add(material.name)
+            if evaluation.unsupported:
+                self.unsupported[material.name] = list(evaluation.unsupported) + (
+                    [COLOUR_APPROXIMATED] if evaluation.approximated else [])
             self._materials[key] = replace(colour, material=material.name)
         return self._materials[key]
+
+    def approximated_entries(self, names):
+        """The list that stats.json and the panel show of the approximated materials
+        `names`: a name alone when its diffuse colour is approximated, "name: what" when
+        it has shaders the preview does not support ("Smoke: volume (rendered as an
+        opaque surface)")."""
+        return [f"{name}: {'; '.join(self.unsupported[name])}" if name in self.unsupported else name
+                for name in sorted(names)]
 
     def pixels(self, image):
         """The image's linear pixels, or None when it has none (a missing file)."""
@@ -108,6 +163,7 @@ class _Evaluation:
     def __init__(self, surfaces):
         self.surfaces = surfaces
         self.approximated = False
+        self.unsupported = {}  # what the preview does not support, in words, in the order met (a dict as a set)
 
     def material(self, material):
         fallback = constant(material.diffuse_color)
@@ -115,6 +171,8 @@ class _Evaluation:
         output = tree.get_output_node("CYCLES") if tree is not None else None
         if output is None:
             return fallback
+        if linked_node(output.inputs["Volume"]) is not None:
+            self.unsupported[VOLUME] = True
         colour = self.shader(output.inputs["Surface"], fallback, depth=0)
         return replace(colour, factor=tuple(float(c) for c in np.clip(colour.factor, 0.0, 1.0)))
 
@@ -171,7 +229,14 @@ class _Evaluation:
             return BLACK  # An unconnected surface renders black in Cycles.
         if depth > 32:
             return self.approximate(fallback)
+        if node.type in UNSUPPORTED_SHADERS:  # named, and rendered as it always was
+            self.unsupported[UNSUPPORTED_SHADERS[node.type]] = True
+            return BLACK if node.type in NON_REFLECTING_SHADERS else fallback
         if node.type == "BSDF_PRINCIPLED":
+            for name, what in PRINCIPLED_UNSUPPORTED.items():
+                socket = node.inputs[name]
+                if socket.is_linked or float(socket.default_value) != PRINCIPLED_NO_EFFECT.get(name, 0.0):
+                    self.unsupported[what] = True
             diffuse = 1.0
             for name in ("Metallic", "Transmission Weight"):
                 weight = node.inputs[name]

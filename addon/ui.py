@@ -108,7 +108,7 @@ def draw_statistics(layout, stats):
         column.label(text=f"Images: {len(images)}")
     approximated = stats.get("approximated_materials")
     if approximated:
-        column.label(text="Approximated materials (colour from nodes not evaluated):", icon="ERROR")
+        column.label(text="Approximated materials (a name alone: colour from nodes not evaluated):", icon="ERROR")
         for name in approximated:
             column.label(text=f"    {name}")
 

@@ -215,8 +215,9 @@ class Scene:
     direction) and the area of the surface it comes from (m²: the camera sees a sphere of
     that surface, and 1/r² next to it is bounded as a disc of that area bounds it; None:
     none).
-    `approximated_materials` names the materials whose colour the extraction could only
-    approximate. Positions, lights and camera are relative to the world point `origin`
+    `approximated_materials` names the materials the extraction could only approximate:
+    a name alone when their colour is approximated, "name: what" for shaders the preview
+    does not support ("Smoke: volume (rendered as an opaque surface)"). Positions, lights and camera are relative to the world point `origin`
     (float64; None: the world origin), which `sanitize` moves to the scene when it is far
     (`local_origin`) before anything becomes float32. `dropped` counts what `sanitize` removed, by reason. Once sanitized, the
     triangles the camera sees are the range `camera_triangles` (first, count) and those

@@ -55,3 +55,72 @@ def test_orthographic_cameras_still_render():
     scene, _ = floor_scene(lambda: bpy.data.materials.new("Plain"))
     scene.camera.data.type = "ORTHO"
     assert scene_to_render(scene).camera is not None
+
+
+def shader_material(name, node_type, output_socket="Surface"):
+    """A material whose output's `output_socket` a new `node_type` shader feeds (the
+    Principled BSDF stays, unlinked, when the Volume is fed)."""
+    material = bpy.data.materials.new(name)
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    shader = nodes.new(node_type)
+    links.new(shader.outputs[0], nodes["Material Output"].inputs[output_socket])
+    return material
+
+
+@pytest.mark.parametrize("name, node_type, output_socket, named", [
+    ("Smoke", "ShaderNodeVolumePrincipled", "Volume", "Smoke: volume (rendered as an opaque surface)"),
+    ("Fog", "ShaderNodeVolumeScatter", "Volume", "Fog: volume (rendered as an opaque surface)"),
+    ("Ink", "ShaderNodeVolumeAbsorption", "Volume", "Ink: volume (rendered as an opaque surface)"),
+    ("Window", "ShaderNodeBsdfGlass", "Surface",
+     "Window: glass (rendered as an opaque diffuse surface in the display colour)"),
+    ("Lens", "ShaderNodeBsdfRefraction", "Surface",
+     "Lens: refraction (rendered as an opaque diffuse surface in the display colour)"),
+    ("Paper", "ShaderNodeBsdfTranslucent", "Surface",
+     "Paper: translucency (rendered as an opaque diffuse surface in the display colour)"),
+    ("Skin", "ShaderNodeSubsurfaceScattering", "Surface",
+     "Skin: subsurface scattering (rendered as an opaque diffuse surface in the display colour)"),
+    ("Fur", "ShaderNodeBsdfHairPrincipled", "Surface",
+     "Fur: hair (rendered as an opaque diffuse surface in the display colour)"),
+    ("Cartoon", "ShaderNodeBsdfToon", "Surface",
+     "Cartoon: toon (rendered as an opaque diffuse surface in the display colour)"),
+    ("Cutout", "ShaderNodeHoldout", "Surface", "Cutout: holdout (rendered as an opaque black surface, not cut out)"),
+    ("Invisible", "ShaderNodeBsdfTransparent", "Surface",
+     "Invisible: transparency (rendered as an opaque black surface)"),
+])
+def test_unsupported_shaders_are_listed_with_what_the_preview_does(name, node_type, output_socket, named):
+    scene, _ = floor_scene(lambda: shader_material(name, node_type, output_socket))
+    assert scene_to_render(scene).approximated_materials == [named]
+
+
+def test_principled_transmission_subsurface_and_alpha_are_named_and_render_as_before():
+    def build(nodes, links, principled):
+        principled.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+        principled.inputs["Transmission Weight"].default_value = 0.5
+        principled.inputs["Subsurface Weight"].default_value = 0.2
+        principled.inputs["Alpha"].default_value = 0.5
+    scene, _ = floor_scene(lambda: material_with("Jelly", build))
+    extracted = scene_to_render(scene)
+    assert extracted.approximated_materials == [
+        "Jelly: transmission (rendered opaque: the transmitted part is black); subsurface scattering (rendered as "
+        "plain diffuse); alpha (ignored: rendered opaque)"]
+    np.testing.assert_allclose(extracted.albedo[0], 0.25, rtol=1e-5)  # Base Color x (1 - transmission), as before
+
+
+def test_a_shader_named_with_an_approximated_colour_says_both():
+    def build(nodes, links, principled):
+        principled.inputs["Alpha"].default_value = 0.5
+        noise = nodes.new("ShaderNodeTexNoise")
+        links.new(noise.outputs["Color"], principled.inputs["Base Color"])
+    scene, _ = floor_scene(lambda: material_with("Cloudy glass", build))
+    assert scene_to_render(scene).approximated_materials == [
+        "Cloudy glass: alpha (ignored: rendered opaque); diffuse colour approximated"]
+
+
+def test_a_volume_is_listed_in_stats_json(tmp_path):
+    scene, _ = floor_scene(lambda: shader_material("Smoke", "ShaderNodeVolumePrincipled", "Volume"))
+    blend = tmp_path / "smoke.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+    out = tmp_path / "out"
+    assert main(["render", str(blend), "--out", str(out), *SMALL]) == 0
+    stats = json.loads((out / "stats.json").read_text())
+    assert stats["approximated_materials"] == ["Smoke: volume (rendered as an opaque surface)"]

@@ -11,6 +11,7 @@ import numpy as np
 from ..gpu.errors import LPVError
 from ..gpu.output_layout import OutputLayout
 from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene, SurfaceImage, local_origin
+from .image_pixels import tile_numbers
 from .materials import MaterialSurfaces
 from .point_emitters import PointEmitters
 
@@ -117,11 +118,14 @@ def _assemble(meshes, batches, surfaces, emitters=None):
     vertex_colors = np.ones((total, 3, 3), dtype=np.float32) if coloured else None
     images, layers = [], {}
 
-    def layer_of(image):
-        if image.as_pointer() not in layers:
-            layers[image.as_pointer()] = len(images)
-            images.append(SurfaceImage(image.name, surfaces.pixels(image)))
-        return layers[image.as_pointer()]
+    def layer_of(image, tile=None):
+        """The layer of `image` (of a tiled one, of its tile `tile`)."""
+        key = (image.as_pointer(), tile)
+        if key not in layers:
+            layers[key] = len(images)
+            images.append(SurfaceImage(image.name if tile is None else f"{image.name}.{tile}",
+                                       surfaces.pixels(image, tile)))
+        return layers[key]
 
     approximated = set(surfaces.approximated)
     start = 0
@@ -157,6 +161,7 @@ def _assemble(meshes, batches, surfaces, emitters=None):
             "emission": emission if emission.any() else None, "visibility": visibility,
             "vertex_colors": vertex_colors, "uvs": uvs, "image_layers": image_layers if images else None,
             "images": images, "approximated_materials": surfaces.approximated_entries(approximated), "origin": origin,
+            "missing_images": sorted(surfaces.missing_images),
             "point_emitters": emitters.array(origin) if emitters is not None else None}
 
 
@@ -306,7 +311,8 @@ class LocalMesh:
 
     def surface(self, slots, surfaces, layer_of):
         """The MeshSurface of an instance whose material slots have the BaseColours
-        `slots`; `layer_of(image)` is the image's layer in the scene. Kept per slots."""
+        `slots`; `layer_of(image, tile)` is the image's (UDIM tile's) layer in the scene.
+        Kept per slots."""
         if slots not in self._surfaces:
             self._surfaces[slots] = self._surface(slots, surfaces, layer_of)
         return self._surfaces[slots]
@@ -314,7 +320,7 @@ class LocalMesh:
     def _surface(self, slots, surfaces, layer_of):
         slot = np.minimum(self.material_index, len(slots) - 1)
         factors = np.array([colour.factor for colour in slots], dtype=np.float32)
-        layers = np.full(len(slots), -1, dtype=np.int16)
+        layers = np.full(self.triangle_count, -1, dtype=np.int16)
         uvs = colors = None
         approximated = set()
         for index, colour in enumerate(slots):
@@ -325,7 +331,7 @@ class LocalMesh:
                     factors[index] *= surfaces.average(colour.image)
                     approximated.add(colour.material)
                 else:
-                    layers[index] = layer_of(colour.image)
+                    layers[triangles] = _image_layers(colour.image, uv[triangles], layer_of)
                     uvs = np.zeros((self.triangle_count, 3, 2), np.float32) if uvs is None else uvs
                     uvs[triangles] = uv[triangles]
             if colour.attribute is not None:
@@ -336,7 +342,20 @@ class LocalMesh:
                     colors = np.ones((self.triangle_count, 3, 3), np.float32) if colors is None else colors
                     colors[triangles] = corner[triangles]
         emission = np.array([colour.emission for colour in slots], dtype=np.float32)
-        return MeshSurface(factors[slot], layers[slot], uvs, colors, approximated, emission[slot])
+        return MeshSurface(factors[slot], layers, uvs, colors, approximated, emission[slot])
+
+
+def _image_layers(image, uvs, layer_of):
+    """The image layer of each triangle of corner UVs `uvs` that reads `image`: its own,
+    or for a tiled (UDIM) image the layer of the tile under the triangle
+    (addon/image_pixels.py says why per triangle)."""
+    if image.source != "TILED":
+        return layer_of(image)
+    tiles = tile_numbers(uvs)
+    layers = np.empty(len(tiles), dtype=np.int16)
+    for tile in np.unique(tiles):
+        layers[tiles == tile] = layer_of(image, int(tile))
+    return layers
 
 
 def _corner_uvs(mesh, name, corners):

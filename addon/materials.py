@@ -16,6 +16,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .image_pixels import LINEAR_COLOUR_SPACES, linear_pixels, tile_pixels
+
 DEFAULT_ALBEDO = (0.8, 0.8, 0.8)
 """Blender's colour for a surface without a material."""
 
@@ -66,8 +68,9 @@ COLOUR_APPROXIMATED = "diffuse colour approximated"
 UPSTREAM_IMAGE_SEARCH_DEPTH = 8
 """How many nodes back from a colour socket an Image Texture is still looked for."""
 
-LINEAR_COLOUR_SPACES = ("linear", "non-color", "raw")
-"""Image colour spaces (lower case, by prefix) whose pixel values are taken as they are."""
+MISSING_PIXELS = np.array([[[1.0, 0.0, 1.0]]], dtype=np.float32)
+"""What an image without pixels (a missing file, a missing UDIM tile) shows: magenta, as in
+Blender and Cycles."""
 
 
 @dataclass(frozen=True)
@@ -101,12 +104,14 @@ BLACK = constant((0.0, 0.0, 0.0))
 
 class MaterialSurfaces:
     """The BaseColour of every material slot, cached per material, with the images they
-    read (linear pixels, read once each) and the materials only approximated."""
+    read (linear pixels, read once each), the images missing and the materials only
+    approximated."""
 
     def __init__(self):
         self._materials = {}
         self._averages = {}
-        self.images = {}            # image pointer -> (H, W, 3) linear pixels, top row first
+        self.images = {}            # (image pointer, UDIM tile or None) -> (H, W, 3) linear pixels, top row first
+        self.missing_images = set()  # names of the images (and "name tile N") without pixels, rendered magenta
         self.approximated = set()   # material names
         self.unsupported = {}       # material name -> what of it the preview does not support, in words
 
@@ -124,8 +129,6 @@ class MaterialSurfaces:
         if key not in self._materials:
             evaluation = _Evaluation(self)
             colour = replace(evaluation.material(material), emission=evaluation.emission(material))
-            if colour.image is not None and self.pixels(colour.image) is None:  # a missing file: no pixels
-                colour, evaluation.approximated = replace(colour, image=None), True
             if evaluation.approximated or evaluation.unsupported:
                 self.approximated.add(material.name)
             if evaluation.unsupported:
@@ -142,18 +145,26 @@ class MaterialSurfaces:
         return [f"{name}: {'; '.join(self.unsupported[name])}" if name in self.unsupported else name
                 for name in sorted(names)]
 
-    def pixels(self, image):
-        """The image's linear pixels, or None when it has none (a missing file)."""
-        key = image.as_pointer()
+    def pixels(self, image, tile=None):
+        """The image's linear pixels (of a tiled image, those of its tile `tile`; None: its
+        first), MISSING_PIXELS where it has none: a missing file is named in
+        `missing_images`, a UV outside the tiles there are is not (Cycles shows it
+        magenta too)."""
+        key = (image.as_pointer(), tile)
         if key not in self.images:
-            self.images[key] = _linear_pixels(image)
+            pixels = linear_pixels(image) if tile is None else tile_pixels(image, tile)
+            if pixels is None:
+                if tile is None or tile in (t.number for t in image.tiles):
+                    self.missing_images.add(image.name if tile is None else f"{image.name} tile {tile}")
+                pixels = MISSING_PIXELS
+            self.images[key] = pixels
         return self.images[key]
 
     def average(self, image):
+        """The mean colour of the image (a tiled one's first tile)."""
         key = image.as_pointer()
         if key not in self._averages:
-            pixels = self.pixels(image)
-            self._averages[key] = None if pixels is None else pixels.reshape(-1, 3).mean(axis=0, dtype=np.float64)
+            self._averages[key] = self.pixels(image).reshape(-1, 3).mean(axis=0, dtype=np.float64)
         return self._averages[key]
 
 
@@ -273,8 +284,7 @@ class _Evaluation:
         """A BaseColour's mean colour: its image's average times its factor."""
         average = np.array(colour.factor, dtype=np.float64)
         if colour.image is not None:
-            image_average = self.surfaces.average(colour.image)
-            average = average * (1.0 if image_average is None else image_average)
+            average = average * self.surfaces.average(colour.image)
         return average
 
     def colour(self, socket, depth):
@@ -298,7 +308,7 @@ class _Evaluation:
                 return mixed
         image = upstream_image(socket)  # what the renderer did before it read images
         self.approximated = True
-        if image is not None and self.surfaces.average(image) is not None:
+        if image is not None:
             return constant(self.surfaces.average(image))
         return constant(socket.default_value)
 
@@ -382,23 +392,3 @@ def upstream_image(socket):
             return None
     return None
 
-
-def _linear_pixels(image):
-    """(H, W, 3) linear float32 pixels of an image, top row first, or None when it has
-    none (a missing file).
-
-    Float images hold scene-linear values; byte images hold their colour space's
-    encoding, which for anything but linear or non-colour data is taken as sRGB.
-    """
-    width, height = image.size
-    channels = image.channels
-    if width * height == 0 or channels == 0:
-        return None
-    pixels = np.empty(width * height * channels, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    pixels = pixels.reshape(height, width, channels)[::-1]  # Blender's rows start at the bottom
-    rgb = pixels[..., :3] if channels >= 3 else np.repeat(pixels[..., :1], 3, axis=2)
-    colour_space = image.colorspace_settings.name.lower()
-    if not image.is_float and not colour_space.startswith(LINEAR_COLOUR_SPACES):
-        rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
-    return np.ascontiguousarray(rgb, dtype=np.float32)

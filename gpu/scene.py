@@ -217,7 +217,8 @@ class Scene:
     none).
     `approximated_materials` names the materials the extraction could only approximate:
     a name alone when their colour is approximated, "name: what" for shaders the preview
-    does not support ("Smoke: volume (rendered as an opaque surface)"). Positions, lights and camera are relative to the world point `origin`
+    does not support ("Smoke: volume (rendered as an opaque surface)"); `missing_images`
+    names the images without pixels (missing files), which `images` holds as magenta. Positions, lights and camera are relative to the world point `origin`
     (float64; None: the world origin), which `sanitize` moves to the scene when it is far
     (`local_origin`) before anything becomes float32. `dropped` counts what `sanitize` removed, by reason. Once sanitized, the
     triangles the camera sees are the range `camera_triangles` (first, count) and those
@@ -239,6 +240,7 @@ class Scene:
     point_emitters: np.ndarray = None
     images: list = field(default_factory=list)
     approximated_materials: list = field(default_factory=list)
+    missing_images: list = field(default_factory=list)
     origin: np.ndarray = None
     sanitized: bool = False
     camera_triangles: tuple = None

@@ -124,3 +124,92 @@ def test_a_volume_is_listed_in_stats_json(tmp_path):
     assert main(["render", str(blend), "--out", str(out), *SMALL]) == 0
     stats = json.loads((out / "stats.json").read_text())
     assert stats["approximated_materials"] == ["Smoke: volume (rendered as an opaque surface)"]
+
+
+def render_direct(scene, tmp_path, capsys=None):
+    """The direct pass and stats.json of `scene` rendered by the command line (and its
+    stderr, when `capsys` is given)."""
+    blend = tmp_path / "scene.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+    out = tmp_path / "out"
+    if capsys is not None:
+        capsys.readouterr()
+    assert main(["render", str(blend), "--out", str(out), *SMALL]) == 0
+    from lpv_preview.gpu.image_io import read_exr
+    stderr = capsys.readouterr().err if capsys is not None else ""
+    return read_exr(str(out / "passes.exr"))["direct"], json.loads((out / "stats.json").read_text()), stderr
+
+
+def missing_image():
+    image = bpy.data.images.new("Brick", 4, 4)
+    image.source, image.filepath = "FILE", "//textures/no_such_brick.png"
+    image.reload()
+    return image
+
+
+def test_a_missing_image_renders_magenta_with_a_warning(tmp_path, capsys):
+    scene, _ = floor_scene(lambda: image_material(missing_image()))
+    extracted = scene_to_render(scene)
+    assert extracted.missing_images == ["Brick"] and extracted.approximated_materials == []
+    np.testing.assert_allclose(extracted.images[0].pixels.reshape(-1, 3), [[1.0, 0.0, 1.0]])
+    direct, stats, stderr = render_direct(scene, tmp_path, capsys)
+    middle = direct[16:48, 16:48]
+    assert middle[..., 0].min() > 0 and middle[..., 1].max() == 0
+    np.testing.assert_allclose(middle[..., 2], middle[..., 0], rtol=1e-3)  # magenta: red and blue alike
+    warning = ("Image 'Brick' is missing and renders magenta; find its file with File > External Data > Find "
+               "Missing Files.")
+    assert stats["missing_images"] == ["Brick"] and stats["missing_images_warning"] == warning
+    assert [line for line in stderr.splitlines() if "missing" in line] == [f"lpv_preview: warning: {warning}"]
+
+
+TILE_COLOURS = {1001: (1.0, 0.0, 0.0), 1002: (0.0, 0.0, 1.0)}
+
+
+def udim_image(folder, packed):
+    """A tiled image of TILE_COLOURS' tiles, each a 4 x 4 PNG written with bpy in `folder`
+    (`packed`: packed into the file, the PNGs removed)."""
+    for number, colour in TILE_COLOURS.items():
+        tile = bpy.data.images.new(f"tile {number}", 4, 4)
+        tile.pixels.foreach_set(np.tile(np.array([*colour, 1.0], np.float32), 16))
+        tile.filepath_raw, tile.file_format = str(folder / f"tiles.{number}.png"), "PNG"
+        tile.save()
+        bpy.data.images.remove(tile)
+    image = bpy.data.images.load(str(folder / "tiles.1001.png"))
+    image.name, image.source, image.filepath = "Tiles", "TILED", str(folder / "tiles.<UDIM>.png")
+    image.reload()
+    assert [tile.number for tile in image.tiles] == list(TILE_COLOURS)
+    if packed:
+        image.pack()
+        for number in TILE_COLOURS:
+            (folder / f"tiles.{number}.png").unlink()
+    return image
+
+
+def two_tile_floor(folder, packed):
+    """floor_scene's camera and light over a 4 m floor of two quads textured by
+    udim_image, x < 0 at UV u 0-1 (tile 1001) and x > 0 at u 1-2 (tile 1002)."""
+    scene, plane = floor_scene(lambda: image_material(udim_image(folder, packed)))
+    mesh = bpy.data.meshes.new("Two tiles")
+    mesh.from_pydata([(x, y, 0) for x in (-2, 0, 2) for y in (-2, 2)], [], [(0, 2, 3, 1), (2, 4, 5, 3)])
+    uv = mesh.uv_layers.new(name="UVMap")
+    for loop in mesh.loops:
+        x, y, _ = mesh.vertices[loop.vertex_index].co
+        uv.uv[loop.index].vector = ((x + 2) / 2, (y + 2) / 4)
+    mesh.materials.append(plane.data.materials[0])
+    plane.data = mesh
+    return scene
+
+
+@pytest.mark.parametrize("packed", [False, True])
+def test_udim_tiles_are_read_at_their_uv_offsets(tmp_path, packed):
+    scene = two_tile_floor(tmp_path, packed)
+    extracted = scene_to_render(scene)
+    assert sorted(i.name for i in extracted.images) == ["Tiles.1001", "Tiles.1002"]
+    assert extracted.missing_images == [] and extracted.approximated_materials == []
+    for surface_image in extracted.images:
+        colour = TILE_COLOURS[int(surface_image.name.split(".")[-1])]
+        np.testing.assert_allclose(surface_image.pixels.reshape(-1, 3), [colour] * 16, atol=1e-6)
+    direct, stats, _ = render_direct(scene, tmp_path)
+    left, right = direct[20:44, 8:28].reshape(-1, 3), direct[20:44, 36:56].reshape(-1, 3)
+    assert left[:, 0].min() > 0 and left[:, 1:].max() == 0  # tile 1001: red
+    assert right[:, 2].min() > 0 and right[:, :2].max() == 0  # tile 1002: blue

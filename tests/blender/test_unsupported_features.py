@@ -162,6 +162,20 @@ def test_a_missing_image_renders_magenta_with_a_warning(tmp_path, capsys):
     assert [line for line in stderr.splitlines() if "missing" in line] == [f"lpv_preview: warning: {warning}"]
 
 
+def test_f12_keeps_the_missing_image_warning_for_the_statistics_panel():
+    from lpv_preview.addon.frame_stats import last_stats, missing_images_warning
+    scene, _ = floor_scene(lambda: image_material(missing_image()))
+    lpv_preview.register()
+    try:
+        scene.render.engine = ENGINE_ID
+        scene.lpv_preview.rsm_resolution, scene.lpv_preview.vpls_per_light = 64, 256
+        bpy.ops.render.render()
+        stats = dict(last_stats())  # unregistering forgets them
+    finally:
+        lpv_preview.unregister()
+    assert stats["missing_images"] == ["Brick"] and "'Brick' is missing" in missing_images_warning(stats)
+
+
 TILE_COLOURS = {1001: (1.0, 0.0, 0.0), 1002: (0.0, 0.0, 1.0)}
 
 

@@ -12,7 +12,6 @@ import lpv_preview
 from lpv_preview.__main__ import main
 from lpv_preview.addon.engine import ENGINE_ID
 from lpv_preview.addon.render_scene import scene_to_render
-from lpv_preview.gpu.errors import LPVError
 
 from .test_textures import floor_scene, image_material, material_with
 

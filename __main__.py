@@ -39,6 +39,9 @@ def main(argv=None):
     warning = software_renderer_warning()
     if warning:
         print(f"lpv_preview: warning: {warning}", file=sys.stderr)
+    missing = result.get("missing_images_warning") if isinstance(result, dict) else None
+    if missing:
+        print(f"lpv_preview: warning: {missing}", file=sys.stderr)
     print(json.dumps(result, indent=2))
     return 0
 

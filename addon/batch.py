@@ -16,8 +16,8 @@ from ..gpu.errors import LPVError
 from ..gpu.image_io import read_exr_metadata, write_exr, write_png
 from ..gpu.pipeline import Pipeline, render_once
 from .corrected_render import corrected_frame, workers_for
-from .extract import output_layout
-from .frame_stats import renderer_warning
+from .extract import check_camera, output_layout
+from .frame_stats import missing_images_warning, renderer_warning
 from .render_scene import scene_to_render
 from .view_transform import scene_view_transform
 
@@ -53,8 +53,9 @@ def write_outputs(frame, layout, out_dir, extra_stats, view_transform):
     write_exr(os.path.join(out_dir, "passes.exr"), images, renderer_metadata(frame.stats))
     write_png(os.path.join(out_dir, "combined.png"), images["combined"], view_transform)
     write_png(os.path.join(out_dir, "indirect.png"), images["indirect"], view_transform)
-    warning = renderer_warning(frame.stats)
-    stats = {**extra_stats, **frame.stats, **({"renderer_warning": warning} if warning else {})}
+    warning, missing = renderer_warning(frame.stats), missing_images_warning(frame.stats)
+    stats = {**extra_stats, **frame.stats, **({"renderer_warning": warning} if warning else {}),
+             **({"missing_images_warning": missing} if missing else {})}
     with open(os.path.join(out_dir, "stats.json"), "w") as handle:
         json.dump(stats, handle, indent=2)
     return stats
@@ -81,7 +82,9 @@ def render_to_files(bpy_scene, settings, passes, out_dir, extra_stats, correctio
 
 def checked_layout(bpy_scene, settings):
     """What the render writes of a frame of `settings`' size (addon/extract.py
-    output_layout), refused in one sentence when its region holds no pixel."""
+    output_layout), refused in one sentence when its region holds no pixel or its camera
+    is panoramic (before any frame is read or rendered)."""
+    check_camera(bpy_scene)
     layout = output_layout(bpy_scene, (settings.width, settings.height))
     if layout.empty:
         raise LPVError("The render region is narrower than a pixel; draw a larger one (Ctrl-B) or clear it "
@@ -176,7 +179,7 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
         made = ", ".join(f"{count} {reason}" for reason, count in again.items())
         print(f"lpv_preview: rendering again {sum(again.values())} frames already in '{out_dir}', made {made}.",
               file=sys.stderr, flush=True)
-    timings, corrected, rebuild = [], {}, None
+    timings, corrected, rebuild, missing = [], {}, None, None
     correcting = (workers_for(bpy_scene, correction, (settings.width, settings.height), blend_path, scheduler)
                   if seconds > 0 and todo else nullcontext())
     with correcting as workers:
@@ -188,6 +191,7 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
                 bpy_scene.frame_set(frame)
                 scene = scene_to_render(bpy_scene, (settings.width, settings.height))
                 result = pipeline.render_converged(scene, passes=rendered)
+                missing = missing or missing_images_warning(result.stats)
                 if workers is not None:
                     corrected[frame] = correct(workers, pipeline, scene, result, seconds, frame, rebuild)
                     rebuild = corrected[frame]["correction_rebuild_seconds"]
@@ -200,7 +204,7 @@ def render_animation(bpy_scene, frames, settings, passes, out_dir, overwrite=Fal
     return {"out": os.path.abspath(out_dir), "frames": [frames.start, frames[-1]], "rendered": len(todo),
             "skipped": len(frames) - len(todo), "rendered_again": again,
             "seconds_per_frame": sum(timings) / len(timings) if timings else 0.0, "corrections": corrected,
-            **renderer}
+            **renderer, **({"missing_images_warning": missing} if missing else {})}
 
 
 

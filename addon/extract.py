@@ -8,8 +8,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..gpu.errors import LPVError
 from ..gpu.output_layout import OutputLayout
 from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Film, Light, Scene, SurfaceImage, local_origin
+from .image_pixels import tile_numbers
 from .materials import MaterialSurfaces
 from .world import world_of
 from .point_emitters import PointEmitters
@@ -49,10 +51,11 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     that viewport hides (local view, per-viewport collection visibility); objects hidden
     for the whole view layer are already absent from the depsgraph, as are objects
     disabled in renders when the depsgraph is a render one.
-    Raises LPVError when nothing with triangles or no light is visible.
+    Raises LPVError for a panoramic camera (before reading anything else) and when
+    nothing with triangles or no light is visible.
     """
-    geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
     camera = extract_camera(depsgraph, resolution)
+    geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
     scene = Scene(**geometry, lights=[], film=film_of(depsgraph.scene_eval))
     return scene.in_local_frame(lights, camera, world_of(depsgraph.scene_eval)).sanitize()
 
@@ -124,11 +127,14 @@ def _assemble(meshes, batches, surfaces, emitters=None):
     vertex_colors = np.ones((total, 3, 3), dtype=np.float32) if coloured else None
     images, layers = [], {}
 
-    def layer_of(image):
-        if image.as_pointer() not in layers:
-            layers[image.as_pointer()] = len(images)
-            images.append(SurfaceImage(image.name, surfaces.pixels(image)))
-        return layers[image.as_pointer()]
+    def layer_of(image, tile=None):
+        """The layer of `image` (of a tiled one, of its tile `tile`)."""
+        key = (image.as_pointer(), tile)
+        if key not in layers:
+            layers[key] = len(images)
+            images.append(SurfaceImage(image.name if tile is None else f"{image.name}.{tile}",
+                                       surfaces.pixels(image, tile)))
+        return layers[key]
 
     approximated = set(surfaces.approximated)
     start = 0
@@ -163,7 +169,8 @@ def _assemble(meshes, batches, surfaces, emitters=None):
     return {"triangles": triangles, "normals": normals, "albedo": albedo,
             "emission": emission if emission.any() else None, "visibility": visibility,
             "vertex_colors": vertex_colors, "uvs": uvs, "image_layers": image_layers if images else None,
-            "images": images, "approximated_materials": sorted(approximated), "origin": origin,
+            "images": images, "approximated_materials": surfaces.approximated_entries(approximated), "origin": origin,
+            "missing_images": sorted(surfaces.missing_images),
             "point_emitters": emitters.array(origin) if emitters is not None else None}
 
 
@@ -313,7 +320,8 @@ class LocalMesh:
 
     def surface(self, slots, surfaces, layer_of):
         """The MeshSurface of an instance whose material slots have the BaseColours
-        `slots`; `layer_of(image)` is the image's layer in the scene. Kept per slots."""
+        `slots`; `layer_of(image, tile)` is the image's (UDIM tile's) layer in the scene.
+        Kept per slots."""
         if slots not in self._surfaces:
             self._surfaces[slots] = self._surface(slots, surfaces, layer_of)
         return self._surfaces[slots]
@@ -321,7 +329,7 @@ class LocalMesh:
     def _surface(self, slots, surfaces, layer_of):
         slot = np.minimum(self.material_index, len(slots) - 1)
         factors = np.array([colour.factor for colour in slots], dtype=np.float32)
-        layers = np.full(len(slots), -1, dtype=np.int16)
+        layers = np.full(self.triangle_count, -1, dtype=np.int16)
         uvs = colors = None
         approximated = set()
         for index, colour in enumerate(slots):
@@ -332,7 +340,7 @@ class LocalMesh:
                     factors[index] *= surfaces.average(colour.image)
                     approximated.add(colour.material)
                 else:
-                    layers[index] = layer_of(colour.image)
+                    layers[triangles] = _image_layers(colour.image, uv[triangles], layer_of)
                     uvs = np.zeros((self.triangle_count, 3, 2), np.float32) if uvs is None else uvs
                     uvs[triangles] = uv[triangles]
             if colour.attribute is not None:
@@ -343,7 +351,20 @@ class LocalMesh:
                     colors = np.ones((self.triangle_count, 3, 3), np.float32) if colors is None else colors
                     colors[triangles] = corner[triangles]
         emission = np.array([colour.emission for colour in slots], dtype=np.float32)
-        return MeshSurface(factors[slot], layers[slot], uvs, colors, approximated, emission[slot])
+        return MeshSurface(factors[slot], layers, uvs, colors, approximated, emission[slot])
+
+
+def _image_layers(image, uvs, layer_of):
+    """The image layer of each triangle of corner UVs `uvs` that reads `image`: its own,
+    or for a tiled (UDIM) image the layer of the tile under the triangle
+    (addon/image_pixels.py says why per triangle)."""
+    if image.source != "TILED":
+        return layer_of(image)
+    tiles = tile_numbers(uvs)
+    layers = np.empty(len(tiles), dtype=np.int16)
+    for tile in np.unique(tiles):
+        layers[tiles == tile] = layer_of(image, int(tile))
+    return layers
 
 
 def _corner_uvs(mesh, name, corners):
@@ -408,12 +429,25 @@ def _light(obj, matrix):
                  name=obj.name, **spot)
 
 
+def check_camera(scene):
+    """Refuse a scene whose camera is panoramic, in one sentence: the G-buffer is a
+    raster of one view and projection matrix, which no panoramic mapping has."""
+    camera = scene.camera
+    data = getattr(camera, "data", None)
+    if getattr(data, "type", None) == "PANO":
+        kind = data.panorama_type.replace("_", " ").lower()
+        raise LPVError(f"The camera '{camera.name}' is panoramic ({kind}), which LPV Preview cannot render; set its "
+                       f"Lens Type to Perspective or Orthographic, or render it with Cycles.")
+
+
 def extract_camera(depsgraph, resolution=None):
-    """The scene camera's view and projection (None without a scene camera)."""
+    """The scene camera's view and projection (None without a scene camera); a
+    panoramic one is refused (check_camera)."""
     scene = depsgraph.scene_eval
     camera = scene.camera
     if camera is None:
         return None
+    check_camera(scene)
     width, height = resolution if resolution is not None else render_resolution(scene)
     projection = camera.calc_matrix_camera(depsgraph, x=int(width), y=int(height),
                                            scale_x=scene.render.pixel_aspect_x,

@@ -109,8 +109,7 @@ def render_final(engine, depsgraph):
                                    display_settings=display, stop=stop.is_set, progress=averaged.append)
     frame = wait_for(job, engine, stop, averaged)
     frame_stats.remember(frame.stats)
-    warning = frame_stats.renderer_warning(frame.stats)
-    if warning:
+    for warning in frame_stats.warnings(frame.stats):
         engine.report({"WARNING"}, warning)
     engine.update_progress(0.9)
     result = engine.begin_result(0, 0, *layout.region_size)  # Blender's result holds the region alone

@@ -8,11 +8,15 @@ nothing, a UV Map node or Texture Coordinate's UV), a Color Attribute or a geome
 Attribute node, or a Mix of those with a constant factor that multiplies or picks one
 side. Anything else is approximated the way the renderer has always done it (the
 nearest upstream image's average, or the socket's or the material's display colour), and
-the material is named in `approximated`: the panel and stats.json list them.
+the material is named in `approximated`: the panel and stats.json list them. Shaders the
+preview does not render as Cycles does (UNSUPPORTED_SHADERS, PRINCIPLED_UNSUPPORTED, a
+linked Volume) name what they are and what the preview does with them beside the name.
 """
 from dataclasses import dataclass, replace
 
 import numpy as np
+
+from .image_pixels import LINEAR_COLOUR_SPACES, linear_pixels, tile_pixels
 
 DEFAULT_ALBEDO = (0.8, 0.8, 0.8)
 """Blender's colour for a surface without a material."""
@@ -20,11 +24,53 @@ DEFAULT_ALBEDO = (0.8, 0.8, 0.8)
 NON_REFLECTING_SHADERS = {"EMISSION", "HOLDOUT", "BSDF_TRANSPARENT"}
 """Shader nodes that reflect no light diffusely."""
 
+AS_DISPLAY_COLOUR = "rendered as an opaque diffuse surface in the display colour"
+AS_OPAQUE_BLACK = "rendered as an opaque black surface"
+VOLUME = "volume (rendered as an opaque surface)"
+
+UNSUPPORTED_SHADERS = {
+    "BSDF_GLASS": f"glass ({AS_DISPLAY_COLOUR})",
+    "BSDF_REFRACTION": f"refraction ({AS_DISPLAY_COLOUR})",
+    "BSDF_TRANSLUCENT": f"translucency ({AS_DISPLAY_COLOUR})",
+    "SUBSURFACE_SCATTERING": f"subsurface scattering ({AS_DISPLAY_COLOUR})",
+    "BSDF_HAIR": f"hair ({AS_DISPLAY_COLOUR})",
+    "BSDF_HAIR_PRINCIPLED": f"hair ({AS_DISPLAY_COLOUR})",
+    "BSDF_TOON": f"toon ({AS_DISPLAY_COLOUR})",
+    "BSDF_SHEEN": f"sheen ({AS_DISPLAY_COLOUR})",
+    "BSDF_GLOSSY": f"glossy reflection ({AS_DISPLAY_COLOUR})",
+    "BSDF_METALLIC": f"metallic reflection ({AS_DISPLAY_COLOUR})",
+    "BSDF_RAY_PORTAL": f"ray portal ({AS_DISPLAY_COLOUR})",
+    "EEVEE_SPECULAR": f"EEVEE specular ({AS_DISPLAY_COLOUR})",
+    "HOLDOUT": f"holdout ({AS_OPAQUE_BLACK}, not cut out)",
+    "BSDF_TRANSPARENT": f"transparency ({AS_OPAQUE_BLACK})",
+    "PRINCIPLED_VOLUME": VOLUME,
+    "VOLUME_SCATTER": VOLUME,
+    "VOLUME_ABSORPTION": VOLUME,
+    "VOLUME_COEFFICIENTS": VOLUME,
+}
+"""Shader node type -> what it is and what the preview does with it, for the shaders the
+preview does not render as Cycles does: one table, so that the list of approximated
+materials says the same of every material using one."""
+
+PRINCIPLED_UNSUPPORTED = {
+    "Transmission Weight": "transmission (rendered opaque: the transmitted part is black)",
+    "Subsurface Weight": "subsurface scattering (rendered as plain diffuse)",
+    "Alpha": "alpha (ignored: rendered opaque)",
+}
+"""Principled BSDF inputs -> what the preview does with them, where they differ from
+their no-effect value (Alpha 1, the others 0) or are linked."""
+
+PRINCIPLED_NO_EFFECT = {"Alpha": 1.0}
+"""The value at which a PRINCIPLED_UNSUPPORTED input has no effect (0 when not here)."""
+
+COLOUR_APPROXIMATED = "diffuse colour approximated"
+
 UPSTREAM_IMAGE_SEARCH_DEPTH = 8
 """How many nodes back from a colour socket an Image Texture is still looked for."""
 
-LINEAR_COLOUR_SPACES = ("linear", "non-color", "raw")
-"""Image colour spaces (lower case, by prefix) whose pixel values are taken as they are."""
+MISSING_PIXELS = np.array([[[1.0, 0.0, 1.0]]], dtype=np.float32)
+"""What an image without pixels (a missing file, a missing UDIM tile) shows: magenta, as in
+Blender and Cycles."""
 
 
 @dataclass(frozen=True)
@@ -58,13 +104,16 @@ BLACK = constant((0.0, 0.0, 0.0))
 
 class MaterialSurfaces:
     """The BaseColour of every material slot, cached per material, with the images they
-    read (linear pixels, read once each) and the materials only approximated."""
+    read (linear pixels, read once each), the images missing and the materials only
+    approximated."""
 
     def __init__(self):
         self._materials = {}
         self._averages = {}
-        self.images = {}            # image pointer -> (H, W, 3) linear pixels, top row first
+        self.images = {}            # (image pointer, UDIM tile or None) -> (H, W, 3) linear pixels, top row first
+        self.missing_images = set()  # names of the images (and "name tile N") without pixels, rendered magenta
         self.approximated = set()   # material names
+        self.unsupported = {}       # material name -> what of it the preview does not support, in words
 
     def palette(self, obj, size):
         """The BaseColour of the object's material slots 0..size-1; indices past the last
@@ -80,25 +129,42 @@ class MaterialSurfaces:
         if key not in self._materials:
             evaluation = _Evaluation(self)
             colour = replace(evaluation.material(material), emission=evaluation.emission(material))
-            if colour.image is not None and self.pixels(colour.image) is None:  # a missing file: no pixels
-                colour, evaluation.approximated = replace(colour, image=None), True
-            if evaluation.approximated:
+            if evaluation.approximated or evaluation.unsupported:
                 self.approximated.add(material.name)
+            if evaluation.unsupported:
+                self.unsupported[material.name] = list(evaluation.unsupported) + (
+                    [COLOUR_APPROXIMATED] if evaluation.approximated else [])
             self._materials[key] = replace(colour, material=material.name)
         return self._materials[key]
 
-    def pixels(self, image):
-        """The image's linear pixels, or None when it has none (a missing file)."""
-        key = image.as_pointer()
+    def approximated_entries(self, names):
+        """The list that stats.json and the panel show of the approximated materials
+        `names`: a name alone when its diffuse colour is approximated, "name: what" when
+        it has shaders the preview does not support ("Smoke: volume (rendered as an
+        opaque surface)")."""
+        return [f"{name}: {'; '.join(self.unsupported[name])}" if name in self.unsupported else name
+                for name in sorted(names)]
+
+    def pixels(self, image, tile=None):
+        """The image's linear pixels (of a tiled image, those of its tile `tile`; None: its
+        first), MISSING_PIXELS where it has none: a missing file is named in
+        `missing_images`, a UV outside the tiles there are is not (Cycles shows it
+        magenta too)."""
+        key = (image.as_pointer(), tile)
         if key not in self.images:
-            self.images[key] = _linear_pixels(image)
+            pixels = linear_pixels(image) if tile is None else tile_pixels(image, tile)
+            if pixels is None:
+                if tile is None or tile in (t.number for t in image.tiles):
+                    self.missing_images.add(image.name if tile is None else f"{image.name} tile {tile}")
+                pixels = MISSING_PIXELS
+            self.images[key] = pixels
         return self.images[key]
 
     def average(self, image):
+        """The mean colour of the image (a tiled one's first tile)."""
         key = image.as_pointer()
         if key not in self._averages:
-            pixels = self.pixels(image)
-            self._averages[key] = None if pixels is None else pixels.reshape(-1, 3).mean(axis=0, dtype=np.float64)
+            self._averages[key] = self.pixels(image).reshape(-1, 3).mean(axis=0, dtype=np.float64)
         return self._averages[key]
 
 
@@ -108,6 +174,7 @@ class _Evaluation:
     def __init__(self, surfaces):
         self.surfaces = surfaces
         self.approximated = False
+        self.unsupported = {}  # what the preview does not support, in words, in the order met (a dict as a set)
 
     def material(self, material):
         fallback = constant(material.diffuse_color)
@@ -115,6 +182,8 @@ class _Evaluation:
         output = tree.get_output_node("CYCLES") if tree is not None else None
         if output is None:
             return fallback
+        if linked_node(output.inputs["Volume"]) is not None:
+            self.unsupported[VOLUME] = True
         colour = self.shader(output.inputs["Surface"], fallback, depth=0)
         return replace(colour, factor=tuple(float(c) for c in np.clip(colour.factor, 0.0, 1.0)))
 
@@ -171,7 +240,14 @@ class _Evaluation:
             return BLACK  # An unconnected surface renders black in Cycles.
         if depth > 32:
             return self.approximate(fallback)
+        if node.type in UNSUPPORTED_SHADERS:  # named, and rendered as it always was
+            self.unsupported[UNSUPPORTED_SHADERS[node.type]] = True
+            return BLACK if node.type in NON_REFLECTING_SHADERS else fallback
         if node.type == "BSDF_PRINCIPLED":
+            for name, what in PRINCIPLED_UNSUPPORTED.items():
+                socket = node.inputs[name]
+                if socket.is_linked or float(socket.default_value) != PRINCIPLED_NO_EFFECT.get(name, 0.0):
+                    self.unsupported[what] = True
             diffuse = 1.0
             for name in ("Metallic", "Transmission Weight"):
                 weight = node.inputs[name]
@@ -208,8 +284,7 @@ class _Evaluation:
         """A BaseColour's mean colour: its image's average times its factor."""
         average = np.array(colour.factor, dtype=np.float64)
         if colour.image is not None:
-            image_average = self.surfaces.average(colour.image)
-            average = average * (1.0 if image_average is None else image_average)
+            average = average * self.surfaces.average(colour.image)
         return average
 
     def colour(self, socket, depth):
@@ -233,7 +308,7 @@ class _Evaluation:
                 return mixed
         image = upstream_image(socket)  # what the renderer did before it read images
         self.approximated = True
-        if image is not None and self.surfaces.average(image) is not None:
+        if image is not None:
             return constant(self.surfaces.average(image))
         return constant(socket.default_value)
 
@@ -317,23 +392,3 @@ def upstream_image(socket):
             return None
     return None
 
-
-def _linear_pixels(image):
-    """(H, W, 3) linear float32 pixels of an image, top row first, or None when it has
-    none (a missing file).
-
-    Float images hold scene-linear values; byte images hold their colour space's
-    encoding, which for anything but linear or non-colour data is taken as sRGB.
-    """
-    width, height = image.size
-    channels = image.channels
-    if width * height == 0 or channels == 0:
-        return None
-    pixels = np.empty(width * height * channels, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    pixels = pixels.reshape(height, width, channels)[::-1]  # Blender's rows start at the bottom
-    rgb = pixels[..., :3] if channels >= 3 else np.repeat(pixels[..., :1], 3, axis=2)
-    colour_space = image.colorspace_settings.name.lower()
-    if not image.is_float and not colour_space.startswith(LINEAR_COLOUR_SPACES):
-        rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
-    return np.ascontiguousarray(rgb, dtype=np.float32)

@@ -9,7 +9,7 @@ from ..gpu.pipeline import STAGES as PIPELINE_STAGES
 from .comparison import IMAGES, last_comparison, row_label
 from .cycles_reference import ReferenceCache
 from .engine import ENGINE_ID
-from .frame_stats import last_stats, renderer_warning
+from .frame_stats import last_stats, missing_images_warning, renderer_warning
 from .properties import settings_from_properties
 
 SETTING_GROUPS = {
@@ -107,9 +107,12 @@ def draw_statistics(layout, stats):
     images = stats.get("images")
     if images:
         column.label(text=f"Images: {len(images)}")
+    missing = missing_images_warning(stats)
+    if missing:
+        column.label(text=missing, icon="ERROR")
     approximated = stats.get("approximated_materials")
     if approximated:
-        column.label(text="Approximated materials (colour from nodes not evaluated):", icon="ERROR")
+        column.label(text="Approximated materials (a name alone: colour from nodes not evaluated):", icon="ERROR")
         for name in approximated:
             column.label(text=f"    {name}")
 

@@ -348,7 +348,9 @@ class Pipeline:
             "skipped_emitters": lit.skipped_emitters, "triangles": scene.triangle_count,
             "dropped_triangles": dict(scene.dropped), "images": [image.name for image in scene.images],
             "approximated_materials": list(scene.approximated_materials),
-            "world": scene.world is not None, "world_approximated": list(scene.world.approximated) if scene.world else [], "rsm_resolution": s.rsm_resolution,
+            "world": scene.world is not None,
+            "world_approximated": list(scene.world.approximated) if scene.world else [],
+            "missing_images": list(scene.missing_images), "rsm_resolution": s.rsm_resolution,
             "rsm_faces": int(sum(m.rsm.face_count for m in maps)), **indirect.statistics(s),
             "image_size": [s.width, s.height], "renderer": self.glc.renderer,
             "software_renderer": self.glc.is_software})

@@ -237,8 +237,11 @@ class Scene:
     none). `world` (gpu/world.py World; None: none) lights the scene from afar and is
     what the camera sees where it sees no surface; `film` (Film) says how the pixels are
     filtered and whether that world is seen.
-    `approximated_materials` names the materials whose colour the extraction could only
-    approximate. Positions, lights and camera are relative to the world point `origin`
+    `approximated_materials` names the materials the extraction could only approximate:
+    a name alone when their colour is approximated, "name: what" for shaders the preview
+    does not support ("Smoke: volume (rendered as an opaque surface)"); `missing_images`
+    names the images without pixels (missing files), which `images` holds as magenta.
+    Positions, lights and camera are relative to the world point `origin`
     (float64; None: the world origin), which `sanitize` moves to the scene when it is far
     (`local_origin`) before anything becomes float32. `dropped` counts what `sanitize` removed, by reason. Once sanitized, the
     triangles the camera sees are the range `camera_triangles` (first, count) and those
@@ -262,6 +265,7 @@ class Scene:
     film: Film = Film()
     images: list = field(default_factory=list)
     approximated_materials: list = field(default_factory=list)
+    missing_images: list = field(default_factory=list)
     origin: np.ndarray = None
     sanitized: bool = False
     camera_triangles: tuple = None

@@ -47,9 +47,11 @@ NODE_LAYOUT = ("name", "label", "location", "location_absolute", "width", "heigh
                "warning_propagation", "type")
 """Node properties that only lay the node editor out."""
 
-DATA_NOT_RENDERED = ("name", "total_", "is_editmode", "use_mirror_", "use_paint_", "is_")
-"""Settings of a data-block (mesh, light, camera...) a render does not see: selection
-counts, edit-mode state and its own name (its instances name it)."""
+DATA_NOT_RENDERED = ("name", "name_full", "session_uid", "users", "use_fake_user", "use_extra_user", "tag",
+                     "id_type", "total_", "is_", "use_mirror_", "use_paint_")
+"""Settings of a data-block (mesh, light, camera...) a render does not see: its name (its
+instances name it), its id in this session (new at each evaluation), its users,
+selection counts and edit-mode state."""
 
 ATTRIBUTE_FIELDS = {"FLOAT": ("value", 1, np.float32), "INT": ("value", 1, np.int32),
                     "BOOLEAN": ("value", 1, bool), "INT8": ("value", 1, np.int32),
@@ -85,7 +87,7 @@ def plain_values(struct, leave_out=()):
     values = []
     for prop in struct.bl_rna.properties:
         name = prop.identifier
-        if prop.type not in PLAIN_TYPES or name == "rna_type" or left_out(name, leave_out):
+        if prop.type not in PLAIN_TYPES or name == "rna_type" or prop.is_deprecated or left_out(name, leave_out):
             continue
         try:
             values.append((name, plain(getattr(struct, name))))

@@ -3,10 +3,13 @@
 `comparison_steps` does the work one step at a time (each part of a Cycles render, each
 method, each peer), so the comparison operator can show progress and stop between steps
 when the user presses Esc; the command line runs the same steps to the end and prints each
-one. Errors are `gpu.metrics.image_errors` of our indirect and combined images against each
-reference's, per RSM method and indirect method; the peers a user would pick instead
-(addon/peers.py: EEVEE with ray tracing, Cycles at 1 and 4 samples with OpenImageDenoise)
-get the same figures, denoised Cycles on Combined only; and the reference's own noise
+one. Errors are `gpu.metrics.image_errors` per RSM method and indirect method: the main
+table's of our combined image against Cycles' Combined as F12 renders the scene (the F12
+reference, cycles_reference.py), the diagnostic table's of our indirect and combined
+images against Cycles' diffuse light alone (the one-bounce and full-GI references). The
+peers a user would pick instead (addon/peers.py: EEVEE with ray tracing, Cycles at 1 and 4
+samples with OpenImageDenoise) get the same figures, their Combined against F12's (EEVEE
+also its diffuse light against the diffuse references); and each reference's own noise
 floor is the same figures between two Cycles renders that differ only in the seed.
 """
 import math
@@ -16,10 +19,10 @@ from ..gpu.errors import LPVError
 from ..gpu.metrics import RELATIVE_EPSILON, error_map, figure_text, heat_map, image_errors
 from ..gpu.passes import COMPARED_PASS_NAMES as IMAGES
 from ..gpu.settings import INDIRECT_METHODS, METHODS
-from .cycles_reference import cycles_reference_in_parts, reference_key
+from .cycles_reference import F12, REFERENCE_KINDS, cycles_reference_in_parts, reference_key
 from .cycles_render import REFERENCE_BOUNCES
 from .peers import peer_renders
-from .render_scene import scene_to_render
+from .render_scene import scene_and_signature_to_render
 
 _last = []  # the last comparison the operator finished, for the panel
 
@@ -59,9 +62,14 @@ def method_label(method, indirect_method, vpl_sets):
             (f", {vpl_sets} VPL sets" if vpl_sets > 1 else ""))
 
 
+def reference_label(kind):
+    """A reference kind as the reports name it: 'F12', 'one bounce', 'full gi'."""
+    return "F12" if kind == F12 else kind.replace("_", " ")
+
+
 @dataclass
 class Comparison:
-    references: dict = field(default_factory=dict)   # kind -> CyclesReference (seed 0)
+    references: dict = field(default_factory=dict)   # kind -> F12Reference or CyclesReference (seed 0)
     noise_floor: dict = field(default_factory=dict)  # kind -> image -> metric -> value (seed 1 against seed 0)
     methods: list = field(default_factory=list)      # MethodResult
     peers: list = field(default_factory=list)        # addon/peers.py PeerRender
@@ -69,44 +77,67 @@ class Comparison:
     samples: int = 0
     resolution: tuple = ()
 
-    def heat_map(self, method_result, kind, image="indirect"):
-        """The relative error of a method's image against a reference, as an sRGB heat map."""
-        return heat_map(error_map(method_result.images[image], getattr(self.references[kind], image)))
+    def heat_map(self, method_result, kind, image=None):
+        """The relative error of a method's image (None: the first the reference measures:
+        F12's combined, a diffuse reference's indirect) against a reference, as an sRGB
+        heat map."""
+        reference = self.references[kind]
+        image = image or reference.compared_images[0]
+        return heat_map(error_map(method_result.images[image], getattr(reference, image)))
 
-    def table(self):
-        """The rows of the comparison table per reference: our methods, the peers rendered
-        for it (a peer's missing image, like denoised Cycles' indirect, has None figures),
-        then the noise floor. "ms" is the row's own render time, "cycles_s" the reference's."""
+    def table(self, kinds=None):
+        """The rows of the comparison table per reference of `kinds` (None: all): our
+        methods, the peers with images for it (one that could not render: in F12's table,
+        with None figures), then the noise floor. Each row has the figures of the images
+        its reference measures. "ms" is the row's own render time, "cycles_s" the
+        reference's."""
         rows = []
         for kind, reference in self.references.items():
+            if kinds is not None and kind not in kinds:
+                continue
+            images = reference.compared_images
             common = {"reference": kind, "cycles_s": reference.settings["render_seconds"]}
             for result in self.methods:
                 rows.append({"method": result.method, "indirect_method": result.indirect_method,
                              "vpl_sets": result.vpl_sets, **common, "ms": result.milliseconds,
-                             **_flat(result.errors[kind])})
+                             **_flat(result.errors[kind], images)})
             for peer, errors in zip(self.peers, self.peer_errors):
-                if peer.kind in (None, kind):
+                if kind in errors or (peer.missing and kind == F12):
                     rows.append({"method": peer.name, "indirect_method": None, **common,
                                  "ms": None if peer.seconds is None else peer.seconds * 1000,
-                                 **_flat(errors.get(kind, {})), **({"missing": peer.missing} if peer.missing else {})})
+                                 **_flat(errors.get(kind, {}), images),
+                                 **({"missing": peer.missing} if peer.missing else {})})
             if kind in self.noise_floor:
                 rows.append({"method": "Cycles seed 1", "indirect_method": None, **common, "ms": None,
-                             **_flat(self.noise_floor[kind])})
+                             **_flat(self.noise_floor[kind], images)})
         return rows
 
+    def main_table(self):
+        """The rows against F12's Combined: what the comparison measures."""
+        return self.table((F12,))
 
-def _flat(errors):
-    """Every image's figures as columns; an image without figures has None in each."""
-    return {f"{image}_{metric}": errors.get(image, {}).get(metric) for image in IMAGES
+    def diffuse_table(self):
+        """The rows against the diffuse references: where an error comes from."""
+        return self.table(tuple(REFERENCE_BOUNCES))
+
+
+def _flat(errors, images):
+    """Every one of `images`' figures as columns; an image without figures has None in each."""
+    return {f"{image}_{metric}": errors.get(image, {}).get(metric) for image in images
             for metric, _, _ in METRIC_COLUMNS}
 
 
-def _errors(test, reference, against=None):
-    """Figures of each compared image `test` has against `reference`'s image of the same
-    name, or of the name `against` gives."""
-    against = against or {}
-    return {image: image_errors(test[image], getattr(reference, against.get(image, image)))
-            for image in IMAGES if image in test}
+def _errors(test, reference):
+    """Figures of each image the `reference` measures that `test` ({name: image}) has."""
+    return {image: image_errors(test[image], getattr(reference, image))
+            for image in reference.compared_images if image in test}
+
+
+def peer_errors(peer, references):
+    """A peer's figures per reference kind: its images against F12's, its diffuse images
+    against the diffuse references'."""
+    return {kind: _errors(peer.images if kind == F12 else peer.diffuse_images, reference)
+            for kind, reference in references.items() if (peer.images if kind == F12 else peer.diffuse_images)}
 
 
 def full_frame(settings, lpv_scene):
@@ -129,11 +160,12 @@ def _full_frame(settings, lpv_scene):
         pipeline.release()
 
 
-def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(REFERENCE_BOUNCES),
+def comparison_steps(scene, methods, samples, settings, cache=None, kinds=REFERENCE_KINDS,
                      noise_floor=True, indirect_methods=None, peers=False):
     """Compare `scene` (its camera, frame and `settings`' image size) rendered by each of
     `methods` with each of `indirect_methods` (None: the settings' own), and with `peers`
-    its peers (addon/peers.py), with the `kinds` of Cycles reference at `samples`.
+    its peers (addon/peers.py), with the `kinds` of Cycles reference at `samples` (F12's
+    first, then the diffuse ones).
 
     A generator: it yields (fraction done, what it does) before each step, after each
     part of a Cycles render (its samples, seconds and the time left) and, once the first
@@ -150,33 +182,32 @@ def comparison_steps(scene, methods, samples, settings, cache=None, kinds=tuple(
         raise LPVError(f"Unknown indirect method '{','.join(unknown)}'; choose from {', '.join(INDIRECT_METHODS)}.")
     resolution = (settings.width, settings.height)
     comparison = Comparison(samples=samples, resolution=resolution)
-    lpv_scene = scene_to_render(scene, resolution)
+    lpv_scene, signature = scene_and_signature_to_render(scene, resolution)
     renders = [(kind, seed) for kind in kinds for seed in ((0, 1) if noise_floor else (0,))]
     to_render = [(kind, seed) for kind, seed in renders if cache is None
-                 or not cache.holds(reference_key(lpv_scene, scene.world, kind, samples, seed, resolution))]
-    peer_steps = peer_renders(scene, kinds, resolution, lpv_scene, cache) if peers else []
+                 or not cache.holds(reference_key(signature, kind, samples, seed, resolution))]
+    peer_steps = peer_renders(scene, resolution, signature, cache) if peers else []
     ours = [(method, indirect) for method in methods for indirect in indirect_methods]
     steps = len(renders) + len(peer_steps) + len(ours)
     for step, (kind, seed) in enumerate(renders):
-        label = f"Cycles {kind.replace('_', ' ')} {'reference' if seed == 0 else 'noise floor (a second seed)'}"
+        label = f"Cycles {reference_label(kind)} {'reference' if seed == 0 else 'noise floor (a second seed)'}"
         rendered = (kind, seed) in to_render
         yield step / steps, f"{label}: " + (f"{samples} samples at {resolution[0]}×{resolution[1]}" if rendered
                                             else "from the cache")
-        parts = cycles_reference_in_parts(scene, kind, samples, seed, resolution, cache, lpv_scene)
+        parts = cycles_reference_in_parts(scene, kind, samples, seed, resolution, cache, signature)
         estimate_renders = len(to_render) if rendered and (kind, seed) == to_render[0] else 0
         reference = yield from _parts_as_steps(parts, label, comparison, step / steps, 1 / steps, estimate_renders)
         if seed == 0:
             comparison.references[kind] = reference
         else:
-            comparison.noise_floor[kind] = _errors({image: getattr(reference, image) for image in IMAGES},
+            comparison.noise_floor[kind] = _errors({image: getattr(reference, image)
+                                                    for image in reference.compared_images},
                                                    comparison.references[kind])
     for index, (label, render) in enumerate(peer_steps):
         yield (len(renders) + index) / steps, label
         peer = render()
         comparison.peers.append(peer)
-        comparison.peer_errors.append({kind: _errors(peer.images, reference, peer.against)
-                                       for kind, reference in comparison.references.items()
-                                       if peer.kind in (None, kind)})
+        comparison.peer_errors.append(peer_errors(peer, comparison.references))
     for index, (method, indirect) in enumerate(ours):
         result = MethodResult(method, indirect, 0.0, {})
         yield (len(renders) + len(peer_steps) + index) / steps, f"LPV Preview {result.label}"
@@ -241,33 +272,59 @@ def row_label(row):
 
 
 def markdown_table(comparison):
-    """The comparison table in Markdown: per method, peer and reference, the row's and
-    Cycles' time, the indirect and combined errors and means; denoised Cycles' combined
-    figures are of Cycles' Combined pass against the reference's; the noise floor rows are
-    Cycles against itself. An undefined figure is a dash."""
-    head = ["method", "reference", "ms", "Cycles s"] + [f"{image} {label}" for image in IMAGES
-                                                         for _, label, _ in METRIC_COLUMNS]
+    """The comparison's tables in Markdown: first, per method, peer and noise floor, the
+    row's and Cycles' time and the combined image's errors and means against Cycles'
+    Combined as F12 renders the scene; under it, the diagnostic table of the indirect and
+    combined images against Cycles' diffuse light alone, per diffuse reference. An
+    undefined figure is a dash."""
+    text = ""
+    main = comparison.main_table()
+    if main:
+        text += _markdown_rows(main, comparison.references[F12].compared_images, with_reference=False)
+    diffuse = comparison.diffuse_table()
+    if diffuse:
+        text += ("\n## Diffuse light alone (diagnostic)\n\nThe same figures against Cycles' diffuse passes "
+                 "(diffuse direct and indirect light, without glossy, emission or the world seen directly), with "
+                 "one bounce and with full GI: where an error of the table above comes from.\n\n")
+        text += _markdown_rows(diffuse, IMAGES, with_reference=True)
+    return text
+
+
+def _markdown_rows(rows, images, with_reference):
+    head = ["method", *(["reference"] if with_reference else []), "ms", "Cycles s"] + [
+        f"{image} {label}" for image in images for _, label, _ in METRIC_COLUMNS]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    for row in comparison.table():
-        cells = [row_label(row), row["reference"].replace("_", " "),
+    for row in rows:
+        cells = [row_label(row), *([reference_label(row["reference"])] if with_reference else []),
                  "" if row["ms"] is None else f"{row['ms']:.1f}", f"{row['cycles_s']:.1f}"]
-        cells += [figure_text(row[f"{image}_{metric}"], fmt) for image in IMAGES for metric, _, fmt in METRIC_COLUMNS]
+        cells += [figure_text(row[f"{image}_{metric}"], fmt) for image in images for metric, _, fmt in METRIC_COLUMNS]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 
 TABLE_LEGEND = (
+    ("the table", "each row is measured against Cycles' Combined pass as F12 renders the scene with its own "
+                  "settings (its bounces, world, glossy, transmission, emission, clamping, film, pixel filter and "
+                  "view layer), only its samples (the comparison's, all of them: no adaptive sampling, time limit or "
+                  "denoising, which change the noise, not the picture), seed and image size replaced; our combined "
+                  "image, EEVEE's and denoised Cycles' Combined pass are measured against it"),
+    ("the diagnostic table", "the same figures against Cycles' diffuse light alone (its Diffuse Direct and "
+                             "Indirect passes times Diffuse Color, with a 0.01 px pixel filter) to tell where an "
+                             "error comes from: our indirect and combined images, EEVEE's diffuse light"),
     ("method", "what made the row: our RSM method and indirect method (and the VPL sets it averages), a peer "
-               "(EEVEE with ray tracing; Cycles at 1 or 4 samples denoised by OpenImageDenoise, combined only), "
-               "or \"Cycles seed 1\": the reference rendered again with another seed, its own noise. A row whose "
-               "figures are as good as that row's is as close to Cycles as the reference can tell"),
-    ("reference", "the Cycles reference the row is measured against: one bounce (light that bounced off one "
-                  f"surface at most) or full GI (up to {REFERENCE_BOUNCES['full_gi']} bounces)"),
+               "(EEVEE with ray tracing; Cycles at 1 or 4 samples denoised by OpenImageDenoise as F12 renders the "
+               "scene, in the table only), or \"Cycles seed 1\": the reference rendered again with another seed, "
+               "its own noise. A row whose figures are as good as that row's is as close to Cycles as the "
+               "reference can tell"),
+    ("reference", "in the diagnostic table, the diffuse reference the row is measured against: one bounce (light "
+                  "that bounced off one surface at most) or full GI (up to "
+                  f"{REFERENCE_BOUNCES['full_gi']} bounces)"),
     ("ms", "the row's render time in milliseconds (ours: every stage redone, shaders compiled; a peer: its "
            "wall time); lower is faster"),
     ("Cycles s", "the reference's render time in seconds"),
     ("indirect …, combined …", "the image measured: indirect is the light that bounced off a surface before "
-                               "reaching the camera, combined is the whole image (direct plus indirect)"),
+                               "reaching the camera, combined is the whole image (direct plus indirect; in the "
+                               "diagnostic table, Cycles' diffuse direct plus indirect)"),
     ("PSNR dB", "peak signal-to-noise ratio in decibels, the peak being the reference's brightest pixel; "
                 "higher is better"),
     ("relMSE", f"relative mean squared error, mean of (ours − Cycles)² / (Cycles² + {RELATIVE_EPSILON}): errors in "
@@ -284,8 +341,8 @@ TABLE_LEGEND = (
     ("—", "undefined: the reference is black there (a relative figure has no scale; MSE and the means say how "
           "far from black the row is), the images are identical (PSNR), or a peer has no such image"),
 )
-"""Each column of the comparison table (or group of them), what it is and which way is
-better: written under the table, so the report explains itself."""
+"""What each table measures, and each column (or group of them), what it is and which way
+is better: written under the tables, so the report explains itself."""
 
 
 def markdown_legend():
@@ -299,12 +356,12 @@ def _json_number(value):
 
 
 def write_report(comparison, folder, view_transform=None):
-    """comparison.json and comparison.md (the table and its legend), PNGs of every
+    """comparison.json and comparison.md (the tables and their legend), PNGs of every
     reference, method and peer image through `view_transform` (gpu/colour_management.py
     ViewTransform: the scene's colour management, as F12 saves a PNG; None: the default,
     Blender's Standard view on sRGB), one for all so that they compare by eye, and
-    false-colour heat maps of each method's indirect error against each reference; returns
-    the rows."""
+    false-colour heat maps of each method's error against each reference (F12's combined,
+    a diffuse reference's indirect); returns the main table's rows."""
     import json
     import os
     import re
@@ -317,24 +374,26 @@ def write_report(comparison, folder, view_transform=None):
     except OSError as error:
         raise LPVError(f"Cannot create the output folder '{folder}' ({error.strerror}); choose a writable folder.")
     for kind, reference in comparison.references.items():
-        for image in IMAGES:
+        for image in reference.compared_images:
             write_png(os.path.join(folder, f"cycles_{kind}_{image}.png"), getattr(reference, image), view_transform)
     for result in comparison.methods:
         name = f"{result.method}_{result.indirect_method}"
         for image in IMAGES:
             write_png(os.path.join(folder, f"ours_{name}_{image}.png"), result.images[image], view_transform)
-        for kind in comparison.references:
-            write_png(os.path.join(folder, f"error_{name}_{kind}_indirect.png"),
+        for kind, reference in comparison.references.items():
+            write_png(os.path.join(folder, f"error_{name}_{kind}_{reference.compared_images[0]}.png"),
                       comparison.heat_map(result, kind), view_transform=None)
     for peer in comparison.peers:
-        name = re.sub(r"[^a-z0-9]+", "_", peer.name.lower()).strip("_") + (f"_{peer.kind}" if peer.kind else "")
+        name = re.sub(r"[^a-z0-9]+", "_", peer.name.lower()).strip("_")
         for image, pixels in peer.images.items():
             write_png(os.path.join(folder, f"peer_{name}_{image}.png"), pixels, view_transform)
-    rows = comparison.table()
+        for image, pixels in peer.diffuse_images.items():
+            write_png(os.path.join(folder, f"peer_{name}_diffuse_{image}.png"), pixels, view_transform)
+    json_rows = lambda rows: [{key: _json_number(value) for key, value in row.items()} for row in rows]
     report = {"samples": comparison.samples, "resolution": list(comparison.resolution),
               "references": {kind: reference.settings for kind, reference in comparison.references.items()},
-              "peers": [{"name": peer.name, "kind": peer.kind, **peer.settings} for peer in comparison.peers],
-              "rows": [{key: _json_number(value) for key, value in row.items()} for row in rows]}
+              "peers": [{"name": peer.name, **peer.settings} for peer in comparison.peers],
+              "rows": json_rows(comparison.main_table()), "diffuse_rows": json_rows(comparison.diffuse_table())}
     with open(os.path.join(folder, "comparison.json"), "w") as handle:
         json.dump(report, handle, indent=2, default=float, allow_nan=False)
     with open(os.path.join(folder, "comparison.md"), "w") as handle:

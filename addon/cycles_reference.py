@@ -6,11 +6,16 @@ in a temporary folder, read back with OpenImageIO (cycles_render.py). The user's
 is never changed. A render goes in parts of its samples (`cycles_passes_in_parts`) so
 that it can be stopped.
 
-`cycles_reference` makes the two references the preview is judged by: one diffuse bounce
+`cycles_reference` makes the references the preview is judged by. The main one, "f12",
+is Cycles' Combined pass as F12 renders the scene with its own settings (bounces, world,
+glossy, transmission, film, pixel filter, view layer), only its samples (plain ones: no
+adaptive sampling, time limit or denoiser, which change the noise, not the image), seed
+and size replaced. Two diffuse ones tell where an error comes from: one diffuse bounce
 (the light transport an LPV approximates) and full global illumination, each split into
 diffuse direct and diffuse indirect light (Cycles' light passes times its colour pass),
-with Cycles' Combined pass beside them, cached by scene content and settings in a
-`ReferenceCache` (which holds the peers' renders too, addon/peers.py).
+with their Combined pass beside them. Each is cached in a `ReferenceCache` (which holds
+the peers' renders too, addon/peers.py) under a key of what F12 renders
+(addon/render_signature.py) and the reference's own settings.
 """
 import hashlib
 import json
@@ -23,10 +28,17 @@ import bpy
 import numpy as np
 
 from ..gpu.errors import LPVError
+from ..gpu.passes import COMPARED_PASS_NAMES
 from ..gpu.temporary_folders import temporary_folder
-from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_render_settings,
-                            enable_cycles, read_exr_passes, render_to_file, settings_in_use, view_layer_to_render)
-from .render_scene import scene_to_render
+from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_f12_settings,
+                            apply_render_settings, enable_cycles, read_exr_passes, render_to_file, settings_in_use,
+                            view_layer_to_render)
+from .render_scene import scene_and_signature_to_render
+
+F12 = "f12"
+"""The main reference's kind: Cycles' Combined as F12 renders it."""
+REFERENCE_KINDS = (F12, *REFERENCE_BOUNCES)
+"""Every reference kind: F12's, then the diffuse ones (one bounce, full GI)."""
 
 
 @contextmanager
@@ -62,7 +74,7 @@ def render_cycles_passes(scene, passes=("Combined", "DiffDir", "DiffCol"), sampl
 
     Returns {pass name: array, ..., "settings": dict of what was really used}; see
     `describe_reference_settings`. The render is of a copy of the scene
-    (`_reference_scene`): the scene itself is left as it is. It goes in parts
+    (`temporary_copy`): the scene itself is left as it is. It goes in parts
     (`cycles_passes_in_parts`), so Ctrl-C stops it within about `PART_SECONDS`.
     """
     return run_to_end(cycles_passes_in_parts(scene, passes, samples, resolution, seed, max_bounces,
@@ -86,13 +98,32 @@ def cycles_passes_in_parts(scene, passes=("Combined", "DiffDir", "DiffCol"), sam
     more). Between parts nothing of the render is left in the scene, the file or the
     temporary folder.
     """
+    def set_up(copy, view_layer, exr_path, sample_range):
+        apply_render_settings(copy, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
+                              max_bounces, light_threshold, pixel_filter_width, False)
+    return (yield from _render_in_parts(scene, passes, samples, set_up))
+
+
+def f12_combined_in_parts(scene, samples, resolution, seed=0):
+    """Cycles' Combined pass of `scene` as F12 renders it (`apply_f12_settings`: the
+    scene's own settings) at `samples` plain samples with `seed` and `resolution`, as
+    `cycles_passes_in_parts` renders in parts; returns {"Combined": array, "settings": dict}."""
+    def set_up(copy, view_layer, exr_path, sample_range):
+        apply_f12_settings(copy, view_layer, exr_path, samples, sample_range, resolution, seed)
+    return (yield from _render_in_parts(scene, ("Combined",), samples, set_up))
+
+
+def _render_in_parts(scene, passes, samples, set_up):
+    """The parts of a render of `passes` at `samples`, each of a copy of the scene that
+    `set_up(copy, view layer, exr path, sample range)` sets up (`cycles_passes_in_parts`)."""
     enable_cycles()
     sums, settings, seconds, done, length = {}, None, 0.0, 0, 1
     while done < samples:
         left = samples - done
         length = left if left < 1.5 * length else length  # no short part at the end
-        images = _render_part(scene, passes, samples, (done, length), resolution, seed, max_bounces,
-                              light_threshold, pixel_filter_width)
+        sample_range = (done, length)
+        images = _render_copy(scene, passes, lambda copy, view_layer, path: set_up(copy, view_layer, path,
+                                                                                   sample_range))
         part_settings = images.pop("settings")
         for name, image in images.items():
             sums[name] = sums.get(name, 0.0) + image.astype(np.float64) * length
@@ -117,30 +148,36 @@ def run_to_end(steps, log=None):
             log(step)
 
 
-def render_cycles_denoised(scene, samples, resolution, seed, max_bounces, pixel_filter_width):
+def render_cycles_denoised(scene, samples, resolution, seed, max_bounces=None, pixel_filter_width=None, as_f12=True):
     """Cycles' Combined pass at `samples`, denoised by OpenImageDenoise with the scene's
     viewport denoising settings (input passes, prefilter, quality), as its viewport shows
-    that many samples; in one part, since the denoiser must see the whole render. Otherwise
-    as `render_cycles_passes`; returns {"Combined": array, "settings": dict}."""
+    that many samples; in one part, since the denoiser must see the whole render. With
+    `as_f12`, as F12 renders it (`f12_combined_in_parts`), else as `render_cycles_passes`
+    with `max_bounces` and `pixel_filter_width`; returns {"Combined": array, "settings": dict}."""
     enable_cycles()
     import _cycles  # on the path once Cycles is enabled
     if not _cycles.with_openimagedenoise:
         raise LPVError("This Blender's Cycles was built without OpenImageDenoise, so it has no denoised render to "
                        "compare; use an official Blender build.")
-    return _render_part(scene, ("Combined",), samples, (0, samples), resolution, seed, max_bounces, 0.0,
-                        pixel_filter_width, denoise=True)
+
+    def set_up(copy, view_layer, exr_path):
+        if as_f12:
+            apply_f12_settings(copy, view_layer, exr_path, samples, (0, samples), resolution, seed, denoise=True)
+        else:
+            apply_render_settings(copy, view_layer, exr_path, ("Combined",), samples, (0, samples), resolution, seed,
+                                  max_bounces, 0.0, pixel_filter_width, True)
+    return _render_copy(scene, ("Combined",), set_up)
 
 
-def _render_part(scene, passes, samples, sample_range, resolution, seed, max_bounces, light_threshold,
-                 pixel_filter_width, denoise=False):
-    """The passes of the `sample_range` (first sample, count) of a render of `samples`."""
+def _render_copy(scene, passes, set_up):
+    """`passes` of a render of a temporary copy of `scene` that `set_up(copy, view layer,
+    exr path)` sets up."""
     view_layer_name = view_layer_to_render(scene).name
     wanted_layers = {name: PASS_BY_NAME[name].exr_layer if name in PASS_BY_NAME else name for name in passes}
     with temporary_folder() as folder, temporary_copy(scene) as copy:
         view_layer = copy.view_layers[view_layer_name]
         exr_path = os.path.join(folder, "cycles_reference.exr")
-        apply_render_settings(copy, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
-                                  max_bounces, light_threshold, pixel_filter_width, denoise)
+        set_up(copy, view_layer, exr_path)
         settings = settings_in_use(copy, view_layer)
         settings["render_seconds"] = render_to_file(copy, exr_path)
         images = read_exr_passes(exr_path, view_layer_name, wanted_layers)
@@ -152,6 +189,7 @@ def describe_reference_settings(settings):
     width, height = settings["resolution"]
     return (f"Cycles {settings['device']}, {settings['samples']} samples, seed {settings['seed']}, "
             f"{width}x{height}, max bounces {settings['max_bounces']} (diffuse {settings['diffuse_bounces']}), "
+            f"clamping {settings['clamp_direct']:g} / {settings['clamp_indirect']:g}, "
             f"light threshold {settings['light_threshold']:g}, {settings['pixel_filter']} filter "
             f"{settings['pixel_filter_width']:g} px, {settings['denoiser'] or 'no denoising'}, "
             f"rendered in {settings['render_seconds']:.2f} s")
@@ -164,8 +202,8 @@ REFERENCE_PASSES = ("DiffDir", "DiffInd", "DiffCol", "Combined")
 
 @dataclass
 class CyclesReference:
-    """A Cycles reference: diffuse direct and indirect light and Cycles' own Combined pass
-    (what denoised Cycles is compared with: its denoiser works on Combined), (H, W, 3)
+    """A diffuse reference: diffuse direct and indirect light and the Combined pass of the
+    same render (its bounces and pixel filter: what the sample workers match), (H, W, 3)
     linear float32 top row first, and how it was rendered (`render_cycles_passes`' settings)."""
 
     kind: str
@@ -173,12 +211,26 @@ class CyclesReference:
     indirect: np.ndarray
     combined_pass: np.ndarray
     settings: dict
+    compared_images = COMPARED_PASS_NAMES
+    """The images of ours it measures."""
 
     @property
     def combined(self):
-        """Diffuse direct plus indirect: what LPV Preview's combined image approximates
-        (Cycles' own Combined adds glossy, emission and the world seen directly)."""
+        """Diffuse direct plus indirect: the diffuse light alone (no glossy, emission or
+        world seen directly), to tell the preview's diffuse errors from the rest."""
         return self.direct + self.indirect
+
+
+@dataclass
+class F12Reference:
+    """Cycles' Combined pass as F12 renders the scene (`f12_combined_in_parts`), (H, W, 3)
+    linear float32 top row first, and how it was rendered."""
+
+    combined: np.ndarray
+    settings: dict
+    kind = F12
+    compared_images = ("combined",)
+    """The images of ours it measures: the whole picture alone, F12's having no split."""
 
 
 ADDON_PACKAGE = __package__.rpartition(".")[0]
@@ -242,25 +294,33 @@ class ReferenceCache:
         return f"{count} Cycles reference{'' if count == 1 else 's'}, {size_text(size)}"
 
     def holds(self, key):
-        """Whether a reference of this version (with its Combined pass) is stored under `key`."""
+        """Whether a render is stored under `key` (keys differ per kind and format)."""
         try:
             with np.load(self.path(key)) as data:
-                return "combined_pass" in data.files
+                return bool(data.files)
         except (OSError, ValueError):
             return False
 
     def load(self, key):
-        """The CyclesReference stored under `key`, or None (none, or of an older format)."""
+        """The CyclesReference or F12Reference stored under `key`, or None."""
         data = self.load_arrays(key)
         try:
-            return None if data is None else CyclesReference(
-                str(data["kind"]), data["direct"], data["indirect"], data["combined_pass"], data["settings"])
+            if data is None:
+                return None
+            if str(data["kind"]) == F12:
+                return F12Reference(data["combined"], data["settings"])
+            return CyclesReference(str(data["kind"]), data["direct"], data["indirect"], data["combined_pass"],
+                                   data["settings"])
         except KeyError:
             return None
 
     def store(self, key, reference):
-        self.store_arrays(key, {"kind": reference.kind, "direct": reference.direct, "indirect": reference.indirect,
-                                "combined_pass": reference.combined_pass}, reference.settings)
+        if isinstance(reference, F12Reference):
+            arrays = {"kind": F12, "combined": reference.combined}
+        else:
+            arrays = {"kind": reference.kind, "direct": reference.direct, "indirect": reference.indirect,
+                      "combined_pass": reference.combined_pass}
+        self.store_arrays(key, arrays, reference.settings)
 
     def load_arrays(self, key):
         """{name: array, "settings": dict} stored under `key`, or None."""
@@ -300,77 +360,56 @@ def size_text(size):
         size /= 1000
 
 
-def material_signature(material):
-    """What of a material can change a Cycles render: its node tree's nodes, their input
-    values and links, image names and sizes (or its viewport colour without nodes)."""
-    if material is None:
-        return None
-    if material.node_tree is None:
-        return ("plain", tuple(material.diffuse_color))
-    nodes = []
-    for node in sorted(material.node_tree.nodes, key=lambda n: n.name):
-        inputs = tuple((i.identifier, _plain(getattr(i, "default_value", None))) for i in node.inputs)
-        image = getattr(node, "image", None)
-        nodes.append((node.name, node.bl_idname, inputs,
-                      (image.name, tuple(image.size), image.filepath) if image is not None else None))
-    links = tuple(sorted((link.from_node.name, link.from_socket.identifier, link.to_node.name,
-                          link.to_socket.identifier) for link in material.node_tree.links))
-    return (tuple(nodes), links)
+CACHE_FORMAT = 2
+"""The version of what the cache stores: a key of another format never matches."""
 
 
-def _plain(value):
-    if value is None or isinstance(value, (bool, int, float, str)):
-        return value if not isinstance(value, float) else round(value, 7)
-    try:
-        return tuple(round(float(v), 7) for v in value)
-    except TypeError:
-        return repr(value)
+def reference_key(signature, kind, samples, seed, resolution):
+    """The cache key of a `kind` reference of what F12 renders (`signature`,
+    addon/render_signature.py) with its own settings."""
+    own = () if kind == F12 else (REFERENCE_BOUNCES[kind], REFERENCE_FILTER_WIDTH)
+    return cache_key(signature, kind, samples, seed, tuple(resolution), *own)
 
 
-def reference_key(content, world, kind, samples, seed, resolution):
-    """The cache key of a reference: `content_key` with its Cycles settings."""
-    return content_key(content, world, kind, REFERENCE_BOUNCES[kind], samples, seed, tuple(resolution),
-                       REFERENCE_FILTER_WIDTH)
-
-
-def content_key(content, world, *settings):
-    """A content key of what a render shows: the extracted geometry, lights and camera
-    (`content`, our Scene), every material's nodes, the `world`'s, the render's `settings`
-    and the Blender version."""
-    parts = [content.geometry_key(), [light.key() for light in content.lights], content.camera.key(),
-             sorted((m.name, repr(material_signature(m))) for m in bpy.data.materials if m.users),
-             repr(material_signature(world)) if world is not None else None, *settings, bpy.app.version_string]
+def cache_key(signature, *settings):
+    """The cache key of a render of what F12 renders (`signature`) with `settings`, in
+    this Blender version and cache format."""
+    parts = [signature, *settings, bpy.app.version_string, CACHE_FORMAT]
     return hashlib.sha1(repr(parts).encode()).hexdigest()[:20]
 
 
-def cycles_reference(scene, kind, samples, seed=0, resolution=None, cache=None, content=None):
-    """The `kind` reference ("one_bounce" or "full_gi") of `scene` from its camera at
-    `resolution` (None: the scene's render size), from `cache` when it holds one.
-    `content` is the scene extracted at that resolution, when the caller has it already."""
-    return run_to_end(cycles_reference_in_parts(scene, kind, samples, seed, resolution, cache, content))
+def cycles_reference(scene, kind, samples, seed=0, resolution=None, cache=None, signature=None):
+    """The `kind` reference (`REFERENCE_KINDS`) of `scene` from its camera at `resolution`
+    (None: the scene's render size), from `cache` when it holds one. `signature` is what
+    F12 renders (render_scene.py `scene_and_signature_to_render`), when the caller has it."""
+    return run_to_end(cycles_reference_in_parts(scene, kind, samples, seed, resolution, cache, signature))
 
 
-def cycles_reference_in_parts(scene, kind, samples, seed=0, resolution=None, cache=None, content=None):
+def cycles_reference_in_parts(scene, kind, samples, seed=0, resolution=None, cache=None, signature=None):
     """`cycles_reference` as a generator: it yields nothing when the cache holds the
     reference, else (samples done, seconds so far) after each part of the render
-    (`cycles_passes_in_parts`); it returns the CyclesReference."""
-    if kind not in REFERENCE_BOUNCES:
-        raise LPVError(f"Unknown Cycles reference '{kind}'; choose one of {', '.join(REFERENCE_BOUNCES)}.")
+    (`cycles_passes_in_parts`); it returns the F12Reference or CyclesReference."""
+    if kind not in REFERENCE_KINDS:
+        raise LPVError(f"Unknown Cycles reference '{kind}'; choose one of {', '.join(REFERENCE_KINDS)}.")
     from .extract import render_resolution
     resolution = tuple(resolution or render_resolution(scene))
-    if content is None:
-        content = scene_to_render(scene, resolution)
-    key = reference_key(content, scene.world, kind, samples, seed, resolution)
+    if signature is None:
+        signature = scene_and_signature_to_render(scene, resolution)[1]
+    key = reference_key(signature, kind, samples, seed, resolution)
     if cache is not None:
         cached = cache.load(key)
         if cached is not None:
             cached.settings["cached"] = True
             return cached
-    images = yield from cycles_passes_in_parts(scene, REFERENCE_PASSES, samples, resolution, seed,
-                                               REFERENCE_BOUNCES[kind], pixel_filter_width=REFERENCE_FILTER_WIDTH)
-    colour = images["DiffCol"]
-    reference = CyclesReference(kind, images["DiffDir"] * colour, images["DiffInd"] * colour, images["Combined"],
-                                {**images["settings"], "cached": False, "key": key})
+    if kind == F12:
+        images = yield from f12_combined_in_parts(scene, samples, resolution, seed)
+        reference = F12Reference(images["Combined"], {**images["settings"], "cached": False, "key": key})
+    else:
+        images = yield from cycles_passes_in_parts(scene, REFERENCE_PASSES, samples, resolution, seed,
+                                                   REFERENCE_BOUNCES[kind], pixel_filter_width=REFERENCE_FILTER_WIDTH)
+        colour = images["DiffCol"]
+        reference = CyclesReference(kind, images["DiffDir"] * colour, images["DiffInd"] * colour, images["Combined"],
+                                    {**images["settings"], "cached": False, "key": key})
     if cache is not None:
         cache.store(key, reference)
     return reference

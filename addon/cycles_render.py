@@ -1,5 +1,6 @@
 """Cycles renders of ours into a multilayer EXR read back: the settings every one sets
-(passes, samples and their subset, seed, bounces, pixel filter, denoising, output), the
+(passes, samples and their subset, seed, denoising, output; for the diffuse references
+and the sample workers also bounces and pixel filter, F12's references keep the scene's), the
 render call and the passes read from the file. In Blender 5.0 every view-layer pass
 reaches the file only once `image_settings.media_type` is 'MULTI_LAYER_IMAGE' (only then
 can `file_format` be 'OPEN_EXR_MULTILAYER'); plain 'OPEN_EXR' holds Combined alone.
@@ -115,6 +116,36 @@ def apply_output_settings(scene, view_layer, exr_path, resolution, border=None):
         assign(layer, use=layer == view_layer)
 
 
+def apply_sample_settings(scene, samples, sample_range, seed, denoise, threads=None):
+    """Cycles on the CPU (on `threads` threads, None: all) renders the `sample_range`
+    (first, count) of `samples` plain samples with `seed`: no adaptive sampling, time
+    limit or view-layer sample count, which change how many samples a pixel gets, and
+    `denoise`d by OpenImageDenoise as the viewport denoises, or not at all."""
+    cycles = scene.cycles
+    assign(scene.render, engine="CYCLES")
+    assign(scene.render, threads_mode="AUTO" if threads is None else "FIXED")
+    if threads is not None:
+        assign(scene.render, threads=threads)
+    assign(cycles, device="CPU", samples=samples, use_adaptive_sampling=False, time_limit=0.0,
+           use_layer_samples="IGNORE", use_sample_subset=True, sample_offset=sample_range[0],
+           sample_subset_length=sample_range[1], seed=seed, use_animated_seed=False, use_denoising=denoise)
+    if denoise:
+        assign(cycles, denoiser="OPENIMAGEDENOISE", denoising_use_gpu=False,
+               denoising_input_passes=cycles.preview_denoising_input_passes,
+               denoising_prefilter=cycles.preview_denoising_prefilter,
+               denoising_quality=cycles.preview_denoising_quality)
+
+
+def apply_f12_settings(scene, view_layer, exr_path, samples, sample_range, resolution, seed, denoise=False):
+    """Set `scene` up to render what F12 renders with its own settings (bounces, clamping,
+    light threshold, film, pixel filter, world, view layer) into `exr_path`'s Combined
+    pass, but for the samples (`apply_sample_settings`) and the size: `resolution`, the
+    whole image (apply_output_settings)."""
+    apply_output_settings(scene, view_layer, exr_path, resolution)
+    apply_sample_settings(scene, samples, sample_range, seed, denoise)
+    assign(view_layer, use_pass_combined=True)
+
+
 def apply_render_settings(scene, view_layer, exr_path, passes, samples, sample_range, resolution, seed,
                           max_bounces, light_threshold, pixel_filter_width, denoise, border=None, threads=None):
     """Set `scene` up for a raw Cycles render on the CPU of `passes` into `exr_path`: the
@@ -124,20 +155,9 @@ def apply_render_settings(scene, view_layer, exr_path, passes, samples, sample_r
     OpenImageDenoise as the viewport denoises; only the `border` (apply_output_settings)
     with one, on `threads` threads (None: all)."""
     cycles = scene.cycles
-    assign(scene.render, engine="CYCLES")
     apply_output_settings(scene, view_layer, exr_path, resolution, border)
-    assign(scene.render, threads_mode="AUTO" if threads is None else "FIXED")
-    if threads is not None:
-        assign(scene.render, threads=threads)
-    assign(cycles, device="CPU", samples=samples, use_adaptive_sampling=False, time_limit=0.0,
-           use_layer_samples="IGNORE", use_sample_subset=True, sample_offset=sample_range[0],
-           sample_subset_length=sample_range[1], seed=seed, use_animated_seed=False, use_denoising=denoise,
-           light_sampling_threshold=light_threshold, sample_clamp_direct=0.0, sample_clamp_indirect=0.0)
-    if denoise:
-        assign(cycles, denoiser="OPENIMAGEDENOISE", denoising_use_gpu=False,
-               denoising_input_passes=cycles.preview_denoising_input_passes,
-               denoising_prefilter=cycles.preview_denoising_prefilter,
-               denoising_quality=cycles.preview_denoising_quality)
+    apply_sample_settings(scene, samples, sample_range, seed, denoise, threads)
+    assign(cycles, light_sampling_threshold=light_threshold, sample_clamp_direct=0.0, sample_clamp_indirect=0.0)
     if pixel_filter_width is not None:
         assign(cycles, filter_width=pixel_filter_width)
     if max_bounces is not None:
@@ -154,9 +174,12 @@ def settings_in_use(scene, view_layer):
                        render.resolution_y * render.resolution_percentage // 100),
         "device": cycles.device, "samples": cycles.samples, "seed": cycles.seed,
         "max_bounces": cycles.max_bounces, "diffuse_bounces": cycles.diffuse_bounces,
+        "glossy_bounces": cycles.glossy_bounces, "transmission_bounces": cycles.transmission_bounces,
+        "clamp_direct": cycles.sample_clamp_direct, "clamp_indirect": cycles.sample_clamp_indirect,
         "light_threshold": cycles.light_sampling_threshold, "pixel_filter": cycles.pixel_filter_type,
-        "pixel_filter_width": cycles.filter_width, "frame": scene.frame_current,
-        "view_layer": view_layer.name,
+        "pixel_filter_width": cycles.filter_width, "film_transparent": render.film_transparent,
+        "film_exposure": cycles.film_exposure, "frame": scene.frame_current,
+        "view_layer": view_layer.name, "world": None if scene.world is None else scene.world.name,
         "denoiser": (f"OpenImageDenoise ({cycles.denoising_input_passes}, {cycles.denoising_prefilter} prefilter, "
                      f"{cycles.denoising_quality} quality)" if cycles.use_denoising else None),
     }

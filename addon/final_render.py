@@ -22,10 +22,13 @@ from .properties import display_settings_from_properties, settings_from_properti
 @dataclass
 class ExtractionRequest:
     """A render asked for its Scene only (render_scene.py): the camera's resolution in,
-    the extracted Scene or the error out."""
+    the extracted Scene (and, `with_signature`, addon/render_signature.py's hash of what
+    F12 renders) or the error out."""
 
     resolution: tuple = None
+    with_signature: bool = False
     scene: object = None
+    signature: str = None
     error: LPVError = None
 
 
@@ -40,6 +43,9 @@ def take_extraction(depsgraph):
     request = pending_extractions[-1]
     try:
         request.scene = extract_scene(depsgraph, resolution=request.resolution)
+        if request.with_signature:
+            from .render_signature import render_signature
+            request.signature = render_signature(depsgraph)
     except LPVError as error:
         request.error = error
     return True

@@ -39,7 +39,18 @@ def _our_engine(scene):
 def scene_to_render(scene, resolution=None):
     """The sanitized gpu Scene that F12 renders of `scene`'s current frame, its camera
     projected for `resolution` (None: the render resolution)."""
-    request = ExtractionRequest(resolution)
+    return _extraction(scene, ExtractionRequest(resolution)).scene
+
+
+def scene_and_signature_to_render(scene, resolution=None):
+    """`scene_to_render`'s Scene and the hash of what F12 renders (addon/render_signature.py),
+    read from one render depsgraph."""
+    request = _extraction(scene, ExtractionRequest(resolution, with_signature=True))
+    return request.scene, request.signature
+
+
+def _extraction(scene, request):
+    """`request` fulfilled by a render of `scene` with our engine."""
     with _our_engine(scene):
         pending_extractions.append(request)
         try:
@@ -62,4 +73,4 @@ def scene_to_render(scene, resolution=None):
     if request.scene is None:
         raise LPVError(f"Blender did not render scene '{scene.name}'; check that its view layer "
                        f"'{view_layer_to_render(scene).name}' is enabled for rendering.")
-    return request.scene
+    return request

@@ -6,7 +6,8 @@ import bpy
 from ..gpu.settings import ALL_PARAMETERS, PRESETS, matching_preset
 from ..gpu.metrics import figure_text
 from ..gpu.pipeline import STAGES as PIPELINE_STAGES
-from .comparison import IMAGES, last_comparison, row_label
+from .comparison import last_comparison, reference_label, row_label
+from .cycles_reference import F12
 from .cycles_reference import ReferenceCache
 from .engine import ENGINE_ID
 from .frame_stats import last_stats, missing_images_warning, renderer_warning
@@ -129,8 +130,9 @@ PANEL_FIGURES = (("psnr", "PSNR", ".1f"), ("relative_mse", "relMSE", ".3f"), ("s
 
 def draw_comparison(layout, properties):
     """The comparison settings, its button, the reference cache's size with a button that
-    empties it, and the last comparison's tables: per reference and image, a row per method
-    and peer that has the image (denoised Cycles: combined only, its Combined pass)."""
+    empties it, and the last comparison's tables: per reference and image it measures, a
+    row per method and peer that has the image; F12's first, then under a heading the
+    diagnostic ones against Cycles' diffuse light (no denoised Cycles: it has none)."""
     draw_settings(layout, properties, "Comparison")
     layout.operator(COMPARE_OPERATOR, icon="RENDER_STILL")
     row = layout.row()
@@ -140,10 +142,15 @@ def draw_comparison(layout, properties):
     if comparison is None:
         return
     rows = comparison.table()
+    diagnostic_heading = False
     for kind, reference in comparison.references.items():
-        for image in IMAGES:
+        if kind != F12 and not diagnostic_heading:
+            layout.label(text="Diagnostic: against Cycles' diffuse light alone", icon="INFO")
+            diagnostic_heading = True
+        for image in reference.compared_images:
             box = layout.box()
-            box.label(text=f"{image.capitalize()} vs Cycles {kind.replace('_', ' ')}: {comparison.samples} samples, "
+            what = "F12 (its own settings)" if kind == F12 else f"diffuse {reference_label(kind)}"
+            box.label(text=f"{image.capitalize()} vs Cycles {what}: {comparison.samples} samples, "
                            f"{reference.settings['render_seconds']:.1f} s")
             headings = ("Method", "ms", *(label for _, label, _ in PANEL_FIGURES))
             grid = box.grid_flow(columns=len(headings), row_major=True, even_columns=False, align=True)

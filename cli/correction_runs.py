@@ -13,7 +13,7 @@ from mathutils import Matrix
 
 from ..addon.cycles_reference import ReferenceCache, cycles_reference
 from ..addon.cycles_samples import SampleRenderer
-from ..addon.render_scene import scene_to_render
+from ..addon.render_scene import scene_and_signature_to_render
 from ..addon.sample_renderer import open_sample_renderer
 from ..corrections.corrector import Corrector
 from ..corrections.sample_request import SampleRequest
@@ -68,10 +68,10 @@ def path_views(name, build, resolution, degrees, reference_samples, blend_path, 
     for turn in degrees:
         matrix = turned(start, turn)
         with camera_at(bpy_scene, matrix):
-            scene = scene_to_render(bpy_scene, resolution)
+            scene, signature = scene_and_signature_to_render(bpy_scene, resolution)
             began = time.perf_counter()
             reference = cycles_reference(bpy_scene, "full_gi", reference_samples, 0, resolution, ReferenceCache(),
-                                         scene)
+                                         signature)
             log(f"{name} {turn:g}°: reference in {time.perf_counter() - began:.1f} s")
         views.append(View(turn, tuple(map(tuple, matrix)), scene, reference.combined_pass, key=scene.camera.key()))
     return views

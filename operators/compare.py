@@ -9,7 +9,7 @@ open in an Image Editor.
 import bpy
 import numpy as np
 
-from ..addon.comparison import IMAGES, comparison_steps, forget, remember
+from ..addon.comparison import IMAGES, comparison_steps, forget, reference_label, remember
 from ..addon.cycles_reference import ReferenceCache, run_to_end
 from ..addon.extract import render_resolution
 from ..addon.properties import comparison_settings_from_properties, settings_from_properties
@@ -40,18 +40,19 @@ def image_names(comparison):
     """The datablock name of every image a comparison shows, with its pixels and colour space."""
     images = {}
     for kind, reference in comparison.references.items():
-        for image in IMAGES:
-            images[f"{IMAGE_PREFIX} Cycles {kind.replace('_', ' ')} {image}"] = (getattr(reference, image), "linear")
+        for image in reference.compared_images:
+            images[f"{IMAGE_PREFIX} Cycles {reference_label(kind)} {image}"] = (getattr(reference, image), "linear")
     for result in comparison.methods:
         for image in IMAGES:
             images[f"{IMAGE_PREFIX} {result.label} {image}"] = (result.images[image], "linear")
         for kind in comparison.references:
-            images[f"{IMAGE_PREFIX} {result.label} error vs {kind.replace('_', ' ')}"] = (
+            images[f"{IMAGE_PREFIX} {result.label} error vs {reference_label(kind)}"] = (
                 comparison.heat_map(result, kind), "display")
     for peer in comparison.peers:
         for image, pixels in peer.images.items():
-            suffix = f" {peer.kind.replace('_', ' ')}" if peer.kind else ""
-            images[f"{IMAGE_PREFIX} {peer.name}{suffix} {image}"] = (pixels, "linear")
+            images[f"{IMAGE_PREFIX} {peer.name} {image}"] = (pixels, "linear")
+        for image, pixels in peer.diffuse_images.items():
+            images[f"{IMAGE_PREFIX} {peer.name} diffuse {image}"] = (pixels, "linear")
     return images
 
 
@@ -76,8 +77,9 @@ def store_images(comparison):
 class LPV_OT_compare_with_cycles(bpy.types.Operator):
     bl_idname = "lpv_preview.compare_with_cycles"
     bl_label = "Compare with Cycles"
-    bl_description = ("Render Cycles references (one bounce and full GI) of the current camera and frame, run each "
-                      "ticked method and, when ticked, EEVEE and denoised Cycles, and measure their errors; Esc stops")
+    bl_description = ("Render Cycles' Combined as F12 renders the current camera and frame (and, to diagnose, its "
+                      "diffuse light with one bounce and full GI), run each ticked method and, when ticked, EEVEE "
+                      "and denoised Cycles, and measure their errors; Esc stops")
 
     def execute(self, context):
         try:

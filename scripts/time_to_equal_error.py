@@ -18,7 +18,7 @@ import argparse
 from lpv_preview.addon.comparison import full_frame, method_label
 from lpv_preview.addon.cycles_reference import ReferenceCache, cycles_reference
 from lpv_preview.addon.peers import DENOISED_SAMPLES, cycles_denoised
-from lpv_preview.addon.render_scene import scene_to_render
+from lpv_preview.addon.render_scene import scene_and_signature_to_render
 from lpv_preview.bench.equal_error import time_to_equal_error
 from lpv_preview.demo import build
 from lpv_preview.gpu.passes import COMPARED_PASS_NAMES
@@ -31,9 +31,9 @@ def equal_error_of(scene, settings, reference_samples, ladder, kind, cache, indi
     `settings` per indirect method, denoised Cycles at each of `denoised_samples`, and
     where their errors meet."""
     resolution = (settings.width, settings.height)
-    lpv_scene = scene_to_render(scene, resolution)
-    reference = cycles_reference(scene, kind, reference_samples, 0, resolution, cache, lpv_scene)
-    rungs = [cycles_reference(scene, kind, samples, 1, resolution, cache, lpv_scene) for samples in ladder]
+    lpv_scene, signature = scene_and_signature_to_render(scene, resolution)
+    reference = cycles_reference(scene, kind, reference_samples, 0, resolution, cache, signature)
+    rungs = [cycles_reference(scene, kind, samples, 1, resolution, cache, signature) for samples in ladder]
     candidates = []
     for indirect in indirect_methods:
         frame = full_frame(settings.with_changes(indirect_method=indirect), lpv_scene)
@@ -41,7 +41,7 @@ def equal_error_of(scene, settings, reference_samples, ladder, kind, cache, indi
             f", {settings.bounces} bounces" if settings.bounces > 1 else "")
         candidates += [(label, image, frame.stats["converge_ms"], frame.passes[image]) for image in COMPARED_PASS_NAMES]
     for samples in denoised_samples:
-        peer = cycles_denoised(scene, kind, samples, resolution, lpv_scene, cache)
+        peer = cycles_denoised(scene, samples, resolution, signature, cache, kind)
         candidates.append((peer.name, "combined_pass", peer.seconds * 1000, peer.images["combined"]))
     return time_to_equal_error(candidates, reference, ladder, rungs)
 

@@ -1,6 +1,7 @@
 """The comparison with Cycles through real bpy and real Cycles: finite figures for every
-metric, a reference cache that renders nothing twice, the scene untouched when the
-comparison finishes, is cancelled between steps or fails."""
+metric, the main rows against F12's Combined (ours, EEVEE's and denoised Cycles' alike)
+and the diffuse ones under them, a reference cache that renders nothing twice, the scene
+untouched when the comparison finishes, is cancelled between steps or fails."""
 import json
 import math
 import os
@@ -15,8 +16,9 @@ from lpv_preview import demo  # noqa: E402
 from lpv_preview.__main__ import main  # noqa: E402
 from lpv_preview.addon.comparison import comparison_steps, markdown_table, row_label  # noqa: E402
 from lpv_preview.addon.cycles_reference import run_to_end  # noqa: E402
-from lpv_preview.addon.cycles_reference import ReferenceCache  # noqa: E402
+from lpv_preview.addon.cycles_reference import F12, ReferenceCache  # noqa: E402
 from lpv_preview.gpu.errors import LPVError  # noqa: E402
+from lpv_preview.gpu.metrics import image_errors  # noqa: E402
 from lpv_preview.gpu.settings import INDIRECT_METHODS, Settings  # noqa: E402
 
 from ..blender.test_engine import scene_snapshot  # noqa: E402
@@ -34,8 +36,8 @@ def cycles_state(scene):
 
 def eevee_state(scene):
     """Every plain EEVEE setting (the peers switch its ray tracing and samples on a copy)."""
-    from lpv_preview.addon.peers import rna_values
-    return rna_values(scene.eevee)
+    from lpv_preview.addon.peers import eevee_values
+    return eevee_values(scene.eevee)
 
 
 @pytest.fixture()
@@ -57,26 +59,58 @@ def test_a_comparison_gives_finite_figures_and_leaves_the_scene_as_it_was(cornel
     assert (scene_snapshot(cornell), cycles_state(cornell)) == before
     rows = comparison.table()
     assert [(r["method"], r["reference"]) for r in rows] == [
+        ("cm", "f12"), ("wdpm", "f12"), ("Cycles seed 1", "f12"),
         ("cm", "one_bounce"), ("wdpm", "one_bounce"), ("Cycles seed 1", "one_bounce"),
         ("cm", "full_gi"), ("wdpm", "full_gi"), ("Cycles seed 1", "full_gi")]
+    assert comparison.main_table() == rows[:3] and comparison.diffuse_table() == rows[3:]
     for row in rows:
-        for name in ("indirect", "combined"):
+        for name in ("combined",) if row["reference"] == F12 else ("indirect", "combined"):
             for metric in ("psnr", "relative_mse", "ssim", "flip"):
                 assert math.isfinite(row[f"{name}_{metric}"]), (row, name, metric)
+    # The main rows measure our combined image against Cycles' Combined as F12 renders it.
+    f12 = comparison.references[F12]
+    assert rows[0]["combined_mse"] == image_errors(comparison.methods[0].images["combined"], f12.combined)["mse"]
+    assert f12.settings["pixel_filter_width"] == pytest.approx(cornell.cycles.filter_width)
+    assert f12.settings["max_bounces"] == cornell.cycles.max_bounces and f12.combined.shape == (32, 40, 3)
     one, full = comparison.references["one_bounce"], comparison.references["full_gi"]
     assert one.indirect.shape == (32, 40, 3)
     # More bounces, more indirect light; the same direct light.
     assert full.indirect.mean() > 1.2 * one.indirect.mean()
     np.testing.assert_allclose(full.direct.mean(), one.direct.mean(), rtol=0.05)
     assert comparison.heat_map(comparison.methods[0], "one_bounce").shape == (32, 40, 3)
-    # The second run renders no reference: all four come from the cache, unchanged.
+    # The second run renders no reference: all six come from the cache, unchanged.
     steps = []
     again = run_to_end(comparison_steps(cornell, ["cm"], SAMPLES, SMALL, cache), steps.append)
-    assert all(r.settings["cached"] for r in again.references.values())
-    assert [text for _, text in steps][:2] == ["Cycles one bounce reference: from the cache",
+    assert all(r.settings["cached"] for r in again.references.values()) and len(again.references) == 3
+    assert [text for _, text in steps][:4] == ["Cycles F12 reference: from the cache",
+                                               "Cycles F12 noise floor (a second seed): from the cache",
+                                               "Cycles one bounce reference: from the cache",
                                                "Cycles one bounce noise floor (a second seed): from the cache"]
     np.testing.assert_array_equal(again.references["full_gi"].indirect, full.indirect)
+    np.testing.assert_array_equal(again.references[F12].combined, f12.combined)
     assert (scene_snapshot(cornell), cycles_state(cornell)) == before
+
+
+def test_blenders_default_scene_is_measured_against_cycles_grey_world(tmp_path):
+    """The default cube's background is Cycles' grey world in F12's reference, our combined
+    image black there: the main row's Cycles mean is the reference's, world included; the
+    diffuse reference has no world."""
+    bpy.ops.wm.read_factory_settings()
+    import addon_utils
+    addon_utils.enable("cycles", default_set=True)
+    scene = bpy.context.scene
+    settings = SMALL.with_changes(width=32, height=24)
+    comparison = run_to_end(comparison_steps(scene, ["cm"], 2, settings, ReferenceCache(str(tmp_path)),
+                                             noise_floor=False, indirect_methods=["light_grid"]))
+    world = scene.world.node_tree.nodes["Background"].inputs["Color"].default_value[0]
+    f12, full = comparison.references[F12], comparison.references["full_gi"]
+    np.testing.assert_allclose(f12.combined[0, 0], world, rtol=1e-3)  # a corner: the world
+    assert full.combined[0, 0].max() == 0.0
+    ours = comparison.methods[0].images["combined"]
+    row = comparison.main_table()[0]
+    assert row["combined_reference_mean"] == pytest.approx(float(f12.combined.mean()))
+    assert row["combined_mse"] == pytest.approx(image_errors(ours, f12.combined)["mse"])
+    assert f12.settings["samples"] == 2 and f12.settings["denoiser"] is None  # the scene's 4096 adaptive, denoised
 
 
 def test_the_peers_get_rows_with_the_same_figures_and_leave_the_scene_as_it_was(cornell, tmp_path):
@@ -91,24 +125,31 @@ def test_the_peers_get_rows_with_the_same_figures_and_leave_the_scene_as_it_was(
     rows = comparison.table()
     ours = ["WDPM lpv", "WDPM light grid", "WDPM vpl gather"]
     peers = ["Cycles 1 spp + OIDN", "Cycles 4 spp + OIDN", "EEVEE ray tracing"]
-    assert [(row_label(r), r["reference"]) for r in rows] == [
-        (label, kind) for kind in ("one_bounce", "full_gi") for label in ours + peers]
+    # Every peer is measured against F12's Combined, as ours are; EEVEE's diffuse light
+    # also against the diffuse references (denoised Cycles has none).
+    assert [(row_label(r), r["reference"]) for r in rows] == (
+        [(label, F12) for label in ours + peers] +
+        [(label, kind) for kind in ("one_bounce", "full_gi") for label in ours + peers[2:]])
     for row in rows:
-        images = ("combined",) if row["method"].startswith("Cycles") else ("indirect", "combined")
-        for image in ("indirect", "combined"):
+        for image in ("combined",) if row["reference"] == F12 else ("indirect", "combined"):
             for metric in ("psnr", "relative_mse", "ssim", "flip", "mse"):
-                value = row[f"{image}_{metric}"]
-                assert (math.isfinite(value) if image in images else value is None), (row, image, metric)
+                assert math.isfinite(row[f"{image}_{metric}"]), (row, image, metric)
         assert row["ms"] > 0
+    f12 = comparison.references[F12]
+    for peer, row in zip(comparison.peers, rows[3:6]):
+        assert row["combined_mse"] == image_errors(peer.images["combined"], f12.combined)["mse"], peer.name
     eevee = comparison.peers[-1]
     # Ray tracing adds light where Cycles has indirect light: their means agree roughly.
     reference = comparison.references["one_bounce"]
-    assert 0.5 < eevee.images["indirect"].mean() / reference.indirect.mean() < 2.0
-    assert "| Cycles 4 spp + OIDN | full gi |" in markdown_table(comparison)
+    assert 0.5 < eevee.diffuse_images["indirect"].mean() / reference.indirect.mean() < 2.0
+    table = markdown_table(comparison)
+    assert "| Cycles 4 spp + OIDN | " in table and "| EEVEE ray tracing | full gi |" in table
+    assert "| Cycles 4 spp + OIDN | full gi |" not in table
     # Again, every peer comes from the cache.
     again = run_to_end(comparison_steps(cornell, ["wdpm"], SAMPLES, settings, cache, noise_floor=False, peers=True))
-    assert all(peer.settings["cached"] for peer in again.peers) and len(again.peers) == 5
-    np.testing.assert_array_equal(again.peers[-1].images["indirect"], eevee.images["indirect"])
+    assert all(peer.settings["cached"] for peer in again.peers) and len(again.peers) == 3
+    np.testing.assert_array_equal(again.peers[-1].diffuse_images["indirect"], eevee.diffuse_images["indirect"])
+    np.testing.assert_array_equal(again.peers[-1].images["combined"], eevee.images["combined"])
     assert (scene_snapshot(cornell), cycles_state(cornell), eevee_state(cornell)) == before
 
 
@@ -144,22 +185,27 @@ def test_the_compare_command_shows_its_progress_and_writes_the_table_and_images(
     assert len(err) - len(progress) <= 1
     assert all(re.match(r"\[ +\d+ s +\d+%\] ", line) for line in progress), progress  # elapsed time, fraction
     texts = [line.split("] ", 1)[1] for line in progress]
-    assert texts[0] == f"Cycles one bounce reference: {SAMPLES} samples at 40×32"
-    assert texts[1].startswith(f"Cycles one bounce reference: 1/{SAMPLES} samples in ") and texts[1].endswith(" left")
-    assert re.fullmatch(rf"Cycles references: about \d+ s for 4 renders of {SAMPLES} samples at 40×32, estimated "
+    assert texts[0] == f"Cycles F12 reference: {SAMPLES} samples at 40×32"
+    assert texts[1].startswith(f"Cycles F12 reference: 1/{SAMPLES} samples in ") and texts[1].endswith(" left")
+    assert re.fullmatch(rf"Cycles references: about \d+ s for 6 renders of {SAMPLES} samples at 40×32, estimated "
                         rf"from the [\d.]+ s the first sample took \(more bounces take longer\)", texts[2]), texts[2]
-    for label in ("one bounce reference", "one bounce noise floor (a second seed)", "full gi reference",
-                  "full gi noise floor (a second seed)"):
+    for label in ("F12 reference", "F12 noise floor (a second seed)", "one bounce reference",
+                  "one bounce noise floor (a second seed)", "full gi reference", "full gi noise floor (a second seed)"):
         assert re.search(rf"Cycles {re.escape(label)}: {SAMPLES}/{SAMPLES} samples in \d+ s, done", "\n".join(texts))
     assert texts[-1] == "LPV Preview WDPM light grid"
     report = json.loads((out / "comparison.json").read_text())
-    assert [(r["method"], r["reference"]) for r in report["rows"]] == [
+    assert [(r["method"], r["reference"]) for r in report["rows"]] == [("wdpm", "f12"), ("Cycles seed 1", "f12")]
+    assert [(r["method"], r["reference"]) for r in report["diffuse_rows"]] == [
         ("wdpm", "one_bounce"), ("Cycles seed 1", "one_bounce"), ("wdpm", "full_gi"), ("Cycles seed 1", "full_gi")]
+    assert report["references"]["f12"]["samples"] == SAMPLES
     table = (out / "comparison.md").read_text()
-    assert table.startswith("| method | reference | ms | Cycles s | indirect PSNR dB")
-    assert "| WDPM light grid | one bounce |" in table
-    for name in ("cycles_one_bounce_indirect.png", "ours_wdpm_light_grid_combined.png",
-                 "error_wdpm_light_grid_full_gi_indirect.png"):
+    assert table.startswith("| method | ms | Cycles s | combined PSNR dB")
+    against_f12, diagnostic = table.split("\n## Diffuse light alone (diagnostic)\n")
+    assert "| WDPM light grid | " in against_f12 and "indirect" not in against_f12
+    assert "| method | reference | ms | Cycles s | indirect PSNR dB" in diagnostic
+    assert "| WDPM light grid | one bounce |" in diagnostic and "\n## Legend\n" in diagnostic
+    for name in ("cycles_one_bounce_indirect.png", "cycles_f12_combined.png", "ours_wdpm_light_grid_combined.png",
+                 "error_wdpm_light_grid_full_gi_indirect.png", "error_wdpm_light_grid_f12_combined.png"):
         assert (out / name).stat().st_size > 0
     capsys.readouterr()
     assert main(["compare", "nowhere.blend", "--out", str(out)]) == 2
@@ -188,8 +234,9 @@ def test_the_operator_fills_the_table_and_the_images_and_leaves_the_scene_as_it_
     assert (scene_snapshot(registered), cycles_state(registered)) == before
     comparison = last_comparison()
     assert [r.label for r in comparison.methods] == ["CM light grid", "WDPM light grid", "TDPM light grid"]
-    for name in ("LPV Compare Cycles one bounce indirect", "LPV Compare WDPM light grid combined",
-                 "LPV Compare TDPM light grid error vs full gi"):
+    for name in ("LPV Compare Cycles one bounce indirect", "LPV Compare Cycles F12 combined",
+                 "LPV Compare WDPM light grid combined", "LPV Compare TDPM light grid error vs full gi",
+                 "LPV Compare TDPM light grid error vs F12"):
         image = bpy.data.images[name]
         assert tuple(image.size) == (40, 32)
         pixels = np.empty(40 * 32 * 4, dtype=np.float32)
@@ -277,8 +324,11 @@ def test_a_black_reference_is_an_answer_measured_in_absolute_figures(tmp_path, c
             str(tmp_path / "cache"), "--rsm-resolution", "64", "--vpls-per-light", "256", "--lpv-resolution", "16",
             "--no-peers"]
     assert main(argv) == 0, capsys.readouterr().err
-    rows = strict_json((out / "comparison.json").read_text())["rows"]
+    report = strict_json((out / "comparison.json").read_text())
+    rows = report["diffuse_rows"]
     ours = next(row for row in rows if row["method"] == "cm" and row["reference"] == "one_bounce")
+    f12 = next(row for row in report["rows"] if row["method"] == "cm")
+    assert all(math.isfinite(f12[f"combined_{metric}"]) for metric in ("psnr", "relative_mse", "ssim", "flip"))
     assert ours["indirect_reference_mean"] == 0.0
     assert ours["indirect_mse"] == pytest.approx(ours["indirect_mean"] ** 2, rel=10) and ours["indirect_mse"] >= 0
     for metric in ("psnr", "relative_mse", "ssim", "flip"):

@@ -180,3 +180,113 @@ def test_unwritable_temporary_location_raises(scene, tmp_path, monkeypatch):
     with pytest.raises(LPVError, match="temporary folder"):
         render_cycles_passes(scene, samples=1, resolution=(4, 4))
     assert _render_state(scene) == before
+
+
+# ----------------------------------------------------------------------------- F12's reference
+
+REFERENCE_SIZE = (32, 24)
+WORLD_GREY = 0.25
+
+
+def _grey_world(scene, grey=WORLD_GREY):
+    scene.world = bpy.data.worlds.new("Grey sky")
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (grey, grey, grey, 1.0)
+    return scene.world
+
+
+def test_the_f12_reference_keeps_the_scenes_own_settings_and_shows_the_world(scene, temp_root):
+    """F12's Combined: the scene's bounces, clamping and pixel filter, the world seen past
+    the plane; only the samples (plain ones), seed and size are the reference's. The
+    diffuse reference of the same scene has no world in its combined image."""
+    from lpv_preview.addon.cycles_reference import F12, cycles_reference
+    _grey_world(scene)
+    scene.cycles.sample_clamp_indirect, scene.cycles.filter_width = 3.0, 1.2
+    before = _render_state(scene)
+    f12 = cycles_reference(scene, F12, 2, resolution=REFERENCE_SIZE)
+    diffuse = cycles_reference(scene, "full_gi", 2, resolution=REFERENCE_SIZE)
+    assert _render_state(scene) == before
+    assert list(temp_root.iterdir()) == []
+    settings = f12.settings
+    assert (settings["samples"], settings["seed"], settings["resolution"]) == (2, 0, REFERENCE_SIZE)
+    assert (settings["max_bounces"], settings["clamp_indirect"]) == (7, 3.0)
+    assert settings["pixel_filter_width"] == pytest.approx(1.2)
+    assert settings["denoiser"] is None and settings["world"] == "Grey sky"
+    assert f12.combined.shape == (24, 32, 3)
+    corner = f12.combined[0, 0]  # past the plane's edge: the world
+    np.testing.assert_allclose(corner, WORLD_GREY, rtol=1e-3)
+    assert diffuse.combined[0, 0].max() == 0.0 and diffuse.settings["max_bounces"] == 12
+    print("\n" + describe_reference_settings(settings))
+
+
+def particles_scene():
+    """Under a black sky an unrendered emitter plane whose hair particles are glowing
+    cubes (their source far out of view), seen from above: black with the particle
+    system hidden in renders, lit with it shown."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    addon_utils.enable("cycles", default_set=True)
+    scene = bpy.context.scene
+    _grey_world(scene, 0.0)
+    bpy.ops.mesh.primitive_plane_add(size=2.0)
+    emitter = bpy.context.active_object
+    emitter.show_instancer_for_render = False
+    bpy.ops.mesh.primitive_cube_add(size=0.2, location=(0.0, 0.0, -50.0))
+    grain = bpy.context.active_object
+    glow = bpy.data.materials.new("Glow")
+    emission = glow.node_tree.nodes.new("ShaderNodeEmission")
+    emission.inputs["Strength"].default_value = 5.0
+    glow.node_tree.links.new(emission.outputs[0], glow.node_tree.nodes["Material Output"].inputs["Surface"])
+    grain.data.materials.append(glow)
+    particles = emitter.modifiers.new("Particles", "PARTICLE_SYSTEM")
+    settings = particles.particle_system.settings
+    settings.type, settings.count, settings.hair_length, settings.particle_size = "HAIR", 50, 0.2, 1.0
+    settings.render_type, settings.instance_object = "OBJECT", grain
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.location = (0.0, 0.0, 4.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    return scene, particles
+
+
+def test_particles_shown_get_a_new_reference_that_is_not_black(tmp_path):
+    from lpv_preview.addon.cycles_reference import F12, ReferenceCache, cycles_reference
+    from lpv_preview.addon.render_scene import scene_and_signature_to_render
+    scene, particles = particles_scene()
+    cache = ReferenceCache(str(tmp_path / "cache"))
+    particles.show_render = False
+    hidden = cycles_reference(scene, F12, 2, resolution=REFERENCE_SIZE, cache=cache)
+    assert hidden.combined.max() == 0.0
+    particles.show_render = True
+    shown = cycles_reference(scene, F12, 2, resolution=REFERENCE_SIZE, cache=cache)
+    assert shown.settings["key"] != hidden.settings["key"] and not shown.settings["cached"]
+    assert shown.combined.mean() > 0.01
+    # Rendered again, the same instances hash the same: from the cache.
+    assert scene_and_signature_to_render(scene, REFERENCE_SIZE)[1] == scene_and_signature_to_render(
+        scene, REFERENCE_SIZE)[1]
+    assert cycles_reference(scene, F12, 2, resolution=REFERENCE_SIZE, cache=cache).settings["cached"]
+
+
+def test_the_key_follows_what_f12_renders_and_not_the_selection():
+    """The world's colour, film transparency, an object's render visibility and a
+    particle's count change the key; selecting another object, the viewport's display and
+    the colour management do not."""
+    from lpv_preview.addon.render_scene import scene_and_signature_to_render
+    scene, particles = particles_scene()
+    signature = lambda: scene_and_signature_to_render(scene, REFERENCE_SIZE)[1]
+    first = signature()
+    bpy.data.objects["Camera"].select_set(True)
+    bpy.context.view_layer.objects.active = bpy.data.objects["Camera"]
+    bpy.data.objects["Plane"].display_type = "WIRE"
+    scene.view_settings.view_transform = "Standard"
+    assert signature() == first
+    changes = [lambda: scene.world.node_tree.nodes["Background"].inputs["Color"].default_value.__setitem__(0, 0.5),
+               lambda: setattr(scene.render, "film_transparent", True),
+               lambda: setattr(particles.particle_system.settings, "count", 40),
+               lambda: setattr(bpy.data.objects["Cube"], "hide_render", True),
+               lambda: setattr(bpy.data.materials["Glow"].node_tree.nodes["Emission"].inputs["Strength"],
+                               "default_value", 4.0)]
+    seen = {first}
+    for change in changes:
+        change()
+        key = signature()
+        assert key not in seen, change
+        seen.add(key)

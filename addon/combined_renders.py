@@ -12,16 +12,28 @@ import os
 
 from ..gpu.context import GLContext
 from ..gpu.temporary_folders import temporary_folder
-from .cycles_reference import render_cycles_denoised, render_cycles_passes, temporary_copy
-from .cycles_render import apply_output_settings, read_exr_passes, render_to_file, view_layer_to_render
+from .cycles_reference import render_cycles_denoised, temporary_copy
+from .cycles_render import (apply_output_settings, apply_render_settings, enable_cycles, read_exr_passes,
+                            render_to_file, settings_in_use, view_layer_to_render)
 
 
 def cycles_combined(scene, samples, resolution, seed=0):
     """Cycles' Combined pass at `samples` with the scene's own bounces, pixel filter and
-    light threshold; (image (H, W, 3) linear, top row first, settings used)."""
-    images = render_cycles_passes(scene, ("Combined",), samples, resolution, seed, max_bounces=None,
-                                  light_threshold=scene.cycles.light_sampling_threshold, pixel_filter_width=None)
-    return images["Combined"], images["settings"]
+    light threshold; (image (H, W, 3) linear, top row first, settings used). In one
+    render, not in parts: each part syncs the scene again and, with an HDRI or a sky,
+    builds the world's importance map again, which at a small size costs more than the
+    part's samples."""
+    enable_cycles()
+    view_layer_name = view_layer_to_render(scene).name
+    with temporary_folder() as folder, temporary_copy(scene) as copy:
+        view_layer = copy.view_layers[view_layer_name]
+        path = os.path.join(folder, "combined.exr")
+        apply_render_settings(copy, view_layer, path, ("Combined",), samples, (0, samples), resolution, seed,
+                              None, copy.cycles.light_sampling_threshold, None, denoise=False)
+        settings = settings_in_use(copy, view_layer)
+        settings["render_seconds"] = render_to_file(copy, path)
+        image = read_exr_passes(path, view_layer_name, {"Combined": "Combined"})["Combined"]
+    return image, settings
 
 
 def cycles_denoised_combined(scene, samples, resolution, seed=1):

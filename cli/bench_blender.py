@@ -108,3 +108,74 @@ def bench_corrections(args, log):
               "workers": cores, "reference_samples": corrections.REFERENCE_SAMPLES, "scenes": scenes,
               "command": command_line(args)}
     return corrections.write_correction_report(report, args.out)
+
+
+ARTIST_SIZE = (160, 90)
+ARTIST_SAMPLES = 1024
+"""The artist suite's image size and Cycles samples unless --width and --samples say otherwise."""
+
+
+def artist_scene_names(text):
+    """The artist scenes --scenes names (None: the whole suite), refused when unknown."""
+    names = demo.ARTIST_SCENES if text is None else tuple(text.split(","))
+    unknown = [name for name in names if name not in demo.ARTIST_SCENES]
+    if unknown:
+        raise LPVError(f"'{unknown[0]}' is not an artist scene; bench --artist takes "
+                       f"{', '.join(demo.ARTIST_SCENES)}.")
+    return names
+
+
+def bench_artist(args, log):
+    """The artist-scene suite against Cycles' Combined: one frame of ours, our converged
+    frame, EEVEE and Cycles at 1 sample with OpenImageDenoise per scene (bench/artist.py),
+    into artist.json and artist.md."""
+    import platform
+    import time
+    from dataclasses import asdict
+
+    from ..addon.combined_renders import cycles_combined, cycles_denoised_combined, eevee_combined
+    from ..addon.render_scene import scene_to_render
+    from ..bench import artist
+    from ..gpu.context import GLContext
+    from ..gpu.pipeline import render_once
+    names = artist_scene_names(args.scenes)
+    width = args.width or ARTIST_SIZE[0]
+    size = (width, args.height or max(1, round(width * ARTIST_SIZE[1] / ARTIST_SIZE[0])))
+    samples = args.samples or ARTIST_SAMPLES
+    settings = settings_from(args, *size)
+    gpu = artist.read_gpu_times(args.gpu_times) if args.gpu_times else None
+    scenes = []
+    for name in names:
+        bpy_scene = demo.build(name, resolution=size)
+        log(f"{name}: Cycles at {samples} samples, {size[0]}×{size[1]}")
+        reference, reference_settings = cycles_combined(bpy_scene, samples, size)
+        renders = {}
+        try:
+            content = scene_to_render(bpy_scene, size)
+            for key, changes in (("ours_one_frame", {}), ("ours_converged", {"converge_sets": artist.CONVERGE_SETS})):
+                started = time.perf_counter()
+                frame = render_once(content, settings.with_changes(**changes), passes=("combined",))
+                renders[key] = artist.render_row(frame.passes["combined"][..., :3], reference,
+                                                 time.perf_counter() - started, changes)
+        except LPVError as error:
+            renders = dict.fromkeys(("ours_one_frame", "ours_converged"), artist.missing_row(str(error)))
+        log(f"{name}: EEVEE")
+        image, eevee_settings = eevee_combined(bpy_scene, size, args.eevee_samples)
+        renders["eevee"] = artist.render_row(image, reference, eevee_settings["render_seconds"], eevee_settings)
+        log(f"{name}: Cycles 1 sample + OpenImageDenoise")
+        try:
+            image, denoised_settings = cycles_denoised_combined(bpy_scene, 1, size)
+            renders["cycles_denoised"] = artist.render_row(image, reference, denoised_settings["render_seconds"],
+                                                           denoised_settings)
+        except LPVError as error:
+            renders["cycles_denoised"] = artist.missing_row(str(error))
+        scene = {"name": name, "cycles": reference_settings, "renders": renders}
+        scene["goals"] = artist.scene_goals(scene, (gpu or {}).get("scenes", {}).get(name))
+        log(json.dumps({"name": name, **{key: row["figures"] for key, row in renders.items()}}))
+        scenes.append(scene)
+    glc = GLContext.last_made or GLContext.shared()
+    report = {"machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} CPU cores",
+              "renderer": glc.renderer, "resolution": list(size), "cycles_samples": samples,
+              "converge_sets": artist.CONVERGE_SETS, "settings": asdict(settings), "scenes": scenes,
+              "gpu_times": gpu, "command": command_line(args)}
+    return artist.write_artist_report(report, args.out)

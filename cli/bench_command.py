@@ -3,9 +3,10 @@ import os
 import sys
 from dataclasses import dataclass
 
+from .. import demo
 from ..gpu.errors import LPVError
-from .bench_blender import (EMITTER_CYCLES_COUNTS, EMITTER_CYCLES_SAMPLES, EMITTER_CYCLES_SIZE, bench_corrections,
-                            bench_cycles_indirect, bench_sample_workers, bench_scene, blender_available,
+from .bench_blender import (ARTIST_SAMPLES, ARTIST_SIZE, EMITTER_CYCLES_COUNTS, EMITTER_CYCLES_SAMPLES,
+                            EMITTER_CYCLES_SIZE, bench_artist, bench_corrections, bench_cycles_indirect, bench_sample_workers, bench_scene, blender_available,
                             check_bench_scenes, particle_cases)
 from .flags import check_setting_flags, check_writable, command_line, positive_int, settings_from
 
@@ -60,6 +61,12 @@ def bench_emitters(args, log):
     return write_emitter_report(report, args.out)
 
 
+def bench_artist_suite(args, log):
+    check_setting_flags(args)
+    check_writable(args.out)
+    return bench_artist(args, log)
+
+
 def bench_fuzz(args, log):
     from ..bench.fuzz import fuzz
     report = fuzz(range(args.fuzz), log=log)
@@ -83,8 +90,9 @@ def bench_table1(args, log):
     from ..bench.sweep_report import scene_label
     from ..bench.table1 import BUDGETS, run_table1, write_table1
     check_writable(args.out)
-    check_bench_scenes(args.scenes.split(","))
-    scenes = [(scene_label(item), lambda item=item: bench_scene(item)) for item in args.scenes.split(",")]
+    items = (args.scenes or ",".join(demo.LAMP_SCENES)).split(",")
+    check_bench_scenes(items)
+    scenes = [(scene_label(item), lambda item=item: bench_scene(item)) for item in items]
     budgets = BUDGETS if args.budget == "both" else (args.budget,)
     report = run_table1(scenes, settings_from(args, 960, 540), args.methods, args.frames, args.repeats, budgets,
                         command_line(args), log)
@@ -126,6 +134,11 @@ BENCH_MODES = (
     BenchMode("--emitters", {"action": "store_true",
                              "help": "measure the emitter grid against the emitter count (1 to 4^N, --emitters-up-to) "
                                      "and 64 point lights against one (emitters.json, emitters.md)"}, bench_emitters),
+    BenchMode("--artist", {"action": "store_true",
+                            "help": f"the artist-scene suite (demo/artist/, or --scenes of it) against Cycles' Combined "
+                                    f"at --samples (default {ARTIST_SAMPLES}): one frame and a converged frame of ours, "
+                                    f"EEVEE, Cycles 1 spp + OIDN; mean ratio, HDR-FLIP, relMSE and the goals (artist.json, "
+                                    f"artist.md) at --width (default {ARTIST_SIZE[0]}, 16:9)"}, bench_artist_suite),
     BenchMode("--fuzz", {"type": positive_int, "metavar": "N",
                          "help": "render N seeded random scenes; any that neither renders finite bounded light nor "
                                  "stops with one sentence is a failure (exit 2)"}, bench_fuzz),

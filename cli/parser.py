@@ -21,7 +21,7 @@ def triangles_help():
 def add_demo_command(commands):
     """`demo`: build a built-in scene with bpy and render it."""
     command = commands.add_parser("demo", help="build a built-in scene with bpy and render it")
-    command.add_argument("--scene", default=demo.SCENES[0], choices=demo.SCENES)
+    command.add_argument("--scene", default=demo.SCENES[0], choices=demo.SCENES + demo.ARTIST_SCENES)
     command.add_argument("--triangles", type=int, help=triangles_help())
     command.add_argument("--out", default="out", help="output folder (default: out)")
     add_setting_flags(command, SCENE_SIZE)
@@ -72,7 +72,7 @@ def add_compare_command(commands):
 def add_export_command(commands):
     """`export`: a demo scene as .npz for machines without Blender."""
     command = commands.add_parser("export", help="save a demo scene as .npz for machines without Blender")
-    command.add_argument("scene", choices=demo.SCENES)
+    command.add_argument("scene", choices=demo.SCENES + demo.ARTIST_SCENES)
     command.add_argument("--triangles", type=int, help=triangles_help())
     command.add_argument("--out", required=True, help="the .npz file to write")
     command.add_argument("--lights", type=positive_int, help="replace the lights by this many of --light-kind")
@@ -87,9 +87,8 @@ def add_bench_command(commands):
     """`bench`: Table 1, or the measurement of a BENCH_MODES flag."""
     from ..bench.table1 import BUDGETS, TABLE1_METHODS
     command = commands.add_parser("bench", help="every RSM method against CM: time, DPM and LPV quality")
-    command.add_argument("--scenes", default=",".join(demo.LAMP_SCENES),
-                         help=f"comma-separated demo scene names and/or .npz files (default: "
-                              f"{','.join(demo.LAMP_SCENES)})")
+    command.add_argument("--scenes", help=f"comma-separated demo scene names and/or .npz files (default: "
+                                          f"{','.join(demo.LAMP_SCENES)}; with --artist, artist scenes, default all)")
     command.add_argument("--methods", type=method_list, default=list(TABLE1_METHODS),
                          help=f"comma-separated methods (default: {','.join(TABLE1_METHODS)})")
     command.add_argument("--budget", default=BUDGETS[0], choices=(*BUDGETS, "both"))
@@ -102,6 +101,11 @@ def add_bench_command(commands):
                                                "the preview rendered there")
     command.add_argument("--emitters-up-to", type=int, default=10, choices=range(11), metavar="N",
                          help="largest emitter count's power of 4 for --emitters (default 10: 1,048,576)")
+    command.add_argument("--samples", type=positive_int, help="with --artist: Cycles' samples of the reference")
+    command.add_argument("--eevee-samples", type=positive_int,
+                         help="with --artist: EEVEE's samples (default: the scene's own)")
+    command.add_argument("--gpu-times", help="with --artist: the JSON of scripts/time_artist_scenes.py on a GPU, to "
+                                             "judge the time goals")
     add_bench_modes(command)
     add_setting_flags(command, {"width": "960 for Table 1; a sweep's or measurement's own otherwise",
                                 "height": "540 for Table 1; a sweep's or measurement's own otherwise"})

@@ -7,6 +7,7 @@ the scenes where Blender is missing (the GPU machine).
 import importlib
 
 from ..gpu.errors import LPVError
+from .artist import ARTIST_SCENES
 
 SCENES = ("cornell", "atrium", "city", "particles")
 LAMP_SCENES = ("cornell", "atrium", "city")
@@ -30,11 +31,14 @@ def check_triangles(name, triangles):
 
 
 def build(name, **params):
-    """Reset Blender to an empty file, build the demo scene `name` and return the bpy scene."""
-    if name not in SCENES:
-        raise LPVError(f"Unknown demo scene '{name}'; choose one of {', '.join(SCENES)}.")
+    """Reset Blender to an empty file, build the demo scene `name` and return the bpy scene;
+    an artist scene (ARTIST_SCENES) starts from Blender's factory startup file instead."""
+    if name not in SCENES + ARTIST_SCENES:
+        raise LPVError(f"Unknown demo scene '{name}'; choose one of {', '.join(SCENES + ARTIST_SCENES)}.")
     if "triangles" in params:
         check_triangles(name, params["triangles"])
+    if name in ARTIST_SCENES:
+        return importlib.import_module(f".artist.{name}", __name__).build(**params)
     import bpy
     bpy.ops.wm.read_factory_settings(use_empty=True)
     return importlib.import_module(f".{name}", __name__).build(**params)

@@ -1,0 +1,12 @@
+"""The artist-scene suite: scenes built in bpy the way an artist builds them (factory
+startup file, primitives, modifiers, Principled BSDF materials, node worlds), so the
+renderer and its benchmark (`bench --artist`) meet what users make, not only our own
+quad-grid demo scenes.
+
+Each scene is the module of its name here, whose `build(resolution)` starts from
+Blender's factory startup file (not an empty one) and returns the bpy scene. Importing
+this package does not import bpy.
+"""
+
+ARTIST_SCENES = ("default_cube", "hdri_product", "sky_interior", "noon_exterior", "world_only")
+"""The suite, in the order the benchmark reports it."""

@@ -9,7 +9,8 @@ import math
 import numpy as np
 
 from ..gpu.world import World, directions_of, map_coordinates
-from .materials import _linear_pixels, linked_node, linked_output
+from .image_pixels import linear_pixels
+from .materials import linked_node, linked_output
 
 PROCEDURAL_SIZE = (64, 128)
 """The maps' size (height, width) of a world without images: smooth enough at this size."""
@@ -145,8 +146,9 @@ class WorldEvaluation:
         return np.broadcast_to(np.array(value, dtype=np.float64), shape)
 
     def vector(self, socket, directions, camera):
-        """The vector a texture reads: the direction, through a Mapping node when one is linked."""
-        node = linked_node(socket)
+        """The vector a texture reads (`socket`, None for a node without the input): the
+        direction, through a Mapping node when one is linked."""
+        node = None if socket is None else linked_node(socket)
         if node is None or node.type == "TEX_COORD":
             return directions
         if node.type == "MAPPING":
@@ -158,11 +160,11 @@ class WorldEvaluation:
     def environment(self, node, directions, camera):
         if node.image is None:
             return np.broadcast_to(np.array(MAGENTA), directions.shape[:-1] + (3,))
-        pixels = _linear_pixels(node.image)
+        pixels = linear_pixels(node.image)
         if pixels is None:
             self.approximated.append(f"{node.image.name}: missing, magenta")
             return np.broadcast_to(np.array(MAGENTA), directions.shape[:-1] + (3,))
-        vector = self.vector(node.inputs["Vector"], directions, camera)
+        vector = self.vector(node.inputs.get("Vector"), directions, camera)
         length = np.linalg.norm(vector, axis=-1, keepdims=True)
         vector = vector / np.maximum(length, 1e-30)
         if node.projection == "MIRROR_BALL":
@@ -174,7 +176,7 @@ class WorldEvaluation:
     def sky(self, node, directions, camera):
         if node.sky_type != "PREETHAM":
             self.approximated.append(f"Sky Texture {node.sky_type.replace('_', ' ').title()}: the Preetham model")
-        vector = self.vector(node.inputs["Vector"], directions, camera)
+        vector = self.vector(node.inputs.get("Vector"), directions, camera)
         vector = vector / np.maximum(np.linalg.norm(vector, axis=-1, keepdims=True), 1e-30)
         sun = np.array(node.sun_direction, dtype=np.float64) if node.sky_type in ("PREETHAM", "HOSEK_WILKIE") else \
             sun_vector(node.sun_elevation, node.sun_rotation)

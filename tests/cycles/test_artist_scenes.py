@@ -12,13 +12,10 @@ bpy = pytest.importorskip("bpy")
 from lpv_preview import demo  # noqa: E402
 from lpv_preview.__main__ import main  # noqa: E402
 from lpv_preview.addon.render_scene import scene_to_render  # noqa: E402
-from lpv_preview.gpu.errors import LPVError  # noqa: E402
 from lpv_preview.gpu.pipeline import render_once  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 
 SIZE = (64, 36)
-WORLD_LIT = ("sky_interior", "world_only")
-"""Scenes with neither lamps nor emitters: our renderer refuses them until it lights with the world."""
 
 
 def lamps(scene):
@@ -29,9 +26,7 @@ def world_nodes(scene, kind):
     return [node for node in scene.world.node_tree.nodes if node.bl_idname == kind]
 
 
-@pytest.mark.parametrize("name", [pytest.param(name, marks=pytest.mark.xfail(
-    raises=LPVError, strict=False, reason="the renderer does not light with the world yet"))
-    if name in WORLD_LIT else name for name in demo.ARTIST_SCENES])
+@pytest.mark.parametrize("name", demo.ARTIST_SCENES)
 def test_scene_renders_with_our_engine(glc, name):
     scene = demo.build(name, resolution=SIZE)
     assert (scene.render.resolution_x, scene.render.resolution_y) == SIZE and scene.camera is not None

@@ -70,7 +70,7 @@ def scene_goals(scene, gpu_times=None):
              "converged_seconds": None, "world_ms": None}
     if gpu_times:
         if gpu_times.get("converged_ms") is not None:
-            goals["converged_seconds"] = gpu_times["converged_ms"] <= CONVERGED_SECONDS * 1000
+            goals["converged_seconds"] = gpu_times["converged_ms"]["median"] <= CONVERGED_SECONDS * 1000
         if gpu_times.get("world_ms") is not None:
             goals["world_ms"] = gpu_times["world_ms"] <= WORLD_MS
     return goals
@@ -103,6 +103,11 @@ def write_artist_report(report, out):
             "goals": sum(len(scene["goals"]) for scene in report["scenes"])}
 
 
+def _spread(timed):
+    """A median with its least and most, in ms."""
+    return f"{timed['median']:.2f} ms ({timed['min']:.2f}-{timed['max']:.2f})"
+
+
 def _cell(value, spec):
     return "–" if value is None else format(value, spec)
 
@@ -128,8 +133,8 @@ def artist_markdown(report):
         times = (gpu or {}).get("scenes", {}).get(scene["name"])
         if times:
             lines += ["", f"On {gpu['renderer']} at {gpu['width']}×{gpu['height']}: one frame "
-                          f"{times['one_frame_ms']:.2f} ms, converged ({times['converge_sets']} VPL sets) "
-                          f"{times['converged_ms']:.2f} ms, the world "
+                          f"{_spread(times['one_frame_ms'])}, converged ({times['converge_sets']} VPL sets) "
+                          f"{_spread(times['converged_ms'])}, the world "
                           f"{_cell(times.get('world_ms'), '.2f')} ms (median of {times['frames']})."]
         lines += [""] + [f"- {GOAL_TEXT[goal]}: **{goal_text(value)}**" for goal, value in scene["goals"].items()]
         lines.append("")

@@ -7,7 +7,8 @@ from pathlib import Path
 import numpy as np
 
 from .errors import LPVError
-from .scene import Camera, Light, Scene, SurfaceImage
+from .scene import Camera, Film, Light, Scene, SurfaceImage
+from .world import World
 
 SURFACE_FIELDS = ("visibility", "vertex_colors", "uvs", "image_layers", "emission", "point_emitters")
 """The Scene's optional arrays (per triangle, and the point emitters), saved when present."""
@@ -24,10 +25,14 @@ def save_scene(scene, path):
     surface = {name: getattr(scene, name) for name in SURFACE_FIELDS if getattr(scene, name) is not None}
     images = {f"image{i}_{part}": value for i, image in enumerate(scene.images)
               for part, value in (("name", image.name), ("pixels", image.pixels))}
+    world = {} if scene.world is None else {
+        "world_lighting": scene.world.lighting, "world_background": scene.world.background,
+        "world_approximated": np.array(scene.world.approximated, dtype=str)}
+    film = {"film": np.array([scene.film.filter_width, float(scene.film.transparent)])}
     try:
         np.savez_compressed(path, triangles=scene.triangles, normals=scene.normals, albedo=scene.albedo,
                             light_count=len(scene.lights), **lights, **camera, **surface,
-                            image_count=len(scene.images), **images,
+                            image_count=len(scene.images), **images, **world, **film,
                             approximated_materials=np.array(scene.approximated_materials, dtype=str),
                             dropped=np.array([scene.dropped["non_finite"], scene.dropped["zero_area"]]))
     except OSError as error:
@@ -54,10 +59,14 @@ def load_scene(path):
     dropped = data["dropped"]
     images = [SurfaceImage(str(data[f"image{i}_name"]), data[f"image{i}_pixels"])
               for i in range(int(data["image_count"]) if "image_count" in data else 0)]
+    world = World(data["world_lighting"], data["world_background"],
+                  tuple(str(name) for name in data["world_approximated"])) if "world_lighting" in data else None
+    film = Film(float(data["film"][0]), bool(data["film"][1])) if "film" in data else Film()
     return Scene(data["triangles"], data["normals"], data["albedo"], lights, camera,
                  {"non_finite": int(dropped[0]), "zero_area": int(dropped[1])},
                  **{name: data[name] for name in SURFACE_FIELDS if name in data}, images=images,
-                 approximated_materials=[str(name) for name in data.get("approximated_materials", [])])
+                 approximated_materials=[str(name) for name in data.get("approximated_materials", [])],
+                 world=world, film=film)
 
 
 def cycles_reference_path(scene_path):

@@ -6,13 +6,12 @@
 reads every DIR/NAME.npz of the suite (demo/artist/ ARTIST_SCENES) there is, renders
 each once to warm up (shaders, Poisson cells), then times `--frames` full frames (every
 stage redone) of one VPL set and of a converged frame (bench/artist.py CONVERGE_SETS
-sets), and prints their medians as JSON. Where the Scene holds a world (a `world`
-field that is set), the world's cost is the median frame without it subtracted from the
-one with it; otherwise it is null. `bench --artist --gpu-times FILE` judges the time
+sets), and prints their medians, least and most as JSON. Where the Scene holds a world,
+the world's cost is the median frame whose world only shows (world_samples 0)
+subtracted from the median frame; otherwise it is null. `bench --artist --gpu-times FILE` judges the time
 goals with this file.
 """
 import argparse
-import dataclasses
 import json
 import os
 import statistics
@@ -25,8 +24,9 @@ from lpv_preview.gpu.scene_file import load_scene
 from lpv_preview.gpu.settings import Settings
 
 
-def median_ms(pipeline, scene, settings, frames):
-    """The median of `frames` full frames' milliseconds, every stage redone each time."""
+def timed_ms(pipeline, scene, settings, frames):
+    """The median, least and most of `frames` full frames' milliseconds, every stage redone
+    each time."""
     pipeline.render_converged(scene, settings, passes=())  # warm-up
     times = []
     for _ in range(frames):
@@ -35,15 +35,7 @@ def median_ms(pipeline, scene, settings, frames):
         pipeline.render_converged(scene, settings, passes=())
         pipeline.glc.gl.finish()
         times.append((time.perf_counter() - started) * 1000)
-    return statistics.median(times)
-
-
-def without_world(scene):
-    """The scene without its world, or None when the Scene holds none."""
-    names = {field.name for field in dataclasses.fields(scene)}
-    if "world" not in names or scene.world is None:
-        return None
-    return dataclasses.replace(scene, world=None)
+    return {"median": statistics.median(times), "min": min(times), "max": max(times)}
 
 
 def time_scene(path, width, height, frames):
@@ -52,10 +44,12 @@ def time_scene(path, width, height, frames):
     converged = one.with_changes(converge_sets=CONVERGE_SETS)
     pipeline = Pipeline(one)
     try:
-        one_ms = median_ms(pipeline, scene, one, frames)
-        converged_ms = median_ms(pipeline, scene, converged, frames)
-        bare = without_world(scene)
-        world_ms = None if bare is None else one_ms - median_ms(pipeline, bare, one, frames)
+        one_ms = timed_ms(pipeline, scene, one, frames)
+        converged_ms = timed_ms(pipeline, scene, converged, frames)
+        world_ms = None
+        if scene.world is not None:  # the world's light: the frame against one whose world only shows
+            unlit = timed_ms(pipeline, scene, one.with_changes(world_samples=0), frames)
+            world_ms = one_ms["median"] - unlit["median"]
         return {"one_frame_ms": one_ms, "converged_ms": converged_ms, "converge_sets": CONVERGE_SETS,
                 "world_ms": world_ms, "frames": frames, "triangles": scene.triangle_count}
     finally:

@@ -90,7 +90,7 @@ class Settings(Validated):
                                 expert=True)
     emission_samples: int = _param(4096, "Points sampled on emissive surfaces, in proportion to their power, whose "
                                          "light every pixel gathers as direct light", 16, 1048576)
-    world_samples: int = _param(1024, "Directions drawn from the world, in proportion to its light, whose light "
+    world_samples: int = _param(256, "Directions drawn from the world, in proportion to its light, whose light "
                                       "every pixel gathers with visibility and which bounces (0: the world lights "
                                       "nothing, it is only seen)", 0, 1048576)
     emitter_light: str = _param("grid", "How point emitters (emissive particles and instances, point lights beyond "

@@ -386,9 +386,17 @@ class MultipleScatteringAtmosphere:
         """lookup_multiscattering: the fit of the atmosphere's multiple scattering plus the
         ground's second-order bounce, per unit phase, (..., 4)."""
         omega = 2 * math.pi * (1.0 - np.sqrt(np.maximum(1.0 - (self.EARTH_RADIUS / distance) ** 2, 0.0)))
-        to_ground = self.lookup_transmittance(cos_theta, np.zeros_like(cos_theta))
-        ground_to_sample = self.lookup_transmittance(np.ones_like(cos_theta), np.zeros_like(cos_theta)) / \
-            self.lookup_transmittance(np.ones_like(cos_theta), normalized_altitude)
+        lut = self.transmittance_lut
+        x = (self.TRANSMITTANCE_RES_X - 1) * np.clip(cos_theta * 0.5 + 0.5, 0.0, 1.0)
+        x1 = x.astype(np.int64)
+        x2 = np.minimum(x1 + 1, self.TRANSMITTANCE_RES_X - 1)
+        to_ground = lut[0, x1] + (x - x1)[..., None] * (lut[0, x2] - lut[0, x1])
+        column = self.transmittance_lut[:, -1]  # toward the zenith, by altitude
+        y = (self.TRANSMITTANCE_RES_Y - 1) * np.clip(normalized_altitude, 0.0, 1.0)
+        y1 = y.astype(np.int64)
+        y2 = np.minimum(y1 + 1, self.TRANSMITTANCE_RES_Y - 1)
+        to_zenith = column[y1] + (y - y1)[..., None] * (column[y2] - column[y1])
+        ground_to_sample = column[0] / to_zenith
         ground = (1 / (4 * math.pi)) * omega[..., None] * (self.GROUND_ALBEDO / math.pi) * to_ground * \
             ground_to_sample * cos_theta[..., None]
         fit = self.MULTIPLE_SCATTERING_FIT * (1.0 / (1.0 + 5.0 * np.exp(-17.92 * cos_theta)))[..., None]
@@ -470,7 +478,8 @@ class PreethamSky:
                   (-0.04214 * ts3 + 0.08970 * ts2 - 0.04153 * ts + 0.00516) * t +
                   (0.15346 * ts3 - 0.26756 * ts2 + 0.06670 * ts + 0.26688))
         self.perez = (  # for Y, x, y
-            (0.1787 * t - 1.4630, -0.3554 * t + 0.4275, -0.0227 * t + 5.3251, 0.1206 * t - 2.5771, -0.0670 * t + 0.3703),
+            (0.1787 * t - 1.4630, -0.3554 * t + 0.4275, -0.0227 * t + 5.3251, 0.1206 * t - 2.5771,
+             -0.0670 * t + 0.3703),
             (-0.0193 * t - 0.2592, -0.0665 * t + 0.0008, -0.0004 * t + 0.2125, -0.0641 * t - 0.8989,
              -0.0033 * t + 0.0452),
             (-0.0167 * t - 0.2608, -0.0950 * t + 0.0092, -0.0079 * t + 0.2102, -0.0441 * t - 1.6537,

@@ -3,7 +3,8 @@ evaluates it for each direction: Background (and Emission) shaders' colour times
 strength, mixed and added; colours from RGB nodes, Environment Textures (equirectangular
 and mirror ball) at the direction a Mapping node turns, the Sky Texture's models
 (sky_models.py; Hosek / Wilkie by Preetham's), Mix Color and Light Path's Is Camera Ray
-(the camera's map and the lighting's differ). Anything else takes its socket's own value and is named as approximated."""
+(the camera's map and the lighting's differ). Anything else takes its socket's own value
+and is named as approximated."""
 import math
 
 import numpy as np

@@ -1,9 +1,10 @@
 """The scene's world as gpu/world.py radiance maps, its node tree evaluated as Cycles
 evaluates it for each direction: Background (and Emission) shaders' colour times
 strength, mixed and added; colours from RGB nodes, Environment Textures (equirectangular
-and mirror ball) at the direction a Mapping node turns, the Sky Texture's Preetham
-model, Mix Color and Light Path's Is Camera Ray (the camera's map and the lighting's
-differ). Anything else takes its socket's own value and is named as approximated."""
+and mirror ball) at the direction a Mapping node turns, the Sky Texture's models
+(sky_models.py; Hosek / Wilkie by Preetham's), Mix Color and Light Path's Is Camera Ray
+(the camera's map and the lighting's differ). Anything else takes its socket's own value
+and is named as approximated."""
 import math
 
 import numpy as np
@@ -11,6 +12,7 @@ import numpy as np
 from ..gpu.world import World, directions_of, map_coordinates
 from .image_pixels import linear_pixels
 from .materials import linked_node, linked_output
+from .sky_models import PhysicalSky, PreethamSky
 
 PROCEDURAL_SIZE = (64, 128)
 """The maps' size (height, width) of a world without images: smooth enough at this size."""
@@ -68,6 +70,7 @@ class WorldEvaluation:
 
     def __init__(self):
         self.approximated = []
+        self.sky_models = {}
 
     def map_size(self, socket):
         """The map size the tree needs: its widest Environment Texture's (at most
@@ -174,13 +177,47 @@ class WorldEvaluation:
         return _bilinear(pixels, u, v, wrap=node.projection != "MIRROR_BALL")
 
     def sky(self, node, directions, camera):
-        if node.sky_type != "PREETHAM":
-            self.approximated.append(f"Sky Texture {node.sky_type.replace('_', ' ').title()}: the Preetham model")
+        """A Sky Texture's colour: its model (sky_models.py) at the vectors it reads; on a
+        map's grid of directions the sun disc, far smaller than a texel, is put into the
+        texel holding it with its power."""
         vector = self.vector(node.inputs.get("Vector"), directions, camera)
         vector = vector / np.maximum(np.linalg.norm(vector, axis=-1, keepdims=True), 1e-30)
-        sun = np.array(node.sun_direction, dtype=np.float64) if node.sky_type in ("PREETHAM", "HOSEK_WILKIE") else \
-            sun_vector(node.sun_elevation, node.sun_rotation)
-        return preetham(vector, sun / max(np.linalg.norm(sun), 1e-30), node.turbidity)
+        model = self.sky_model(node)
+        if isinstance(model, PreethamSky):
+            return model.radiance(vector)
+        if vector.ndim != 3 or vector.shape[1] != 2 * vector.shape[0]:
+            return model.radiance(vector)
+        radiance = model.radiance(vector, sun=False)
+        _add_to_nearest_texel(radiance, vector, model.sun_direction, model.sun_power())
+        return radiance
+
+    def sky_model(self, node):
+        """The node's sky model, made once per evaluation (the camera's map and the
+        lighting's share it, with the texels either computed)."""
+        if node.sky_type in ("PREETHAM", "HOSEK_WILKIE"):
+            if node.sky_type == "HOSEK_WILKIE":
+                self.approximated.append("Sky Texture Hosek / Wilkie: the Preetham model")
+            key = ("PREETHAM", tuple(node.sun_direction), node.turbidity)
+            make = lambda: PreethamSky(node.sun_direction, node.turbidity)  # noqa: E731
+        else:
+            key = (node.sky_type, node.sun_disc, node.sun_size, node.sun_intensity, node.sun_elevation,
+                   node.sun_rotation, node.altitude, node.air_density, node.aerosol_density, node.ozone_density)
+            make = lambda: PhysicalSky(node.sky_type == "MULTIPLE_SCATTERING", *key[1:])  # noqa: E731
+        if key not in self.sky_models:
+            self.sky_models[key] = make()
+        return self.sky_models[key]
+
+
+def _add_to_nearest_texel(radiance, vectors, direction, power):
+    """Adds `power` (radiance integrated over solid angle) along `direction` to the texel of
+    an equirectangular map (`radiance` and its texels' `vectors`, (height, width, ...))
+    whose centre is nearest, divided by that texel's solid angle."""
+    if not np.any(power > 0):
+        return
+    height, width = radiance.shape[:2]
+    row, column = np.unravel_index(np.argmax(vectors @ direction), (height, width))
+    solid_angle = 2 * math.pi / width * (math.cos(math.pi * row / height) - math.cos(math.pi * (row + 1) / height))
+    radiance[row, column] += power / solid_angle
 
 
 def _upstream_nodes(socket, depth=32):
@@ -247,57 +284,3 @@ def _bilinear(pixels, u, v, wrap=True):
     top = pixels[y0, x0] * (1 - fx) + pixels[y0, x1] * fx
     bottom = pixels[y1, x0] * (1 - fx) + pixels[y1, x1] * fx
     return top * (1 - fy) + bottom * fy
-
-
-def sun_vector(elevation, rotation):
-    """The direction toward the sun of a Sky Texture's elevation and rotation."""
-    return np.array([math.sin(rotation) * math.cos(elevation), math.cos(rotation) * math.cos(elevation),
-                     math.sin(elevation)])
-
-
-def preetham(directions, sun, turbidity):
-    """The Preetham et al. 1999 daylight model's radiance along `directions` toward the
-    `sun`, converted from its xyY to linear Rec.709 as Cycles' sky does (luminance scaled
-    by its own 0.0666 factor, 1/15 W)."""
-    theta_s = math.acos(min(max(sun[2], -1.0), 1.0))
-    t, t2 = turbidity, turbidity * turbidity
-    chi = (4.0 / 9.0 - t / 120.0) * (math.pi - 2 * theta_s)
-    zenith_y = ((4.0453 * t - 4.9710) * math.tan(chi) - 0.2155 * t + 2.4192) * 0.06
-    ts, ts2, ts3 = theta_s, theta_s ** 2, theta_s ** 3
-    zenith_x = ((0.00166 * ts3 - 0.00375 * ts2 + 0.00209 * ts) * t2 +
-                (-0.02903 * ts3 + 0.06377 * ts2 - 0.03202 * ts + 0.00394) * t +
-                (0.11693 * ts3 - 0.21196 * ts2 + 0.06052 * ts + 0.25886))
-    zenith_yc = ((0.00275 * ts3 - 0.00610 * ts2 + 0.00317 * ts) * t2 +
-                 (-0.04214 * ts3 + 0.08970 * ts2 - 0.04153 * ts + 0.00516) * t +
-                 (0.15346 * ts3 - 0.26756 * ts2 + 0.06670 * ts + 0.26688))
-    coefficients = {
-        "Y": (0.1787 * t - 1.4630, -0.3554 * t + 0.4275, -0.0227 * t + 5.3251, 0.1206 * t - 2.5771,
-              -0.0670 * t + 0.3703),
-        "x": (-0.0193 * t - 0.2592, -0.0665 * t + 0.0008, -0.0004 * t + 0.2125, -0.0641 * t - 0.8989,
-              -0.0033 * t + 0.0452),
-        "y": (-0.0167 * t - 0.2608, -0.0950 * t + 0.0092, -0.0079 * t + 0.2102, -0.0441 * t - 1.6537,
-              -0.0109 * t + 0.0529),
-    }
-
-    def perez(theta, gamma, c):
-        a, b, cc, d, e = c
-        return (1 + a * np.exp(b / np.maximum(np.cos(theta), 0.01))) * \
-            (1 + cc * np.exp(d * gamma) + e * np.cos(gamma) ** 2)
-
-    d = np.asarray(directions, dtype=np.float64)
-    theta = np.arccos(np.clip(d[..., 2], -1.0, 1.0))
-    above = d[..., 2] >= 0
-    theta = np.where(above, theta, math.pi / 2 - 0.001)  # the ground shows the horizon, as Cycles' sky does
-    gamma = np.arccos(np.clip(d @ sun, -1.0, 1.0))
-    values = {}
-    for name, zenith in (("Y", zenith_y), ("x", zenith_x), ("y", zenith_yc)):
-        c = coefficients[name]
-        values[name] = zenith * perez(theta, gamma, c) / perez(0.0, theta_s, c)
-    big_y = values["Y"] * 0.0666  # Cycles' sky_radiance_preetham scales luminance by this
-    x, y = values["x"], values["y"]
-    big_x = x / np.maximum(y, 1e-6) * big_y
-    big_z = (1 - x - y) / np.maximum(y, 1e-6) * big_y
-    xyz = np.stack([big_x, big_y, big_z], axis=-1)
-    to_rec709 = np.array([[3.2404542, -1.5371385, -0.4985314], [-0.9692660, 1.8760108, 0.0415560],
-                          [0.0556434, -0.2040259, 1.0572252]])
-    return np.maximum(xyz @ to_rec709.T, 0.0)

@@ -302,7 +302,10 @@ class _Evaluation:
             alpha, alpha_image, alpha_uv_map = self.alpha(node.inputs["Alpha"])
             transmission = dielectric * weights["Transmission Weight"]
             colour = base.scaled(dielectric * (1.0 - weights["Transmission Weight"]))
-            return replace(colour.see_through(alpha, transmission, self.tint(base) if transmission > 0 else (1, 1, 1)),
+            # Cycles tints each crossing by the square root of the base colour: a closed glass
+            # solid, crossed twice, passes the base colour (the preview tints at each surface too)
+            tint = np.sqrt(self.tint(base)) if transmission > 0 else (1, 1, 1)
+            return replace(colour.see_through(alpha, transmission, tint),
                            alpha_image=alpha_image, alpha_uv_map=alpha_uv_map)
         if node.type == "BSDF_DIFFUSE":
             return self.colour(node.inputs["Color"], depth)
@@ -341,7 +344,8 @@ class _Evaluation:
                        alpha_uv_map=images[0].alpha_uv_map if len(images) == 1 else "")
 
     def tint(self, colour):
-        """What a BaseColour tints the light passing through: its mean colour."""
+        """What a BaseColour tints the light passing through a surface once: its mean
+        colour (a Glass, Refraction or Transparent BSDF's, at each crossing as Cycles)."""
         return tuple(float(c) for c in np.clip(self.average_of(colour), 0.0, 1.0))
 
     def alpha(self, socket):

@@ -252,9 +252,11 @@ class _Evaluation:
         if node.type == "ADD_SHADER":
             return self.emitted(node.inputs[0], depth + 1) + self.emitted(node.inputs[1], depth + 1)
         if node.type == "MIX_SHADER":
+            first, second = self.emitted(node.inputs[1], depth + 1), self.emitted(node.inputs[2], depth + 1)
+            if not (first.any() or second.any()):
+                return np.zeros(3)  # nothing emits: the weight does not matter (a cut-out's image alpha)
             weight = self.mix_weight(node)
-            return ((1.0 - weight) * self.emitted(node.inputs[1], depth + 1)
-                    + weight * self.emitted(node.inputs[2], depth + 1))
+            return (1.0 - weight) * first + weight * second
         return np.zeros(3)
 
     def mix_weight(self, node):

@@ -250,3 +250,28 @@ def test_udim_tiles_are_read_at_their_uv_offsets(tmp_path, packed):
     left, right = direct[20:44, 8:28].reshape(-1, 3), direct[20:44, 36:56].reshape(-1, 3)
     assert left[:, 0].min() > 0 and left[:, 1:].max() == 0  # tile 1001: red
     assert right[:, 2].min() > 0 and right[:, :2].max() == 0  # tile 1002: blue
+
+
+def test_a_transparent_mix_by_an_image_alpha_cuts_the_surface_out():
+    """The usual cut-out set-up: a Mix Shader of a Transparent BSDF and the surface, its
+    factor an Image Texture's alpha; the image keeps its alpha channel in the array."""
+    def make():
+        image = bpy.data.images.new("Leaf", 2, 2, alpha=True)
+        image.pixels.foreach_set(np.array([[0.2, 0.6, 0.2, a] for a in (1, 0, 0, 1)], np.float32).ravel())
+        material = bpy.data.materials.new("Leaf")
+        nodes, links = material.node_tree.nodes, material.node_tree.links
+        texture, mix = nodes.new("ShaderNodeTexImage"), nodes.new("ShaderNodeMixShader")
+        texture.image = image
+        transparent = nodes.new("ShaderNodeBsdfTransparent")
+        links.new(texture.outputs["Color"], nodes["Principled BSDF"].inputs["Base Color"])
+        links.new(texture.outputs["Alpha"], mix.inputs["Fac"])
+        links.new(transparent.outputs[0], mix.inputs[1])
+        links.new(nodes["Principled BSDF"].outputs[0], mix.inputs[2])
+        links.new(mix.outputs[0], nodes["Material Output"].inputs["Surface"])
+        return material
+    scene, _ = floor_scene(make)
+    extracted = scene_to_render(scene)
+    assert extracted.approximated_materials == []
+    assert extracted.alpha is None and extracted.transmission is None
+    np.testing.assert_array_equal(extracted.alpha_layers, extracted.image_layers)
+    np.testing.assert_array_equal(extracted.images[0].pixels[..., 3], [[0, 1], [1, 0]])  # top row first

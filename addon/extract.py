@@ -94,7 +94,8 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
             if not seen:
                 continue
             slots = surfaces.palette(obj, max(1, len(obj.material_slots)))
-            uv_maps = tuple(sorted({colour.uv_map for colour in slots if colour.image is not None}))
+            uv_maps = tuple(sorted({colour.uv_map for colour in slots if colour.image is not None} |
+                                   {colour.alpha_uv_map for colour in slots if colour.alpha_image is not None}))
             attributes = tuple(sorted({colour.attribute for colour in slots if colour.attribute is not None}))
             key = (_mesh_key(obj), uv_maps, attributes)
             if key not in meshes:
@@ -119,8 +120,13 @@ def _assemble(meshes, batches, surfaces, emitters=None):
     emission = np.zeros((total, 3), dtype=np.float32)
     visibility = np.empty(total, dtype=np.uint8)
     image_layers = np.full(total, -1, dtype=np.int16)
-    textured = any(colour.image is not None for _, palettes, _ in batches.values() for slots in palettes
-                   for colour in slots)
+    colours = [colour for _, palettes, _ in batches.values() for slots in palettes for colour in slots]
+    textured = any(colour.image is not None or colour.alpha_image is not None for colour in colours)
+    alpha_images = {colour.alpha_image.as_pointer() for colour in colours if colour.alpha_image is not None}
+    see_through = not all(colour.opaque for colour in colours)
+    alpha = np.ones(total, dtype=np.float32) if see_through else None
+    alpha_layers = np.full(total, -1, dtype=np.int16) if alpha_images else None
+    transmission = np.zeros((total, 4), dtype=np.float32) if see_through else None
     coloured = any(colour.attribute is not None for _, palettes, _ in batches.values() for slots in palettes
                    for colour in slots)
     uvs = np.zeros((total, 3, 2), dtype=np.float32) if textured else None
@@ -133,7 +139,8 @@ def _assemble(meshes, batches, surfaces, emitters=None):
         if key not in layers:
             layers[key] = len(images)
             images.append(SurfaceImage(image.name if tile is None else f"{image.name}.{tile}",
-                                       surfaces.pixels(image, tile)))
+                                       surfaces.rgba(image, tile) if image.as_pointer() in alpha_images
+                                       else surfaces.pixels(image, tile)))
         return layers[key]
 
     approximated = set(surfaces.approximated)
@@ -159,6 +166,11 @@ def _assemble(meshes, batches, surfaces, emitters=None):
                 per_instance(uvs)[which] = surface.uvs
             if surface.colors is not None:
                 per_instance(vertex_colors)[which] = surface.colors
+            if see_through:
+                per_instance(alpha)[which] = surface.alpha
+                per_instance(transmission)[which] = surface.transmission
+            if alpha_layers is not None:
+                per_instance(alpha_layers)[which] = surface.alpha_layers
             approximated |= surface.approximated
         if mirrored.any():
             reversed_corners = np.flatnonzero(mirrored) + start
@@ -169,6 +181,7 @@ def _assemble(meshes, batches, surfaces, emitters=None):
     return {"triangles": triangles, "normals": normals, "albedo": albedo,
             "emission": emission if emission.any() else None, "visibility": visibility,
             "vertex_colors": vertex_colors, "uvs": uvs, "image_layers": image_layers if images else None,
+            "alpha": alpha, "alpha_layers": alpha_layers, "transmission": transmission,
             "images": images, "approximated_materials": surfaces.approximated_entries(approximated), "origin": origin,
             "missing_images": sorted(surfaces.missing_images),
             "point_emitters": emitters.array(origin) if emitters is not None else None}
@@ -228,7 +241,9 @@ def _mesh_key(obj):
 class MeshSurface:
     """One instance's surface per triangle of a LocalMesh: albedo (T, 3), image layer
     (T, ), corner UVs (T, 3, 2) and colours (T, 3, 3) (None: not read), the materials
-    approximated for want of a UV map or colour attribute, and emitted radiance (T, 3)."""
+    approximated for want of a UV map or colour attribute, emitted radiance (T, 3), and
+    what of the surface lets light through (gpu/scene.py Scene): alpha (T,), the image
+    layer whose alpha multiplies it (T,) and the transmission (T, 4)."""
 
     albedo: np.ndarray
     layers: np.ndarray
@@ -236,6 +251,9 @@ class MeshSurface:
     colors: np.ndarray
     approximated: set
     emission: np.ndarray
+    alpha: np.ndarray = None
+    alpha_layers: np.ndarray = None
+    transmission: np.ndarray = None
 
 
 class LocalMesh:
@@ -330,6 +348,7 @@ class LocalMesh:
         slot = np.minimum(self.material_index, len(slots) - 1)
         factors = np.array([colour.factor for colour in slots], dtype=np.float32)
         layers = np.full(self.triangle_count, -1, dtype=np.int16)
+        alpha_layers = np.full(self.triangle_count, -1, dtype=np.int16)
         uvs = colors = None
         approximated = set()
         for index, colour in enumerate(slots):
@@ -350,8 +369,19 @@ class LocalMesh:
                 else:
                     colors = np.ones((self.triangle_count, 3, 3), np.float32) if colors is None else colors
                     colors[triangles] = corner[triangles]
+            if colour.alpha_image is not None:
+                uv = self.uvs.get(colour.alpha_uv_map)
+                if uv is None or colour.image is not None and colour.alpha_uv_map != colour.uv_map:
+                    approximated.add(colour.material)  # no such UV map, or another than the colour's: opaque
+                else:
+                    alpha_layers[triangles] = _image_layers(colour.alpha_image, uv[triangles], layer_of)
+                    uvs = np.zeros((self.triangle_count, 3, 2), np.float32) if uvs is None else uvs
+                    uvs[triangles] = uv[triangles]
         emission = np.array([colour.emission for colour in slots], dtype=np.float32)
-        return MeshSurface(factors[slot], layers, uvs, colors, approximated, emission[slot])
+        alpha = np.array([colour.alpha for colour in slots], dtype=np.float32)
+        transmission = np.array([(*colour.transmission_tint, colour.transmission) for colour in slots], np.float32)
+        return MeshSurface(factors[slot], layers, uvs, colors, approximated, emission[slot], alpha[slot],
+                           alpha_layers, transmission[slot])
 
 
 def _image_layers(image, uvs, layer_of):

@@ -50,6 +50,17 @@ def linear_pixels(image):
     return linear(pixels, image.is_float, image.colorspace_settings.name)
 
 
+def alpha_channel(image):
+    """(H, W) float32 alpha of a Blender image, top row first, or None when it has no
+    alpha channel or no pixels."""
+    width, height = image.size
+    if width * height == 0 or image.channels != 4:
+        return None
+    pixels = np.empty(width * height * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    return np.ascontiguousarray(pixels.reshape(height, width, 4)[::-1, :, 3])
+
+
 def linear(pixels, is_float, colour_space):
     """(H, W, 3) linear float32 of (H, W, C) pixel values: float images hold scene-linear
     values; byte images hold their colour space's encoding, which for anything but linear

@@ -11,26 +11,37 @@ nearest upstream image's average, or the socket's or the material's display colo
 the material is named in `approximated`: the panel and stats.json list them. Shaders the
 preview does not render as Cycles does (UNSUPPORTED_SHADERS, PRINCIPLED_UNSUPPORTED, a
 linked Volume) name what they are and what the preview does with them beside the name.
+
+A surface also lets light through (docs/method.md, "Alpha and transmission"): its
+`alpha` (the Principled BSDF's Alpha, a constant or an Image Texture's Alpha output, and
+the Transparent BSDF of a Mix Shader) cuts it out, and its transmission (the Principled
+BSDF's Transmission Weight, a Glass or Refraction BSDF, a coloured Transparent BSDF) is
+seen and lit through, tinted: a thin sheet without refraction.
 """
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .image_pixels import LINEAR_COLOUR_SPACES, linear_pixels, tile_pixels
+from .image_pixels import LINEAR_COLOUR_SPACES, alpha_channel, linear_pixels, tile_pixels
 
 DEFAULT_ALBEDO = (0.8, 0.8, 0.8)
 """Blender's colour for a surface without a material."""
 
 NON_REFLECTING_SHADERS = {"EMISSION", "HOLDOUT", "BSDF_TRANSPARENT"}
+
+TRANSMITTING_SHADERS = {"BSDF_GLASS", "BSDF_REFRACTION", "BSDF_TRANSPARENT"}
+"""Shader nodes read as a thin sheet that transmits all light, tinted by their Color."""
 """Shader nodes that reflect no light diffusely."""
 
 AS_DISPLAY_COLOUR = "rendered as an opaque diffuse surface in the display colour"
 AS_OPAQUE_BLACK = "rendered as an opaque black surface"
 VOLUME = "volume (rendered as an opaque surface)"
 
+AS_THIN_SHEET = "seen and lit through as a thin tinted sheet: no refraction, reflection or caustics"
+
 UNSUPPORTED_SHADERS = {
-    "BSDF_GLASS": f"glass ({AS_DISPLAY_COLOUR})",
-    "BSDF_REFRACTION": f"refraction ({AS_DISPLAY_COLOUR})",
+    "BSDF_GLASS": f"glass ({AS_THIN_SHEET})",
+    "BSDF_REFRACTION": f"refraction ({AS_THIN_SHEET})",
     "BSDF_TRANSLUCENT": f"translucency ({AS_DISPLAY_COLOUR})",
     "SUBSURFACE_SCATTERING": f"subsurface scattering ({AS_DISPLAY_COLOUR})",
     "BSDF_HAIR": f"hair ({AS_DISPLAY_COLOUR})",
@@ -42,7 +53,6 @@ UNSUPPORTED_SHADERS = {
     "BSDF_RAY_PORTAL": f"ray portal ({AS_DISPLAY_COLOUR})",
     "EEVEE_SPECULAR": f"EEVEE specular ({AS_DISPLAY_COLOUR})",
     "HOLDOUT": f"holdout ({AS_OPAQUE_BLACK}, not cut out)",
-    "BSDF_TRANSPARENT": f"transparency ({AS_OPAQUE_BLACK})",
     "PRINCIPLED_VOLUME": VOLUME,
     "VOLUME_SCATTER": VOLUME,
     "VOLUME_ABSORPTION": VOLUME,
@@ -53,15 +63,13 @@ preview does not render as Cycles does: one table, so that the list of approxima
 materials says the same of every material using one."""
 
 PRINCIPLED_UNSUPPORTED = {
-    "Transmission Weight": "transmission (rendered opaque: the transmitted part is black)",
+    "Transmission Weight": f"transmission ({AS_THIN_SHEET})",
     "Subsurface Weight": "subsurface scattering (rendered as plain diffuse)",
-    "Alpha": "alpha (ignored: rendered opaque)",
 }
 """Principled BSDF inputs -> what the preview does with them, where they differ from
-their no-effect value (Alpha 1, the others 0) or are linked."""
+their no-effect value (0) or are linked."""
 
-PRINCIPLED_NO_EFFECT = {"Alpha": 1.0}
-"""The value at which a PRINCIPLED_UNSUPPORTED input has no effect (0 when not here)."""
+ALPHA_APPROXIMATED = "alpha approximated (an input the preview does not evaluate: taken at its own value)"
 
 COLOUR_APPROXIMATED = "diffuse colour approximated"
 
@@ -78,7 +86,12 @@ class BaseColour:
     """What a surface's diffuse colour is made of: the linear `factor`, times the `image`
     (a bpy Image, None: none) at the UV map `uv_map` ("": the active render one), times
     the colour attribute `attribute` ("": the active render one; None: none); `material`
-    names whose colour it is; `emission` is the radiance it emits (W/(m² sr), linear)."""
+    names whose colour it is; `emission` is the radiance it emits (W/(m² sr), linear).
+
+    What of the light meeting the surface is not cut out is `alpha` (times, where
+    `alpha_image` is an image, its alpha channel at the UV map `alpha_uv_map`); of that,
+    the share `transmission` passes through tinted by `transmission_tint`, and the rest
+    is the surface the colour describes (the colour is already scaled by neither)."""
 
     factor: tuple
     image: object = None
@@ -86,13 +99,27 @@ class BaseColour:
     attribute: str = None
     material: str = ""
     emission: tuple = (0.0, 0.0, 0.0)
+    alpha: float = 1.0
+    alpha_image: object = None
+    alpha_uv_map: str = ""
+    transmission: float = 0.0
+    transmission_tint: tuple = (1.0, 1.0, 1.0)
 
     @property
     def varies(self):
         return self.image is not None or self.attribute is not None
 
+    @property
+    def opaque(self):
+        return self.alpha >= 1.0 and self.alpha_image is None and self.transmission <= 0.0
+
     def scaled(self, scale):
         return replace(self, factor=tuple(float(f) * float(s) for f, s in zip(self.factor, np.broadcast_to(scale, 3))))
+
+    def see_through(self, alpha, transmission, tint):
+        """This colour with `alpha`, `transmission` and `transmission_tint` `tint`."""
+        return replace(self, alpha=float(alpha), transmission=float(transmission),
+                       transmission_tint=tuple(float(c) for c in tint))
 
 
 def constant(colour):
@@ -160,6 +187,18 @@ class MaterialSurfaces:
             self.images[key] = pixels
         return self.images[key]
 
+    def rgba(self, image, tile=None):
+        """The image's linear pixels with its alpha channel, (H, W, 4) (alpha 1 where it
+        has none; a tile's pixels as `pixels` gives them, alpha 1)."""
+        key = (image.as_pointer(), tile, "alpha")
+        if key not in self.images:
+            rgb = self.pixels(image, tile)
+            alpha = alpha_channel(image) if tile is None else None
+            if alpha is None or alpha.shape != rgb.shape[:2]:
+                alpha = np.ones(rgb.shape[:2], np.float32)
+            self.images[key] = np.ascontiguousarray(np.dstack([rgb, alpha]), dtype=np.float32)
+        return self.images[key]
+
     def average(self, image):
         """The mean colour of the image (a tiled one's first tile)."""
         key = image.as_pointer()
@@ -213,9 +252,11 @@ class _Evaluation:
         if node.type == "ADD_SHADER":
             return self.emitted(node.inputs[0], depth + 1) + self.emitted(node.inputs[1], depth + 1)
         if node.type == "MIX_SHADER":
+            first, second = self.emitted(node.inputs[1], depth + 1), self.emitted(node.inputs[2], depth + 1)
+            if not (first.any() or second.any()):
+                return np.zeros(3)  # nothing emits: the weight does not matter (a cut-out's image alpha)
             weight = self.mix_weight(node)
-            return ((1.0 - weight) * self.emitted(node.inputs[1], depth + 1)
-                    + weight * self.emitted(node.inputs[2], depth + 1))
+            return (1.0 - weight) * first + weight * second
         return np.zeros(3)
 
     def mix_weight(self, node):
@@ -240,32 +281,96 @@ class _Evaluation:
             return BLACK  # An unconnected surface renders black in Cycles.
         if depth > 32:
             return self.approximate(fallback)
+        if node.type in TRANSMITTING_SHADERS:  # a thin sheet passing all light, tinted
+            if node.type in UNSUPPORTED_SHADERS:
+                self.unsupported[UNSUPPORTED_SHADERS[node.type]] = True
+            return BLACK.see_through(1.0, 1.0, self.tint(self.colour(node.inputs["Color"], depth)))
         if node.type in UNSUPPORTED_SHADERS:  # named, and rendered as it always was
             self.unsupported[UNSUPPORTED_SHADERS[node.type]] = True
             return BLACK if node.type in NON_REFLECTING_SHADERS else fallback
         if node.type == "BSDF_PRINCIPLED":
             for name, what in PRINCIPLED_UNSUPPORTED.items():
                 socket = node.inputs[name]
-                if socket.is_linked or float(socket.default_value) != PRINCIPLED_NO_EFFECT.get(name, 0.0):
+                if socket.is_linked or float(socket.default_value) != 0.0:
                     self.unsupported[what] = True
-            diffuse = 1.0
+            weights = {}
             for name in ("Metallic", "Transmission Weight"):
                 weight = node.inputs[name]
                 if weight.is_linked:
                     self.approximated = True
-                diffuse *= 1.0 - float(np.clip(weight.default_value, 0.0, 1.0))
-            return self.colour(node.inputs["Base Color"], depth).scaled(diffuse)
+                weights[name] = float(np.clip(weight.default_value, 0.0, 1.0))
+            dielectric = 1.0 - weights["Metallic"]
+            base = self.colour(node.inputs["Base Color"], depth)
+            alpha, alpha_image, alpha_uv_map = self.alpha(node.inputs["Alpha"])
+            transmission = dielectric * weights["Transmission Weight"]
+            colour = base.scaled(dielectric * (1.0 - weights["Transmission Weight"]))
+            # Cycles tints each crossing by the square root of the base colour: a closed glass
+            # solid, crossed twice, passes the base colour (the preview tints at each surface too)
+            tint = np.sqrt(self.tint(base)) if transmission > 0 else (1, 1, 1)
+            return replace(colour.see_through(alpha, transmission, tint),
+                           alpha_image=alpha_image, alpha_uv_map=alpha_uv_map)
         if node.type == "BSDF_DIFFUSE":
             return self.colour(node.inputs["Color"], depth)
-        if node.type in ("MIX_SHADER", "ADD_SHADER"):
-            first, second = (node.inputs[1], node.inputs[2]) if node.type == "MIX_SHADER" else node.inputs[:2]
-            weight = self.mix_weight(node) if node.type == "MIX_SHADER" else 1.0
-            parts = [(1.0 - weight if node.type == "MIX_SHADER" else 1.0, self.shader(first, fallback, depth + 1)),
-                     (weight, self.shader(second, fallback, depth + 1))]
-            return self.combined(parts)
+        if node.type == "MIX_SHADER":
+            first, second = (self.shader(node.inputs[i], fallback, depth + 1) for i in (1, 2))
+            image, uv_map = self.alpha_image(node.inputs[0])
+            if image is not None and is_clear(first) and second.alpha_image is None:
+                # the usual cut-out: Transparent BSDF, the surface, mixed by an image's alpha
+                return replace(second, alpha_image=image, alpha_uv_map=uv_map)
+            weight = self.mix_weight(node)
+            return self.see_through_sum([(1.0 - weight, first), (weight, second)])
+        if node.type == "ADD_SHADER":
+            return self.see_through_sum([(1.0, self.shader(node.inputs[i], fallback, depth + 1)) for i in (0, 1)])
         if node.type in NON_REFLECTING_SHADERS:
             return BLACK
         return self.approximate(fallback)
+
+    def see_through_sum(self, parts):
+        """The weighted sum of shaders' BaseColours: the diffuse colours (combined) and
+        what of each is cut out and transmitted, weighted by what of it is not cut out;
+        an image's alpha kept when one part alone has it (else taken as 1, approximated)."""
+        if all(colour.opaque for _, colour in parts):
+            return self.combined(parts)
+        alpha = sum(weight * colour.alpha for weight, colour in parts)
+        if alpha <= 0.0:
+            return BLACK.see_through(0.0, 0.0, (1, 1, 1))
+        colour = self.combined([(weight * colour.alpha, colour) for weight, colour in parts]).scaled(1.0 / alpha)
+        transmitted = sum(weight * colour.alpha * colour.transmission for weight, colour in parts)
+        tint = (sum(weight * part.alpha * part.transmission * np.array(part.transmission_tint) for weight, part in parts)
+                / transmitted if transmitted > 0 else (1, 1, 1))
+        images = [part for _, part in parts if part.alpha_image is not None]
+        if len(images) > 1:
+            self.unsupported[ALPHA_APPROXIMATED] = True
+        return replace(colour.see_through(min(alpha, 1.0), min(transmitted / alpha, 1.0), tint),
+                       alpha_image=images[0].alpha_image if len(images) == 1 else None,
+                       alpha_uv_map=images[0].alpha_uv_map if len(images) == 1 else "")
+
+    def tint(self, colour):
+        """What a BaseColour tints the light passing through a surface once: its mean
+        colour (a Glass, Refraction or Transparent BSDF's, at each crossing as Cycles)."""
+        return tuple(float(c) for c in np.clip(self.average_of(colour), 0.0, 1.0))
+
+    def alpha(self, socket):
+        """(constant, image, UV map) of an alpha input: its value, or 1 times the alpha
+        of the Image Texture whose Alpha output feeds it; anything else is taken at the
+        socket's own value (approximated)."""
+        image, uv_map = self.alpha_image(socket)
+        if image is not None:
+            return 1.0, image, uv_map
+        if socket.is_linked:
+            self.unsupported[ALPHA_APPROXIMATED] = True
+        return float(np.clip(socket.default_value, 0.0, 1.0)), None, ""
+
+    def alpha_image(self, socket):
+        """(image, UV map) of the Image Texture whose Alpha output feeds `socket`, or
+        (None, "")."""
+        node = linked_node(socket)
+        if node is None or node.type != "TEX_IMAGE" or node.image is None or linked_output(socket) != "Alpha":
+            return None, ""
+        if node.image.source == "TILED":  # a UDIM tile's alpha is not read: taken as opaque
+            self.unsupported[ALPHA_APPROXIMATED] = True
+            return None, ""
+        return node.image, self.image_colour(node).uv_map
 
     def combined(self, parts):
         """The weighted sum of BaseColours: exact when at most one part varies and the
@@ -347,6 +452,12 @@ class _Evaluation:
             if not first.varies and weight == 1.0:  # a b: b scaled
                 return second.scaled(first.factor)
         return None
+
+
+def is_clear(colour):
+    """Whether a BaseColour lets all light through untouched (a white Transparent BSDF)."""
+    return (not any(colour.factor) and colour.alpha_image is None and
+            (colour.alpha <= 0.0 or colour.transmission >= 1.0 and min(colour.transmission_tint) >= 1.0))
 
 
 def linked_node(socket):

@@ -42,7 +42,7 @@ SHARED_BYTES_PER_TEXEL = 4 + 4
 cell ids; the warped methods keep a spare set of maps there too (the warp's source)."""
 VPL_CELL_BYTES = 16 + 8               # per atlas layout: a Poisson cell's bounds and sample point
 
-VERTEX_BYTES = 12 * 4                 # position, normal, albedo, surface coordinate (mesh_buffer.py)
+VERTEX_BYTES = 18 * 4                 # position, normal, albedo, surface coordinate, transmission (mesh_buffer.py)
 RIM_LIST_BYTES_PER_TRIANGLE = 2 * 3 * 4
 """Per paraboloid hemisphere: room for two lists of vertex indices (uint32) of the
 triangles split at its rim."""

@@ -134,7 +134,8 @@ def render_light_maps(glc, mesh, light, settings, bounds, stats, sampler, patter
 def _render_with(method, glc, mesh, light, s, bounds, stats, sampler, pattern, region):
     recipe = map_recipe(s, method)
     with glc.timed(stats, "rsm_ms"):
-        rsm = render_rsm(glc, mesh, light, s.rsm_resolution, bounds, recipe.projection, recipe.tessellation_unit)
+        rsm = render_rsm(glc, mesh, light, s.rsm_resolution, bounds, recipe.projection, recipe.tessellation_unit,
+                         pattern=pattern)
     status = None
     if recipe.warp_alpha is not None and rsm.projection_kind == PROJECTION_PARABOLOID:
         with glc.timed(stats, "warp_ms"):
@@ -146,7 +147,7 @@ def _render_with(method, glc, mesh, light, s, bounds, stats, sampler, pattern, r
     if region is not None:
         with glc.timed(stats, "rsm_ms"):
             region_map = render_rsm(glc, mesh, light, s.rsm_resolution, tuple(np.array(corner) for corner in region),
-                                    reach=bounds)
+                                    reach=bounds, pattern=pattern)
     maps = LightMaps(rsm, method, status, region_map, region)
     with glc.timed(stats, "vpl_ms"):
         maps.sample_vpls(sampler, s.vpls_per_light, pattern)

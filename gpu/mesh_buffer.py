@@ -10,25 +10,57 @@ FRONT, CROSSING = 0, 1
 RIM_COMMAND_BYTES = 2 * 5 * 4
 
 
+VERTEX_LAYOUT = ("3f 3f 4f 4f 4f", "in_position", "in_normal", "in_albedo", "in_surface", "in_transmission")
+"""A vertex's floats and attributes (shaders/vertex_layout.glsl says where the compute
+passes find them)."""
+
+
+def vertex_albedo(scene):
+    """(T, 3, 4) each corner's albedo and alpha: the triangle's albedo times the corner's
+    vertex colour, divided where the surface transmits by what does not (the opaque part's
+    albedo, shaders/surface.glsl), and the triangle's alpha."""
+    albedo = np.repeat(scene.albedo[:, None, :], 3, axis=1)
+    if scene.vertex_colors is not None:
+        albedo = albedo * scene.vertex_colors
+    if scene.transmission is not None:
+        opaque = 1.0 - scene.transmission[:, 3]
+        albedo = np.clip(albedo / np.maximum(opaque, 1e-6)[:, None, None], 0.0, 1.0)
+    alpha = np.ones((len(albedo), 3, 1), np.float32) if scene.alpha is None else np.repeat(
+        scene.alpha[:, None, None], 3, axis=1)
+    return np.concatenate([albedo, alpha], axis=2)
+
+
 class MeshBuffer:
     """One interleaved vertex buffer and its vertex arrays, and the scene's images.
 
     A vertex is its position, normal, albedo (the triangle's times its corner's vertex
-    colour) and surface coordinate (u, v, image layer; layer -1: no image), twelve floats.
+    colour) and alpha, surface coordinate (u, v, image layer, alpha image layer; layer -1:
+    no image) and transmission (tint, share), eighteen floats (VERTEX_LAYOUT).
+    `see_through` says whether any triangle is cut out or transmits (the raster passes
+    test alpha), `hashed` whether that differs from one VPL pattern to the next, and
+    `transmits` whether light passing some triangle is tinted.
     The camera draws its `camera_triangles` and the lights' maps its `light_triangles`
     ((first, count) ranges of a sanitized Scene's ordering)."""
 
     def __init__(self, glc, scene):
         count = scene.triangle_count
-        albedo = np.repeat(scene.albedo[:, None, :], 3, axis=1)
-        if scene.vertex_colors is not None:
-            albedo = albedo * scene.vertex_colors
-        surface = np.zeros((count, 3, 3), dtype=np.float32)
-        surface[..., 2] = -1.0
-        if scene.image_layers is not None:
+        surface = np.zeros((count, 3, 4), dtype=np.float32)
+        surface[..., 2:] = -1.0
+        if scene.uvs is not None:
             surface[..., :2] = scene.uvs
+        if scene.image_layers is not None:
             surface[..., 2] = scene.image_layers[:, None]
-        interleaved = np.concatenate([scene.triangles, scene.normals, albedo, surface], axis=2).astype(np.float32)
+        if scene.alpha_layers is not None:
+            surface[..., 3] = scene.alpha_layers[:, None]
+        transmission = np.zeros((count, 3, 4), dtype=np.float32)
+        transmission[..., :3] = 1.0
+        if scene.transmission is not None:
+            transmission[:] = scene.transmission[:, None, :]
+        interleaved = np.concatenate([scene.triangles, scene.normals, vertex_albedo(scene), surface, transmission],
+                                     axis=2).astype(np.float32)
+        self.see_through = scene.see_through
+        self.hashed = scene.hashed
+        self.transmits = scene.transmission is not None
         self.glc = glc
         self.images = SurfaceImages(glc.gl, scene.images)
         self.triangle_count = count
@@ -47,7 +79,7 @@ class MeshBuffer:
     def vertex_array(self, program, indices=None):
         if (program, indices) not in self._arrays:
             self._arrays[program, indices] = self.glc.gl.vertex_array(
-                program, [(self.buffer, "3f 3f 3f 3f", "in_position", "in_normal", "in_albedo", "in_surface")],
+                program, [(self.buffer, *VERTEX_LAYOUT)],
                 index_buffer=indices, index_element_size=4, skip_errors=True)
         self.images.bind(program)
         return self._arrays[program, indices]

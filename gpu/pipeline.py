@@ -138,7 +138,8 @@ class Pipeline:
         region = sun_region(levels, bounds)
         for light in scene.lights if lights is None else lights:
             light_region = region if light.kind == "SUN" else None
-            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes, light_region)
+            key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes, light_region,
+                   self.vpl_pattern if self._mesh.value.hashed else None)  # hashed cut-outs differ per pattern
             if key not in self._lights:
                 self._lights[key] = render_light_maps(self.glc, self._mesh.value, light, s, bounds, stats,
                                                       self.vpl_sampler, self.vpl_pattern, light_region)
@@ -180,11 +181,11 @@ class Pipeline:
         shot = scene if camera is scene.camera else replace(scene, camera=camera)  # this set's view of the scene
         start = time.perf_counter()
         stats = {}
+        if vpl_set is not None:
+            self.vpl_pattern = vpl_set
         targets = self._gbuffer(shot, stats)
         grids = self._place_grids(scene, targets, stats)  # placed from the first set's view
         levels = list(grids[::s.grid_phases])
-        if vpl_set is not None:
-            self.vpl_pattern = vpl_set
         box = seen_box(levels, scene.bounds())
         lit = self._frame_lights.get(
             (fits[3], fits[2], tuple(map(tuple, box)), levels[0].cell_size, s.light_cutoff, s.light_map_budget),
@@ -229,7 +230,7 @@ class Pipeline:
         self._upload(scene, stats)
         targets = self._targets.get((s.width, s.height), lambda: FrameTargets(self.glc.gl, s.width, s.height))
         with self.glc.timed(stats, "gbuffer_ms"):
-            render_gbuffer(self.glc, self._mesh.value, scene.camera, targets)
+            render_gbuffer(self.glc, self._mesh.value, scene.camera, targets, self.vpl_pattern)
         return targets
 
     def _place_grids(self, scene, targets, stats):

@@ -15,6 +15,7 @@ import numpy as np
 from .context import set_uniforms
 from .mesh_buffer import CROSSING, FRONT
 from .scene import look_at_view, perspective
+from .shade import cut_out_defines, multiply_blend
 
 LIGHT_KIND_INDEX = {"POINT": 0, "SPOT": 1, "AREA": 2, "SUN": 3}
 PROJECTION_CUBE, PROJECTION_PARABOLOID, PROJECTION_ORTHO = 0, 1, 2
@@ -139,11 +140,12 @@ def light_uniforms(light, position):
     }
 
 
-def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_unit=None, reach=None):
+def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_unit=None, reach=None, pattern=0):
     """Rasterise the light's RSM faces: cube faces for "cm", hemispheres for "dpm",
     tessellated hemispheres (thesis eq. 8-9, unit in map units) when a unit is given. A
     sun's map covers `bounds` across its rays and, along them, `reach` (a box holding
-    every occluder; `bounds` when None)."""
+    every occluder; `bounds` when None). Cut-outs are hashed in VPL pattern `pattern`; the
+    flux that passes transmitting surfaces is tinted by them (a second pass)."""
     low, high = bounds
     centre = (low + high) / 2
     radius = max(float(np.linalg.norm(high - low)) / 2, 1e-6)
@@ -184,31 +186,46 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
     framebuffer = gl.framebuffer(color_attachments=textures, depth_attachment=depth)
     tessellated = kind == PROJECTION_PARABOLOID and tessellation_unit is not None
     if tessellated:
-        programs = [glc.program("pass_through", "rsm", geometry="dpm", tessellation="tdpm")] * 2
         gl.patch_vertices = 3
-    elif kind == PROJECTION_PARABOLOID:  # in front: project per vertex; crossing the rim: clip first
-        programs = [glc.program("dpm", "rsm"), glc.program("pass_through", "rsm", geometry="dpm")]
-    else:
-        programs = [glc.program("raster", "rsm")]
+
+    def face_programs(fragment, **defines):
+        if tessellated:
+            return [glc.program("pass_through", fragment, geometry="dpm", tessellation="tdpm", **defines)] * 2
+        if kind == PROJECTION_PARABOLOID:  # in front: project per vertex; crossing the rim: clip first
+            return [glc.program("dpm", fragment, **defines), glc.program("pass_through", fragment, geometry="dpm",
+                                                                         **defines)]
+        return [glc.program("raster", fragment, **defines)]
+    passes = [(face_programs("rsm", **cut_out_defines(mesh)), False)]
+    if mesh.transmits:
+        passes.append((face_programs("passing_tint", TINT_ATTACHMENT=2), True))
     uniforms = light_uniforms(light, origin)
     framebuffer.use()
     framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
     mode = moderngl.PATCHES if tessellated else moderngl.TRIANGLES
-    for face, (matrix, face_origin) in enumerate(zip(faces, origins)):
-        framebuffer.viewport = (int(face_origin[0]), int(face_origin[1]), resolution, resolution)
-        for program in programs:
-            set_uniforms(program, view_projection=matrix, hemisphere_view=matrix, near=near, far=far,
-                         face_origin=tuple(float(v) for v in face_origin), resolution=float(resolution),
-                         projection_kind=kind, ortho_texel_area=ortho_texel ** 2,
-                         tessellation_unit=float(tessellation_unit or 0.0), **uniforms)
-        if kind == PROJECTION_PARABOLOID:
-            lists, commands = mesh.split_at_rim(matrix, face)
-            for program, command in zip(programs, (FRONT, CROSSING)):
-                mesh.vertex_array(program, lists).render_indirect(commands, mode, count=1, first=command)
-        else:
-            mesh.draw(programs[0], mode, mesh.light_triangles)
+    rims = [mesh.split_at_rim(matrix, face) for face, matrix in enumerate(faces)] \
+        if kind == PROJECTION_PARABOLOID else None
+    for programs, tinting in passes:
+        framebuffer.depth_mask = not tinting
+        for face, (matrix, face_origin) in enumerate(zip(faces, origins)):
+            framebuffer.viewport = (int(face_origin[0]), int(face_origin[1]), resolution, resolution)
+            for program in programs:
+                set_uniforms(program, view_projection=matrix, hemisphere_view=matrix, near=near, far=far,
+                             face_origin=tuple(float(v) for v in face_origin), resolution=float(resolution),
+                             projection_kind=kind, ortho_texel_area=ortho_texel ** 2,
+                             tessellation_unit=float(tessellation_unit or 0.0), cut_out_pattern=pattern, **uniforms)
+            if kind == PROJECTION_PARABOLOID:
+                lists, commands = rims[face]
+                draw = lambda: [mesh.vertex_array(program, lists).render_indirect(  # noqa: E731
+                    commands, mode, count=1, first=command) for program, command in zip(programs, (FRONT, CROSSING))]
+            else:
+                draw = lambda: mesh.draw(programs[0], mode, mesh.light_triangles)  # noqa: E731
+            if tinting:
+                multiply_blend(gl, draw)
+            else:
+                draw()
+    framebuffer.depth_mask = True
     framebuffer.release()
     glc.recycle(depth)
     return ReflectiveShadowMap(glc, light, resolution, kind, np.array(faces), origins, atlas_size, *textures,

@@ -185,8 +185,9 @@ def perspective(fov_y, aspect, near, far):
 
 @dataclass
 class SurfaceImage:
-    """An image a material's base colour reads: (H, W, 3) linear float32 pixels, top row
-    first, sampled with the triangles' UVs (V up, Blender's convention)."""
+    """An image a material's base colour (or alpha) reads: (H, W, 3) linear float32
+    pixels, or (H, W, 4) with the alpha channel a material's alpha reads, top row first,
+    sampled with the triangles' UVs (V up, Blender's convention)."""
 
     name: str
     pixels: np.ndarray
@@ -234,7 +235,13 @@ class Scene:
     (emissive particles and instances): position xyz, flux rgb (W, sent alike in every
     direction) and the area of the surface it comes from (m²: the camera sees a sphere of
     that surface, and 1/r² next to it is bounded as a disc of that area bounds it; None:
-    none). `world` (gpu/world.py World; None: none) lights the scene from afar and is
+    none). What of each triangle lets light through (docs/method.md, "Alpha and
+    transmission"): `alpha` (T,) float32, the share of the light meeting it that is not
+    cut out, times the alpha channel of the image `images[layer]` at its `uvs` where
+    `alpha_layers` (T,) is not -1 (None: 1, no image); `transmission` (T, 4) float32, of
+    what is not cut out the share (w) that passes through tinted by the linear colour
+    (rgb) (None: none). `albedo` is the mean of the whole surface not cut out; the part
+    that does not transmit has albedo / (1 - transmission). `world` (gpu/world.py World; None: none) lights the scene from afar and is
     what the camera sees where it sees no surface; `film` (Film) says how the pixels are
     filtered and whether that world is seen.
     `approximated_materials` names the materials the extraction could only approximate:
@@ -260,6 +267,9 @@ class Scene:
     uvs: np.ndarray = None
     image_layers: np.ndarray = None
     emission: np.ndarray = None
+    alpha: np.ndarray = None
+    alpha_layers: np.ndarray = None
+    transmission: np.ndarray = None
     point_emitters: np.ndarray = None
     world: object = None
     film: Film = Film()
@@ -342,7 +352,31 @@ class Scene:
         if self.emission is not None:
             emission = np.asarray(self.emission, dtype=np.float32).reshape(count, 3)
             arrays["emission"] = np.maximum(np.nan_to_num(emission, nan=0.0, posinf=0.0, neginf=0.0), 0.0)
+        if self.alpha is not None:
+            alpha = np.asarray(self.alpha, dtype=np.float32).reshape(count)
+            arrays["alpha"] = np.clip(np.nan_to_num(alpha, nan=1.0), 0.0, 1.0)
+        if self.alpha_layers is not None:
+            layers = np.asarray(self.alpha_layers, dtype=np.int16).reshape(count)
+            arrays["alpha_layers"] = np.where((layers >= 0) & (layers < len(self.images)), layers, -1).astype(np.int16)
+            if "uvs" not in arrays:
+                uvs = np.zeros((count, 3, 2), np.float32) if self.uvs is None else np.asarray(self.uvs, np.float32)
+                arrays["uvs"] = np.nan_to_num(uvs.reshape(count, 3, 2), nan=0.0, posinf=0.0, neginf=0.0)
+        if self.transmission is not None:
+            transmission = np.asarray(self.transmission, dtype=np.float32).reshape(count, 4)
+            arrays["transmission"] = np.clip(np.nan_to_num(transmission, nan=0.0), 0.0, 1.0)
         return arrays
+
+    @staticmethod
+    def _clear(arrays, count):
+        """Which triangles let all light through untouched (alpha 0, or all transmitted
+        untinted): they are dropped, from every pass."""
+        clear = np.zeros(count, dtype=bool)
+        if "alpha" in arrays:
+            clear |= arrays["alpha"] <= 0.0
+        if "transmission" in arrays:
+            transmission = arrays["transmission"]
+            clear |= (transmission[:, 3] >= 1.0) & (transmission[:, :3].min(axis=1) >= 1.0)
+        return clear
 
     def sanitize(self):
         """Drop triangles the GPU must never see (NaN/inf or zero area), counting them.
@@ -362,10 +396,13 @@ class Scene:
             extent = np.abs(tri).max(axis=(1, 2)).astype(np.float64)
             # An area below float32 resolution at the triangle's own scale is no area.
             has_area = doubled_area_squared > (extent ** 4 + 1e-60) * 1e-24
-        keep = finite & has_area & (seen != 0)
+        clear = self._clear(surface, len(tri))
+        keep = finite & has_area & (seen != 0) & ~clear
         self.dropped = {
             "non_finite": self.dropped.get("non_finite", 0) + int((~finite).sum()),
             "zero_area": self.dropped.get("zero_area", 0) + int((finite & ~has_area).sum()),
+            **({"clear": self.dropped.get("clear", 0) + int((finite & has_area & clear).sum())}
+               if clear.any() or "clear" in self.dropped else {}),
         }
         per_triangle = {"tri": tri, "nrm": nrm, "alb": alb, "cross": cross, "seen": seen, **surface}
         if not keep.all():
@@ -387,12 +424,20 @@ class Scene:
         self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
         self.visibility = None if np.all(seen == SEEN_BY_ALL) else seen
-        for name in ("vertex_colors", "uvs", "image_layers", "emission"):
+        for name in ("vertex_colors", "uvs", "image_layers", "emission", "alpha", "alpha_layers", "transmission"):
             setattr(self, name, np.ascontiguousarray(per_triangle[name]) if name in per_triangle else None)
         if self.emission is not None and not self.emission.any():
             self.emission = None
+        if self.alpha is not None and np.all(self.alpha >= 1.0):
+            self.alpha = None
+        if self.alpha_layers is not None and not np.any(self.alpha_layers >= 0):
+            self.alpha_layers = None
+        if self.transmission is not None and not np.any(self.transmission[:, 3] > 0.0):
+            self.transmission = None
         if self.image_layers is not None and not np.any(self.image_layers >= 0):
-            self.uvs = self.image_layers = None
+            self.image_layers = None
+        if self.image_layers is None and self.alpha_layers is None:
+            self.uvs = None
         self.point_emitters = _sane_point_emitters(self.point_emitters, self.dropped)
         camera_only, both = int(np.sum(seen == SEEN_BY_CAMERA)), int(np.sum(seen == SEEN_BY_ALL))
         self.camera_triangles = (0, camera_only + both)
@@ -413,6 +458,20 @@ class Scene:
     def point_emitter_count(self):
         return 0 if self.point_emitters is None else len(self.point_emitters)
 
+    @property
+    def see_through(self):
+        """Whether any triangle is cut out or transmits (the raster passes test alpha)."""
+        return self.alpha is not None or self.alpha_layers is not None or self.transmission is not None
+
+    @property
+    def hashed(self):
+        """Whether some triangle's cut-out is hashed (a share between 0 and 1, or an
+        image's alpha): its maps differ from one VPL pattern to the next."""
+        coverage = np.ones(self.triangle_count, np.float32) if self.alpha is None else self.alpha.copy()
+        if self.transmission is not None:
+            coverage *= 1.0 - self.transmission[:, 3]
+        return self.alpha_layers is not None or bool(np.any((coverage > 0.0) & (coverage < 1.0)))
+
     def point_emitters_key(self):
         """A content key of the point emitters ("" for none; kept once sanitized, as
         `geometry_key` is)."""
@@ -431,7 +490,7 @@ class Scene:
             return self._geometry_key
         h = hashlib.sha1()
         for array in (self.triangles, self.normals, self.albedo, self.visibility, self.vertex_colors, self.uvs,
-                      self.image_layers, self.emission):
+                      self.image_layers, self.emission, self.alpha, self.alpha_layers, self.transmission):
             h.update(b"-" if array is None else np.ascontiguousarray(array).tobytes())
         for image in self.images:
             h.update(image.key().encode())

@@ -10,7 +10,8 @@ from .errors import LPVError
 from .scene import Camera, Film, Light, Scene, SurfaceImage
 from .world import World
 
-SURFACE_FIELDS = ("visibility", "vertex_colors", "uvs", "image_layers", "emission", "point_emitters")
+SURFACE_FIELDS = ("visibility", "vertex_colors", "uvs", "image_layers", "emission", "point_emitters", "alpha",
+                  "alpha_layers", "transmission")
 """The Scene's optional arrays (per triangle, and the point emitters), saved when present."""
 LIGHT_FIELDS = ("kind", "position", "direction", "up", "color", "power", "radius", "spot_size", "spot_blend", "size",
                 "name")

@@ -44,6 +44,7 @@ class FrameTargets:
         self.vpl_splats = self.warp_status = None  # debug passes (gpu/debug_views.py), made on first use
         self.splat_framebuffer = None
         self.glow = self.glow_framebuffer = None  # emissive surfaces' radiance, made on first use
+        self.passing_tint = self.tint_framebuffer = None  # transmitting surfaces' tint, made on first use
 
     def debug_images(self):
         """The VPL Splats and Warp Status images, and the framebuffer the splats are drawn
@@ -63,6 +64,18 @@ class FrameTargets:
             self.glow_framebuffer = self.gl.framebuffer(color_attachments=[self.glow], depth_attachment=self.depth)
             self.glow_framebuffer.depth_mask = False
         return self.glow, self.glow_framebuffer
+
+    def tint_images(self):
+        """The tint image of what is seen through transmitting surfaces and its
+        framebuffer (tested against the G-buffer's depth, never writing it), made on first
+        use."""
+        if self.passing_tint is None:
+            self.passing_tint = self.gl.texture(self.size, 4, dtype="f2")
+            self.passing_tint.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            self.tint_framebuffer = self.gl.framebuffer(color_attachments=[self.passing_tint],
+                                                        depth_attachment=self.depth)
+            self.tint_framebuffer.depth_mask = False
+        return self.passing_tint, self.tint_framebuffer
 
     def display_buffer(self):
         if self.display is None:
@@ -93,13 +106,14 @@ class FrameTargets:
         """Every texture and buffer made so far (the display and debug ones on request)."""
         return tuple(resource for resource in (self.depth, self.surface, self.direct, self.direct_mean, self.indirect,
                                                self.combined,
-                                               self.seen, self.display, self.vpl_splats, self.warp_status, self.glow)
+                                               self.seen, self.display, self.vpl_splats, self.warp_status, self.glow,
+                                               self.passing_tint)
                      if resource is not None)
 
     def release(self):
         self.framebuffer.release()
         self.direct_framebuffer.release()
-        for framebuffer in (self.splat_framebuffer, self.glow_framebuffer):
+        for framebuffer in (self.splat_framebuffer, self.glow_framebuffer, self.tint_framebuffer):
             if framebuffer is not None:
                 framebuffer.release()
         for resource in self.resources():
@@ -117,19 +131,60 @@ def bind_gbuffer(targets):
     targets.surface.use(location=1)
 
 
-def render_gbuffer(glc, mesh, camera, targets):
-    """Rasterise the scene from the camera; clears the direct image for the lights to add into."""
+def cut_out_defines(mesh):
+    """The defines of the raster passes' fragment shaders: CUT_OUT where some triangle is
+    cut out or transmits (a discard costs the early depth test, so only then)."""
+    return {"CUT_OUT": 1} if mesh.see_through else {}
+
+
+def render_gbuffer(glc, mesh, camera, targets, pattern=0):
+    """Rasterise the scene from the camera, cut-outs hashed in VPL pattern `pattern`, and
+    tint what is seen through transmitting surfaces; clears the direct image for the
+    lights to add into."""
     gl = glc.gl
-    program = glc.program("raster", "gbuffer")
+    program = glc.program("raster", "gbuffer", **cut_out_defines(mesh))
     targets.framebuffer.use()
     targets.framebuffer.viewport = (0, 0, *targets.size)
     targets.framebuffer.clear(depth=1.0)
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
-    set_uniforms(program, view_projection=camera.projection @ camera.view,
-                 camera_position=tuple(float(v) for v in camera.position))
+    uniforms = {"view_projection": camera.projection @ camera.view,
+                "camera_position": tuple(float(v) for v in camera.position), "cut_out_pattern": pattern}
+    set_uniforms(program, **uniforms)
     mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles)
+    if mesh.transmits:
+        tint_seen_through(glc, mesh, targets, uniforms)
     targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+
+
+def tint_seen_through(glc, mesh, targets, uniforms):
+    """Multiply the G-buffer's albedo by the tint of the transmitting surfaces in front of
+    it (shaders/passing_tint.frag, gbuffer_tint.comp)."""
+    gl = glc.gl
+    tint, framebuffer = targets.tint_images()
+    framebuffer.use()
+    framebuffer.viewport = (0, 0, *targets.size)
+    framebuffer.clear(1.0, 1.0, 1.0, 1.0)
+    program = glc.program("raster", "passing_tint", TINT_ATTACHMENT=0)
+    set_uniforms(program, **uniforms)
+    multiply_blend(gl, lambda: mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles))
+    program = glc.compute("gbuffer_tint")
+    targets.surface.bind_to_image(0, read=True, write=True)
+    tint.use(location=0)
+    set_uniforms(program, passing_tint=0)
+    dispatch(program, *targets.size)
+
+
+def multiply_blend(gl, draw):
+    """Run `draw` with its colours multiplied into the framebuffer's, behind the depth
+    (depth test "<"), and put the blend back."""
+    gl.enable(moderngl.BLEND)
+    gl.blend_func = moderngl.DST_COLOR, moderngl.ZERO
+    try:
+        draw()
+    finally:
+        gl.blend_func = moderngl.DEFAULT_BLENDING
+        gl.disable(moderngl.BLEND)
 
 
 def render_glow(glc, mesh, camera, targets, point_emitters=None):

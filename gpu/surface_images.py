@@ -6,6 +6,8 @@ square of the largest image's side (rounded up to a power of two), at most
 MAX_IMAGE_SIZE, and smaller while the array would pass IMAGE_BUDGET_BYTES; UVs address an
 image whatever its shape, so a square layer loses no mapping, only resolution where an
 image was larger. Pixels are linear half floats: mip-maps average light, not sRGB codes.
+A layer's alpha is its image's where the image brings one (a material's alpha reads it,
+shaders/surface.glsl), else 1.
 """
 import moderngl
 import numpy as np
@@ -26,7 +28,7 @@ def layer_size(images):
 
 
 def resampled(pixels, size):
-    """(H, W, 3) pixels, top row first, as (size, size, 3) float32 bottom row first (GL's
+    """(H, W, C) pixels, top row first, as (size, size, C) float32 bottom row first (GL's
     order): halved by 2x2 box filters while at least twice too large, then bilinear."""
     image = np.asarray(pixels, dtype=np.float32)[::-1]
     while image.shape[0] >= 2 * size or image.shape[1] >= 2 * size:
@@ -54,7 +56,8 @@ class SurfaceImages:
         size = layer_size(images)
         layers = [resampled(image.pixels, size) for image in images] or [np.ones((1, 1, 3), np.float32)]
         rgba = np.ones((len(layers), size, size, 4), dtype=np.float16)
-        rgba[..., :3] = np.stack(layers)
+        for index, layer in enumerate(layers):
+            rgba[index, ..., :layer.shape[2]] = layer[..., :4]
         self.size = size
         self.texture = gl.texture_array((size, size, len(layers)), 4, rgba.tobytes(), dtype="f2")
         self.texture.build_mipmaps()

@@ -7,27 +7,31 @@ layout(triangles) in;
 layout(triangle_strip, max_vertices = 4) out;
 in vec3 world_position_v[];
 in vec3 world_normal_v[];
-in vec3 surface_albedo_v[];
-in vec3 surface_coord_v[];
+in vec4 surface_albedo_v[];
+in vec4 surface_coord_v[];
+in vec4 surface_transmission_v[];
 out vec3 world_position;
 out vec3 world_normal;
-out vec3 surface_albedo;
-out vec3 surface_coord;
+out vec4 surface_albedo;
+out vec4 surface_coord;
+out vec4 surface_transmission;
 uniform mat4 hemisphere_view;  // world to hemisphere space (+z the hemisphere's axis)
 uniform float near;
 uniform float far;
 
 vec3 kept_position[4];
 vec3 kept_normal[4];
-vec3 kept_albedo[4];
-vec3 kept_coord[4];
+vec4 kept_albedo[4];
+vec4 kept_coord[4];
+vec4 kept_transmission[4];
 int kept = 0;
 
-void keep(vec3 p, vec3 n, vec3 a, vec3 c) {
+void keep(vec3 p, vec3 n, vec4 a, vec4 c, vec4 t) {
     kept_position[kept] = p;
     kept_normal[kept] = n;
     kept_albedo[kept] = a;
     kept_coord[kept] = c;
+    kept_transmission[kept] = t;
     kept += 1;
 }
 
@@ -37,6 +41,7 @@ void emit(int i) {
     world_normal = kept_normal[i];
     surface_albedo = kept_albedo[i];
     surface_coord = kept_coord[i];
+    surface_transmission = kept_transmission[i];
     EmitVertex();
 }
 
@@ -46,11 +51,12 @@ void main() {
     // Sutherland-Hodgman against z >= 0: at most four vertices survive.
     for (int i = 0; i < 3; ++i) {
         int j = (i + 1) % 3;
-        if (z[i] >= 0.0) keep(world_position_v[i], world_normal_v[i], surface_albedo_v[i], surface_coord_v[i]);
+        if (z[i] >= 0.0) keep(world_position_v[i], world_normal_v[i], surface_albedo_v[i], surface_coord_v[i], surface_transmission_v[i]);
         if ((z[i] >= 0.0) != (z[j] >= 0.0)) {
             float f = z[i] / (z[i] - z[j]);
             keep(mix(world_position_v[i], world_position_v[j], f), mix(world_normal_v[i], world_normal_v[j], f),
-                 mix(surface_albedo_v[i], surface_albedo_v[j], f), mix(surface_coord_v[i], surface_coord_v[j], f));
+                 mix(surface_albedo_v[i], surface_albedo_v[j], f), mix(surface_coord_v[i], surface_coord_v[j], f),
+                 mix(surface_transmission_v[i], surface_transmission_v[j], f));
         }
     }
     if (kept < 3) return;

@@ -6,15 +6,17 @@
 #include "paraboloid.glsl"
 in vec3 in_position;
 in vec3 in_normal;
-in vec3 in_albedo;
-in vec3 in_surface;
+in vec4 in_albedo;
+in vec4 in_surface;
+in vec4 in_transmission;
 uniform mat4 hemisphere_view;  // world to hemisphere space (+z the hemisphere's axis)
 uniform float near;
 uniform float far;
 out vec3 world_position;
 out vec3 world_normal;
-out vec3 surface_albedo;
-out vec3 surface_coord;
+out vec4 surface_albedo;
+out vec4 surface_coord;
+out vec4 surface_transmission;
 
 void main() {
     vec3 p = (hemisphere_view * vec4(in_position, 1.0)).xyz;
@@ -23,4 +25,5 @@ void main() {
     world_normal = in_normal;
     surface_albedo = in_albedo;
     surface_coord = in_surface;
+    surface_transmission = in_transmission;
 }

@@ -6,8 +6,9 @@
 // DrawElementsIndirect command whose count the atomics fill. A first dispatch with
 // `reset` writes both commands empty (on the GPU: a buffer upload would wait for the
 // previous draws that read them).
+#include "vertex_layout.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // 12 floats a vertex (mesh_buffer.py)
+layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // vertex_layout.glsl
 layout(std430, binding = 1) buffer Commands { uint commands[]; };  // front, then crossing: 5 uints each
 layout(std430, binding = 2) writeonly buffer Lists { uint lists[]; };
 uniform mat4 hemisphere_view;
@@ -27,7 +28,7 @@ void main() {
     int triangle = first_triangle + int(i);
     int in_front = 0;
     for (int k = 0; k < 3; ++k) {
-        int v = (triangle * 3 + k) * 12;
+        int v = (triangle * 3 + k) * VERTEX_FLOATS;
         vec3 p = vec3(vertices[v], vertices[v + 1], vertices[v + 2]);
         if ((hemisphere_view * vec4(p, 1.0)).z >= 0.0) in_front += 1;
     }

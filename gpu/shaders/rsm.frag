@@ -1,5 +1,6 @@
 #version 450 core
 // Reflective shadow map texel: position, light-facing normal, reflected flux (METHOD §2).
+// With CUT_OUT a texel the surface does not cover (surface.glsl) lets the light pass.
 #include "common.glsl"
 #include "light.glsl"
 #include "paraboloid.glsl"
@@ -9,8 +10,9 @@
 #define PROJECTION_ORTHO 2
 in vec3 world_position;
 in vec3 world_normal;
-in vec3 surface_albedo;
-in vec3 surface_coord;
+in vec4 surface_albedo;
+in vec4 surface_coord;
+in vec4 surface_transmission;
 uniform vec2 face_origin;        // this face's lower-left texel in the atlas
 uniform float resolution;        // texels along one side of a face
 uniform float ortho_texel_area;  // sun: the area one texel covers across the beam
@@ -20,6 +22,9 @@ layout(location = 1) out vec4 out_normal;    // xyz normal toward the light, w s
 layout(location = 2) out vec4 out_flux;      // rgb reflected flux in W, w 1
 
 void main() {
+#ifdef CUT_OUT
+    if (!surface_covers(surface_albedo, surface_coord, surface_transmission, gl_FragCoord.xy)) discard;
+#endif
     vec3 w;
     float dist;
     light_ray(world_position, w, dist);

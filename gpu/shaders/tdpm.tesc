@@ -5,12 +5,14 @@
 layout(vertices = 3) out;
 in vec3 world_position_v[];
 in vec3 world_normal_v[];
-in vec3 surface_albedo_v[];
-in vec3 surface_coord_v[];
+in vec4 surface_albedo_v[];
+in vec4 surface_coord_v[];
+in vec4 surface_transmission_v[];
 out vec3 world_position_c[];
 out vec3 world_normal_c[];
-out vec3 surface_albedo_c[];
-out vec3 surface_coord_c[];
+out vec4 surface_albedo_c[];
+out vec4 surface_coord_c[];
+out vec4 surface_transmission_c[];
 uniform mat4 hemisphere_view;
 uniform float tessellation_unit;
 const float MAX_LEVEL = 64.0;  // GL's guaranteed GL_MAX_TESS_GEN_LEVEL
@@ -20,6 +22,7 @@ void main() {
     world_normal_c[gl_InvocationID] = world_normal_v[gl_InvocationID];
     surface_albedo_c[gl_InvocationID] = surface_albedo_v[gl_InvocationID];
     surface_coord_c[gl_InvocationID] = surface_coord_v[gl_InvocationID];
+    surface_transmission_c[gl_InvocationID] = surface_transmission_v[gl_InvocationID];
     if (gl_InvocationID != 0) return;
     vec3 h[3];
     vec2 p[3];

@@ -4,12 +4,14 @@
 layout(triangles, equal_spacing, ccw) in;
 in vec3 world_position_c[];
 in vec3 world_normal_c[];
-in vec3 surface_albedo_c[];
-in vec3 surface_coord_c[];
+in vec4 surface_albedo_c[];
+in vec4 surface_coord_c[];
+in vec4 surface_transmission_c[];
 out vec3 world_position_v;
 out vec3 world_normal_v;
-out vec3 surface_albedo_v;
-out vec3 surface_coord_v;
+out vec4 surface_albedo_v;
+out vec4 surface_coord_v;
+out vec4 surface_transmission_v;
 
 void main() {
     vec3 w = gl_TessCoord;
@@ -17,4 +19,5 @@ void main() {
     world_normal_v = w.x * world_normal_c[0] + w.y * world_normal_c[1] + w.z * world_normal_c[2];
     surface_albedo_v = w.x * surface_albedo_c[0] + w.y * surface_albedo_c[1] + w.z * surface_albedo_c[2];
     surface_coord_v = w.x * surface_coord_c[0] + w.y * surface_coord_c[1] + w.z * surface_coord_c[2];
+    surface_transmission_v = w.x * surface_transmission_c[0] + w.y * surface_transmission_c[1] + w.z * surface_transmission_c[2];
 }

@@ -7,8 +7,9 @@
 // writes it empty).
 #include "occupancy_mark.glsl"
 #include "segment.glsl"
+#include "vertex_layout.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // 12 floats a vertex (mesh_buffer.py)
+layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // vertex_layout.glsl
 layout(std430, binding = 1) buffer Command { uint command[]; };  // count, instances, first index, base vertex, base instance
 layout(std430, binding = 2) writeonly buffer Large { uint large[]; };
 uniform vec3 grid_origins[GRIDS];
@@ -19,7 +20,7 @@ uniform bool reset;
 const int MOST_STEPS = 16;
 
 vec3 corner(int triangle, int k) {
-    int v = (triangle * 3 + k) * 12;
+    int v = (triangle * 3 + k) * VERTEX_FLOATS;
     return vec3(vertices[v], vertices[v + 1], vertices[v + 2]);
 }
 
@@ -31,6 +32,11 @@ void main() {
     }
     if (int(i) >= triangle_count) return;
     int triangle = first_triangle + int(i);
+    // A surface less than half opaque (glass, a faint card) lets the light through; one cut
+    // out by an image's alpha occupies its voxels whole (docs/method.md).
+    int first = triangle * 3 * VERTEX_FLOATS;
+    if (vertices[first + VERTEX_ALPHA_LAYER] < -0.5 &&
+        vertices[first + VERTEX_ALPHA] * (1.0 - vertices[first + VERTEX_TRANSMISSION]) < 0.5) return;
     vec3 a = corner(triangle, 0), b = corner(triangle, 1), c = corner(triangle, 2);
     float longest = max(distance(a, b), max(distance(b, c), distance(c, a)));
     float finest = voxel_sizes[0];

@@ -12,6 +12,7 @@ import lpv_preview
 from lpv_preview.__main__ import main
 from lpv_preview.addon.engine import ENGINE_ID
 from lpv_preview.addon.render_scene import scene_to_render
+from lpv_preview.gpu.errors import LPVError
 
 from .test_textures import floor_scene, image_material, material_with
 
@@ -70,10 +71,6 @@ def shader_material(name, node_type, output_socket="Surface"):
     ("Smoke", "ShaderNodeVolumePrincipled", "Volume", "Smoke: volume (rendered as an opaque surface)"),
     ("Fog", "ShaderNodeVolumeScatter", "Volume", "Fog: volume (rendered as an opaque surface)"),
     ("Ink", "ShaderNodeVolumeAbsorption", "Volume", "Ink: volume (rendered as an opaque surface)"),
-    ("Window", "ShaderNodeBsdfGlass", "Surface",
-     "Window: glass (rendered as an opaque diffuse surface in the display colour)"),
-    ("Lens", "ShaderNodeBsdfRefraction", "Surface",
-     "Lens: refraction (rendered as an opaque diffuse surface in the display colour)"),
     ("Paper", "ShaderNodeBsdfTranslucent", "Surface",
      "Paper: translucency (rendered as an opaque diffuse surface in the display colour)"),
     ("Skin", "ShaderNodeSubsurfaceScattering", "Surface",
@@ -83,15 +80,39 @@ def shader_material(name, node_type, output_socket="Surface"):
     ("Cartoon", "ShaderNodeBsdfToon", "Surface",
      "Cartoon: toon (rendered as an opaque diffuse surface in the display colour)"),
     ("Cutout", "ShaderNodeHoldout", "Surface", "Cutout: holdout (rendered as an opaque black surface, not cut out)"),
-    ("Invisible", "ShaderNodeBsdfTransparent", "Surface",
-     "Invisible: transparency (rendered as an opaque black surface)"),
 ])
 def test_unsupported_shaders_are_listed_with_what_the_preview_does(name, node_type, output_socket, named):
     scene, _ = floor_scene(lambda: shader_material(name, node_type, output_socket))
     assert scene_to_render(scene).approximated_materials == [named]
 
 
-def test_principled_transmission_subsurface_and_alpha_are_named_and_render_as_before():
+@pytest.mark.parametrize("name, node_type, named", [
+    ("Window", "ShaderNodeBsdfGlass",
+     ["Window: glass (seen and lit through as a thin tinted sheet: no refraction, reflection or caustics)"]),
+    ("Lens", "ShaderNodeBsdfRefraction",
+     ["Lens: refraction (seen and lit through as a thin tinted sheet: no refraction, reflection or caustics)"]),
+    ("Filter", "ShaderNodeBsdfTransparent", []),
+])
+def test_glass_refraction_and_transparent_shaders_are_thin_tinted_sheets(name, node_type, named):
+    def make():
+        material = shader_material(name, node_type)
+        next(node for node in material.node_tree.nodes if node.bl_idname == node_type).inputs["Color"].default_value = (
+            0.5, 0.25, 1.0, 1.0)
+        return material
+    scene, _ = floor_scene(make)
+    extracted = scene_to_render(scene)
+    assert extracted.approximated_materials == named
+    np.testing.assert_allclose(extracted.transmission[0], (0.5, 0.25, 1.0, 1.0))  # the tint at each crossing, all passing
+    np.testing.assert_allclose(extracted.albedo[0], 0.0)
+
+
+def test_a_clear_transparent_shader_leaves_nothing_to_render():
+    scene, _ = floor_scene(lambda: shader_material("Invisible", "ShaderNodeBsdfTransparent"))
+    with pytest.raises(LPVError, match="no renderable triangles"):
+        scene_to_render(scene)
+
+
+def test_principled_transmission_and_alpha_are_read_and_subsurface_named():
     def build(nodes, links, principled):
         principled.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1.0)
         principled.inputs["Transmission Weight"].default_value = 0.5
@@ -100,19 +121,22 @@ def test_principled_transmission_subsurface_and_alpha_are_named_and_render_as_be
     scene, _ = floor_scene(lambda: material_with("Jelly", build))
     extracted = scene_to_render(scene)
     assert extracted.approximated_materials == [
-        "Jelly: transmission (rendered opaque: the transmitted part is black); subsurface scattering (rendered as "
-        "plain diffuse); alpha (ignored: rendered opaque)"]
+        "Jelly: transmission (seen and lit through as a thin tinted sheet: no refraction, reflection or caustics); "
+        "subsurface scattering (rendered as plain diffuse)"]
     np.testing.assert_allclose(extracted.albedo[0], 0.25, rtol=1e-5)  # Base Color x (1 - transmission), as before
+    np.testing.assert_allclose(extracted.alpha[0], 0.5)
+    np.testing.assert_allclose(extracted.transmission[0], (*[np.sqrt(0.5)] * 3, 0.5), rtol=1e-5)
 
 
-def test_a_shader_named_with_an_approximated_colour_says_both():
+def test_an_approximated_colour_with_alpha_is_named_alone():
     def build(nodes, links, principled):
         principled.inputs["Alpha"].default_value = 0.5
         noise = nodes.new("ShaderNodeTexNoise")
         links.new(noise.outputs["Color"], principled.inputs["Base Color"])
     scene, _ = floor_scene(lambda: material_with("Cloudy glass", build))
-    assert scene_to_render(scene).approximated_materials == [
-        "Cloudy glass: alpha (ignored: rendered opaque); diffuse colour approximated"]
+    extracted = scene_to_render(scene)
+    assert extracted.approximated_materials == ["Cloudy glass"]
+    np.testing.assert_allclose(extracted.alpha[0], 0.5)
 
 
 def test_a_volume_is_listed_in_stats_json(tmp_path):
@@ -226,3 +250,28 @@ def test_udim_tiles_are_read_at_their_uv_offsets(tmp_path, packed):
     left, right = direct[20:44, 8:28].reshape(-1, 3), direct[20:44, 36:56].reshape(-1, 3)
     assert left[:, 0].min() > 0 and left[:, 1:].max() == 0  # tile 1001: red
     assert right[:, 2].min() > 0 and right[:, :2].max() == 0  # tile 1002: blue
+
+
+def test_a_transparent_mix_by_an_image_alpha_cuts_the_surface_out():
+    """The usual cut-out set-up: a Mix Shader of a Transparent BSDF and the surface, its
+    factor an Image Texture's alpha; the image keeps its alpha channel in the array."""
+    def make():
+        image = bpy.data.images.new("Leaf", 2, 2, alpha=True)
+        image.pixels.foreach_set(np.array([[0.2, 0.6, 0.2, a] for a in (1, 0, 0, 1)], np.float32).ravel())
+        material = bpy.data.materials.new("Leaf")
+        nodes, links = material.node_tree.nodes, material.node_tree.links
+        texture, mix = nodes.new("ShaderNodeTexImage"), nodes.new("ShaderNodeMixShader")
+        texture.image = image
+        transparent = nodes.new("ShaderNodeBsdfTransparent")
+        links.new(texture.outputs["Color"], nodes["Principled BSDF"].inputs["Base Color"])
+        links.new(texture.outputs["Alpha"], mix.inputs["Fac"])
+        links.new(transparent.outputs[0], mix.inputs[1])
+        links.new(nodes["Principled BSDF"].outputs[0], mix.inputs[2])
+        links.new(mix.outputs[0], nodes["Material Output"].inputs["Surface"])
+        return material
+    scene, _ = floor_scene(make)
+    extracted = scene_to_render(scene)
+    assert extracted.approximated_materials == []
+    assert extracted.alpha is None and extracted.transmission is None
+    np.testing.assert_array_equal(extracted.alpha_layers, extracted.image_layers)
+    np.testing.assert_array_equal(extracted.images[0].pixels[..., 3], [[0, 1], [1, 0]])  # top row first

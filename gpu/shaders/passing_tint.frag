@@ -1,0 +1,26 @@
+#version 450 core
+// The tint of what is seen or lit through transmitting surfaces: drawn after the opaque
+// pass, behind its depth and not writing it, multiplied into the colour attachments
+// (blend DST_COLOR, ZERO): the tint into attachment TINT_ATTACHMENT, 1 (no change) into
+// the others (the G-buffer's tint image: 0; a light's map: its flux, 2).
+#include "surface.glsl"
+in vec4 surface_albedo;
+in vec4 surface_coord;
+in vec4 surface_transmission;
+layout(location = 0) out vec4 out_0;
+#if TINT_ATTACHMENT == 2
+layout(location = 1) out vec4 out_1;
+layout(location = 2) out vec4 out_2;
+#endif
+
+void main() {
+    vec3 tint;
+    if (!surface_passing_tint(surface_albedo, surface_coord, surface_transmission, gl_FragCoord.xy, tint)) discard;
+#if TINT_ATTACHMENT == 2
+    out_0 = vec4(1.0);
+    out_1 = vec4(1.0);
+    out_2 = vec4(tint, 1.0);
+#else
+    out_0 = vec4(tint, 1.0);
+#endif
+}

@@ -63,6 +63,11 @@ class LightMaps:
     pattern: int = None
 
     @property
+    def direct_map(self):
+        """The map the direct light's shadows are looked up in."""
+        return self.rsm
+
+    @property
     def vpl_map(self):
         """The map the VPLs were sampled from."""
         return self.region if self.region is not None else self.rsm

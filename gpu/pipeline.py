@@ -31,6 +31,7 @@ from .pixel_filter import pixel_offset
 from .settings import DisplaySettings, Settings
 from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, read_gbuffer_record, render_gbuffer, render_glow,
                     seen_points, shade_direct, shade_indirect)
+from .soft_shadows import shadow_uniforms
 from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES
@@ -273,7 +274,8 @@ class Pipeline:
         s = self.settings
         with self.glc.timed(stats, "direct_ms"):
             for m in maps:
-                shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
+                shade_direct(self.glc, targets, scene.camera, m.direct_map, s.shadow_bias,
+                             shadow_uniforms(m.rsm.light, s.shadow_taps, self.vpl_pattern))
         if len(lit.emitters):
             with self.glc.timed(stats, "emitter_light_ms"):
                 self._emitter_grid.value.add_light(targets, gbuffer_uniforms(scene.camera), s,

@@ -183,15 +183,16 @@ def add_irradiance(glc, targets, uniforms, irradiance):
     dispatch(program, *targets.size)
 
 
-def shade_direct(glc, targets, camera, rsm, shadow_bias):
-    """Add one light's shadowed Lambert term into the direct image."""
+def shade_direct(glc, targets, camera, rsm, shadow_bias, shadow):
+    """Add one light's shadowed Lambert term into the direct image; `shadow` the uniforms
+    of its soft shadow (gpu/soft_shadows.py shadow_uniforms)."""
     program = glc.compute("shade_direct")
     bind_gbuffer(targets)
     rsm.position.use(location=2)
     targets.direct.bind_to_image(0, read=True, write=True)
     set_uniforms(program, **gbuffer_uniforms(camera), rsm_position=2, **rsm.lookup_uniforms(),
                  texel_angle=2.0 / rsm.resolution, ortho_texel=rsm.ortho_texel, shadow_bias=shadow_bias,
-                 **rsm.light_uniforms)
+                 **rsm.light_uniforms, **shadow)
     dispatch(program, *targets.size)
 
 

@@ -1,6 +1,6 @@
 #version 450 core
-// Direct light of one light: Lambert, shadowed by the light's RSM distances (3x3 PCF with a
-// normal offset), added into the direct image.
+// Direct light of one light: Lambert, shadowed by the light's RSM distances (a light of no
+// size: 3x3 PCF with a normal offset; else PCSS, soft_shadow.glsl), added into the direct image.
 #include "common.glsl"
 #include "light.glsl"
 #include "rsm_lookup.glsl"
@@ -11,6 +11,7 @@ layout(rgba32f, binding = 0) uniform image2D direct;
 uniform float texel_angle;   // 2 / resolution: a texel's width per unit distance
 uniform float ortho_texel;   // sun: a texel's width in world units
 uniform float shadow_bias;   // normal offset in texels
+#include "soft_shadow.glsl"
 
 float visibility(vec3 p) {
     vec3 w;
@@ -43,7 +44,14 @@ void main() {
     if (cos_theta <= 0.0) return;
     vec3 irradiance = light_irradiance(w, dist, cos_theta);
     float texel_world = light_kind == LIGHT_SUN ? ortho_texel : dist * texel_angle;
-    float v = visibility(p + n * shadow_bias * texel_world);
+    vec3 offset = p + n * shadow_bias * texel_world;
+    float v;
+    if (shadow_shape == SHADOW_HARD) {
+        v = visibility(offset);
+    } else {
+        light_ray(offset, w, dist);
+        v = soft_visibility(offset, n, w, dist, pixel);
+    }
     vec4 previous = imageLoad(direct, pixel);
     imageStore(direct, pixel, previous + vec4(albedo / PI * irradiance * v, 0.0));
 }

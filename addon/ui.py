@@ -20,7 +20,7 @@ SETTING_GROUPS = {
                  "emitter_shadows", "emitter_bounce_samples", "light_map_budget", "light_cutoff"),
     "Indirect Light": ("indirect_method", "lpv_resolution", "grid_levels", "propagation_iterations", "occlusion",
                        "bounces", "singularity_bound", "indirect_intensity", "grid_phases", "grid_shift"),
-    "Shadows": ("shadow_bias", "shadow_taps"),
+    "Shadows": ("shadow_bias", "shadow_taps", "sun_cascade_resolution"),
     "Convergence": ("viewport_vpl_sets", "converge_sets", "converge_seconds"),
     "Warping": ("warp_alpha", "warp_iterations", "warp_significant_figures"),
     "Tessellation": ("tessellation_unit", "tessellated_warp_alpha"),

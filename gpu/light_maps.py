@@ -81,7 +81,7 @@ class LightMaps:
         for box in reversed(boxes):
             corners = tuple(np.array(corner) for corner in box)
             texel = 2 * sun_half_width(self.rsm.light, corners, True) / resolution
-            if np.all(corners[1] > corners[0]) and texel * VIEW_MAP_GAIN <= coarser:
+            if texel > 1e-9 and texel * VIEW_MAP_GAIN <= coarser:
                 with glc.timed(stats, "rsm_ms"):
                     fitted.append(render_rsm(glc, mesh, self.rsm.light, resolution, corners, reach=bounds,
                                              fitted=True))
@@ -134,6 +134,10 @@ CASCADE_NEAR_SHARE = 0.05
 """A sun's direct-light cascade splits the distances from the camera to the points it sees
 geometrically, from this quantile of them to the farthest, into SUN_CASCADES ranges."""
 
+CASCADE_MARGIN = 0.06
+"""Each cascade box grows by this share of its size on every side: the points it bounds
+stay within the part of its map that shades them (gpu/shade.py VIEW_MAP_EDGE)."""
+
 
 def cascade_boxes(points, eye, bounds, count=SUN_CASCADES):
     """The boxes of a sun's direct-light cascade, finest first, as a hashable tuple of
@@ -148,7 +152,9 @@ def cascade_boxes(points, eye, bounds, count=SUN_CASCADES):
     boxes = []
     for i in range(1, count + 1):
         held = points[distance <= near * (far / near) ** (i / count) * (1 + 1e-9)]
-        low, high = np.maximum(held.min(axis=0), bounds[0]), np.minimum(held.max(axis=0), bounds[1])
+        margin = CASCADE_MARGIN * float(np.max(held.max(axis=0) - held.min(axis=0)))
+        low = np.maximum(held.min(axis=0) - margin, bounds[0])
+        high = np.minimum(held.max(axis=0) + margin, bounds[1])
         boxes.append((tuple(map(float, low)), tuple(map(float, np.maximum(high, low)))))
     return tuple(boxes)
 

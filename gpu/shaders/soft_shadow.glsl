@@ -63,7 +63,8 @@ float shadow_spread(float measure) {
     return light_kind == LIGHT_SUN ? measure : (1.0 - measure) / max(measure, 1e-6);
 }
 
-// The stored distance at the map texel of q, and q's own distance; false outside the map.
+// The stored distance at the map texel of q (0: the texel saw nothing) and q's own
+// distance; false where q lies outside the map (the tap is left out).
 bool shadow_depths(vec3 q, out float stored, out float dist, out float texel_world) {
     vec3 w;
     light_ray(q, w, dist);
@@ -72,7 +73,7 @@ bool shadow_depths(vec3 q, out float stored, out float dist, out float texel_wor
     ivec2 texel;
     if (!rsm_face_texel(q, face, texel)) return false;
     stored = texelFetch(rsm_position, lookup_origin[face] + texel, 0).w;
-    return stored > 0.0;
+    return true;
 }
 
 // Visibility of receiver point p (normal offset already applied), normal n, lit along w
@@ -95,7 +96,7 @@ float soft_visibility(vec3 p, vec3 n, vec3 w, float dist, ivec2 pixel) {
         vec3 o = search * (a.x * ex + a.y * ey);
         vec3 q = p + o + w * (dot(o, n) / cos_theta);  // along the ray onto p's tangent plane
         float stored, q_dist, texel_world;
-        if (shadow_depths(q, stored, q_dist, texel_world) && q_dist > stored + 0.5 * texel_world) {
+        if (shadow_depths(q, stored, q_dist, texel_world) && stored > 0.0 && q_dist > stored + 0.5 * texel_world) {
             blocker_sum += shadow_blocker_measure(q_dist, stored);
             blockers += 1;
         }
@@ -104,13 +105,16 @@ float soft_visibility(vec3 p, vec3 n, vec3 w, float dist, ivec2 pixel) {
     float spread = min(shadow_spread(blocker_sum / float(blockers)), search);
     float texel_here = light_kind == LIGHT_SUN ? ortho_texel : dist * texel_angle;
     spread = max(spread, texel_here / max(max(length(ex), length(ey)), 1e-30));  // at least a texel wide
-    float lit = 0.0;
+    float lit = 0.0, counted = 0.0;
     for (int i = 0; i < shadow_taps; ++i) {
         vec2 a = shadow_tap(i, shift);
         vec3 o = spread * (a.x * ex + a.y * ey);
         vec3 q = p + o + w * (dot(o, n) / cos_theta);
         float stored, q_dist, texel_world;
-        lit += (!shadow_depths(q, stored, q_dist, texel_world) || q_dist <= stored + 0.5 * texel_world) ? 1.0 : 0.0;
+        if (shadow_depths(q, stored, q_dist, texel_world)) {
+            lit += (stored <= 0.0 || q_dist <= stored + 0.5 * texel_world) ? 1.0 : 0.0;
+            counted += 1.0;
+        }
     }
-    return lit / float(shadow_taps);
+    return counted > 0.0 ? lit / counted : 1.0;
 }

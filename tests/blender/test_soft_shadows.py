@@ -65,6 +65,6 @@ def test_a_light_of_no_size_keeps_a_hard_edge(kind):
 
 def test_a_sphere_lights_radius_softens_its_shadow():
     width, _ = penumbra("POINT", 0.25)
-    disc = 2 * 0.687 * light_spread(0.25) / 2  # a uniform disc's 10-90 % across a straight edge: 1.374 radii
+    disc = 1.374 * light_spread(0.25)  # a uniform disc's 10-90 % across a straight edge: 1.374 radii
     print(f"\npoint light of radius 0.25 m: {width:.3f} m (a disc's: {disc:.3f} m)")
     assert width == pytest.approx(disc, rel=0.15)

@@ -454,9 +454,10 @@ def _light(obj, matrix):
             elliptic = light.shape in ("ELLIPSE", "DISK")
             power *= size[0] * size[1] * (np.pi / 4 if elliptic else 1.0)
     spot = {"spot_size": light.spot_size, "spot_blend": light.spot_blend} if light.type == "SPOT" else {}
+    softness = {"shape": light.shape} if light.type == "AREA" else {"angle": light.angle} if light.type == "SUN" else {}
     return Light(kind=light.type, position=matrix[:3, 3], direction=-axes[:, 2], up=axes[:, 1],
                  color=color, power=power, radius=light.shadow_soft_size, size=size,
-                 name=obj.name, **spot)
+                 name=obj.name, **spot, **softness)
 
 
 def check_camera(scene):

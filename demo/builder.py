@@ -172,9 +172,10 @@ def replace_lights(scene, lights):
         if light.kind == "SPOT":
             settings.update(spot_size=light.spot_size, spot_blend=light.spot_blend)
         elif light.kind == "AREA":
-            settings.update(shape="RECTANGLE", size=light.size[0], size_y=light.size[1])
+            round_shape = light.shape in ("DISK", "ELLIPSE")
+            settings.update(shape="ELLIPSE" if round_shape else "RECTANGLE", size=light.size[0], size_y=light.size[1])
         elif light.kind == "SUN":
-            settings = {"angle": 0.0}
+            settings = {"angle": light.angle}
         aim = tuple(light.direction) if light.kind == "SUN" else tuple(light.position + light.direction)
         add_light(scene, light.name, light.kind, tuple(light.position), light.power, tuple(light.color), aim,
                   **settings)

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .frame_lights import seen_box
-from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm
+from .rsm import PROJECTION_PARABOLOID, cube_face_count, render_rsm, sun_half_width
 from .warp import STATUS_NAMES, warp_paraboloid_map
 
 
@@ -51,7 +51,8 @@ class LightMaps:
     warped methods the warp status, and for a sun whose map spans far more than the camera
     sees, the map of the region it sees (`region`, the box `region_box`) that the VPLs come
     from, with `far_vpls` from the whole map outside it; and the Poisson pattern of the
-    VPLs (gpu/vpl.py)."""
+    VPLs (gpu/vpl.py); for a sun, the cascade of maps its direct light looks up where the
+    camera looks (`view_maps` of the boxes `view_boxes`: fit_view_maps)."""
 
     rsm: object
     method: str
@@ -61,6 +62,31 @@ class LightMaps:
     vpls: object = None
     far_vpls: object = None
     pattern: int = None
+    view_maps: tuple = ()
+    view_boxes: tuple = None
+
+    def fit_view_maps(self, glc, mesh, resolution, boxes, bounds, stats):
+        """A sun's cascade of maps for its direct light, finest first: one fitted across
+        its rays to each of `boxes` (cascade_boxes), each reaching every occluder of
+        `bounds` along the rays, `resolution` texels a side; made again when the boxes or
+        the resolution change. A box gets a map
+        only where its texels are VIEW_MAP_GAIN times smaller than those of the next
+        coarser map (the coarsest's: the whole map)."""
+        if (boxes, resolution) == self.view_boxes:
+            return
+        for view_map in self.view_maps:
+            view_map.release()
+        self.view_boxes, fitted = (boxes, resolution), []
+        coarser = self.rsm.ortho_texel
+        for box in reversed(boxes):
+            corners = tuple(np.array(corner) for corner in box)
+            texel = 2 * sun_half_width(self.rsm.light, corners, True) / resolution
+            if texel > 1e-9 and texel * VIEW_MAP_GAIN <= coarser:
+                with glc.timed(stats, "rsm_ms"):
+                    fitted.append(render_rsm(glc, mesh, self.rsm.light, resolution, corners, reach=bounds,
+                                             fitted=True))
+                coarser = texel
+        self.view_maps = tuple(reversed(fitted))
 
     @property
     def vpl_map(self):
@@ -89,13 +115,48 @@ class LightMaps:
         """The GPU memory of the maps, VPLs and warp status."""
         held = (self.rsm.position, self.rsm.normal, self.rsm.flux, *(buffer for buffer, _ in self.emitter_sets()))
         held += (self.warp.texture,) if self.warp is not None else ()
-        held += (self.region.position, self.region.normal, self.region.flux) if self.region is not None else ()
+        for extra in (self.region, *self.view_maps):
+            held += (extra.position, extra.normal, extra.flux) if extra is not None else ()
         return held
 
     def release(self):
-        for resource in (self.rsm, self.vpls, self.far_vpls, self.warp, self.region):
+        for resource in (self.rsm, self.vpls, self.far_vpls, self.warp, self.region, *self.view_maps):
             if resource is not None:
                 resource.release()
+
+
+VIEW_MAP_GAIN = 1.5
+"""A grid level's box gets a map of a sun's direct light (LightMaps.fit_view_maps) when
+that map's texels are at least this many times smaller than the next coarser map's."""
+
+SUN_CASCADES = 3
+CASCADE_NEAR_SHARE = 0.05
+"""A sun's direct-light cascade splits the distances from the camera to the points it sees
+geometrically, from this quantile of them to the farthest, into SUN_CASCADES ranges."""
+
+CASCADE_MARGIN = 0.06
+"""Each cascade box grows by this share of its size on every side: the points it bounds
+stay within the part of its map that shades them (gpu/shade.py VIEW_MAP_EDGE)."""
+
+
+def cascade_boxes(points, eye, bounds, count=SUN_CASCADES):
+    """The boxes of a sun's direct-light cascade, finest first, as a hashable tuple of
+    pairs of tuples: the i-th bounds the points the camera sees (`points`, (k, 3); the
+    G-buffer sampled) up to the i-th split distance from the eye, within the scene's
+    `bounds`, so each holds the finer ones. Empty when it sees too few."""
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    if len(points) < 8:
+        return ()
+    distance = np.linalg.norm(points - np.asarray(eye, dtype=np.float64), axis=1)
+    near, far = max(float(np.quantile(distance, CASCADE_NEAR_SHARE)), 1e-6), float(distance.max())
+    boxes = []
+    for i in range(1, count + 1):
+        held = points[distance <= near * (far / near) ** (i / count) * (1 + 1e-9)]
+        margin = CASCADE_MARGIN * float(np.max(held.max(axis=0) - held.min(axis=0)))
+        low = np.maximum(held.min(axis=0) - margin, bounds[0])
+        high = np.minimum(held.max(axis=0) + margin, bounds[1])
+        boxes.append((tuple(map(float, low)), tuple(map(float, np.maximum(high, low)))))
+    return tuple(boxes)
 
 
 SUN_REGION_SHARE = 0.5

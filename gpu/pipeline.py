@@ -24,13 +24,14 @@ from .frame_lights import frame_lights, seen_box
 from .grids import fit_grid, keep_or_move, level_boxes
 from .indirect import indirect_method
 from .keyed_cache import KeyedCache
-from .light_maps import AUTO_METHODS, map_recipe, render_light_maps, sun_region
+from .light_maps import AUTO_METHODS, cascade_boxes, map_recipe, render_light_maps, sun_region
 from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .pixel_filter import pixel_offset
 from .settings import DisplaySettings, Settings
 from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, read_gbuffer_record, render_gbuffer, render_glow,
                     seen_points, shade_direct, shade_indirect)
+from .soft_shadows import shadow_uniforms
 from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES
@@ -89,7 +90,8 @@ class Pipeline:
         self._frame_lights = KeyedCache()  # what it depends on -> the last frame's FrameLights
         self._receivers = KeyedCache()     # geometry key -> Receivers of the emitters' bounce
         self._targets = KeyedCache(releases=True)    # image size -> FrameTargets
-        self._placement = KeyedCache()     # what it depends on -> the grids placed around the view
+        self._placement = KeyedCache()     # what it depends on -> the grids placed around the view, the sun cascades
+        self._cascade_boxes = ()   # the boxes of a sun's direct-light cascade (gpu/light_maps.py cascade_boxes)
         self._shown_keys = ()      # the light cache keys of the last frame
         self._fits = None          # what the last frame that fitted the machine depended on
         self.last_origin = np.zeros(3)  # the world point the last frame's positions are relative to
@@ -144,6 +146,9 @@ class Pipeline:
                 self._lights[key] = render_light_maps(self.glc, self._mesh.value, light, s, bounds, stats,
                                                       self.vpl_sampler, self.vpl_pattern, light_region)
             light_maps = self._lights[key]
+            if light.kind == "SUN" and levels:
+                light_maps.fit_view_maps(self.glc, self._mesh.value, s.sun_cascade_resolution, self._cascade_boxes, bounds,
+                                         stats)
             if light_maps.pattern != self.vpl_pattern:
                 with self.glc.timed(stats, "vpl_ms"):
                     light_maps.sample_vpls(self.vpl_sampler, s.vpls_per_light, self.vpl_pattern)
@@ -241,10 +246,12 @@ class Pipeline:
 
         def place():
             with self.glc.timed(stats, "place_ms"):
-                boxes = level_boxes(seen_points(self.glc, targets, scene.camera), scene.bounds(), s.grid_levels)
+                points = seen_points(self.glc, targets, scene.camera)
+                boxes = level_boxes(points, scene.bounds(), s.grid_levels)
                 return tuple(fit_grid(box, s.lpv_resolution, s.grid_shift + phase / s.grid_phases)
-                             for box in boxes for phase in range(s.grid_phases))
-        placed = self._placement.get((scene.camera.key(), self._mesh.key, s.lpv_resolution, s.grid_levels,
+                             for box in boxes for phase in range(s.grid_phases)), \
+                    cascade_boxes(points, scene.camera.position, scene.bounds())
+        placed, self._cascade_boxes = self._placement.get((scene.camera.key(), self._mesh.key, s.lpv_resolution, s.grid_levels,
                                       s.grid_phases, s.grid_shift, s.width, s.height), place)
         previous = self._indirect.value.grids if self._indirect.value is not None else None
         return keep_or_move(previous, placed)
@@ -274,7 +281,11 @@ class Pipeline:
         s = self.settings
         with self.glc.timed(stats, "direct_ms"):
             for m in maps:
-                shade_direct(self.glc, targets, scene.camera, m.rsm, s.shadow_bias)
+                shadow = shadow_uniforms(m.rsm.light, s.shadow_taps, self.vpl_pattern)
+                cascade = (*m.view_maps, m.rsm)  # finest first: each shades what the finer ones leave
+                for finer, rsm in zip((None, *cascade), cascade):
+                    shade_direct(self.glc, targets, scene.camera, rsm, s.shadow_bias, shadow,
+                                 inside=rsm if rsm is not m.rsm else None, outside=finer)
         if len(lit.emitters):
             with self.glc.timed(stats, "emitter_light_ms"):
                 self._emitter_grid.value.add_light(targets, gbuffer_uniforms(scene.camera), s,

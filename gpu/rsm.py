@@ -140,15 +140,31 @@ def light_uniforms(light, position):
     }
 
 
-def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_unit=None, reach=None, pattern=0):
+def sun_half_width(light, bounds, fitted=False):
+    """Half the width across a sun's rays of its map of `bounds`: the box's bounding
+    sphere's radius, or `fitted`, the most any corner of the box lies from its centre
+    along the light's +X or +Y axis (the box's square shadow on the map's plane)."""
+    low, high = (np.asarray(corner, dtype=np.float64) for corner in bounds)
+    if not fitted:
+        return max(float(np.linalg.norm(high - low)) / 2, 1e-6)
+    right, up, _ = light_frame(light)
+    corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+    offsets = corners - (low + high) / 2
+    return max(float(np.max(np.abs(offsets @ np.stack([right, up], axis=1)))), 1e-6)
+
+
+def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_unit=None, reach=None, fitted=False,
+               pattern=0):
     """Rasterise the light's RSM faces: cube faces for "cm", hemispheres for "dpm",
     tessellated hemispheres (thesis eq. 8-9, unit in map units) when a unit is given. A
-    sun's map covers `bounds` across its rays and, along them, `reach` (a box holding
-    every occluder; `bounds` when None). Cut-outs are hashed in VPL pattern `pattern`; the
-    flux that passes transmitting surfaces is tinted by them (a second pass)."""
+    sun's map covers `bounds` across its rays (its bounding sphere, or `fitted` the box's
+    own shadow: sun_half_width) and, along them, `reach` (a box holding every occluder;
+    `bounds` when None). Cut-outs are hashed in VPL pattern `pattern`; the flux that
+    passes transmitting surfaces is tinted by them (a second pass)."""
     low, high = bounds
     centre = (low + high) / 2
-    radius = max(float(np.linalg.norm(high - low)) / 2, 1e-6)
+    radius = sun_half_width(light, bounds, fitted) if light.kind == "SUN" else \
+        max(float(np.linalg.norm(high - low)) / 2, 1e-6)
     near = far = 0.0
     if light.kind == "SUN":
         depth_low, depth_high = bounds if reach is None else reach

@@ -14,6 +14,7 @@ import numpy as np
 from .errors import LPVError
 
 LIGHT_KINDS = ("POINT", "SPOT", "AREA", "SUN")
+AREA_SHAPES = ("SQUARE", "RECTANGLE", "DISK", "ELLIPSE")
 
 SEEN_BY_CAMERA, SEEN_BY_LIGHTS = 1, 2
 """Bits of a triangle's visibility (Blender's ray visibility "Camera" and "Shadow"): the
@@ -53,6 +54,10 @@ class Light:
     `direction` is the light's -Z axis (where a spot, area or sun points) and `up` its
     +Y axis. Radiant intensity follows Cycles: a point or spot light sends P/(4π) W/sr
     (a spot cut to its cone with Cycles' smoothstep blend), an area light (P/π)·cosθ.
+
+    What softens its shadows (docs/method.md, "Soft shadows"): a point or spot light's
+    `radius`, an area light's `size` (world lengths along +X and +Y) and `shape`
+    (AREA_SHAPES), a sun's `angle` (the full angle of its disc, radians).
     """
 
     kind: str
@@ -66,6 +71,8 @@ class Light:
     spot_blend: float = 0.15
     size: tuple = (0.0, 0.0)
     name: str = "light"
+    shape: str = "SQUARE"
+    angle: float = 0.0
 
     def __post_init__(self):
         if self.kind not in LIGHT_KINDS:
@@ -78,6 +85,9 @@ class Light:
         self.direction = self.direction / max(np.linalg.norm(self.direction), 1e-30)
         self.up = self.up / max(np.linalg.norm(self.up), 1e-30)
         self.power = float(self.power)
+        if self.shape not in AREA_SHAPES:
+            raise LPVError(f"Light '{self.name}' has shape {self.shape!r}; supported shapes are "
+                           f"{', '.join(AREA_SHAPES)}.")
         if not math.isfinite(self.power) or self.power < 0:
             raise LPVError(f"Light '{self.name}' has power {self.power}; it must be a finite number of at least 0.")
 
@@ -97,7 +107,8 @@ class Light:
 
     def key(self):
         """A content key: equal keys mean the light's RSM would be the same."""
-        parts = [self.kind, self.power, self.radius, self.spot_size, self.spot_blend, tuple(self.size)]
+        parts = [self.kind, self.power, self.radius, self.spot_size, self.spot_blend, tuple(self.size), self.shape,
+                 self.angle]
         parts += [tuple(np.round(v, 9)) for v in (self.position, self.direction, self.up, self.color)]
         return hashlib.sha1(repr(parts).encode()).hexdigest()[:16]
 

@@ -14,7 +14,7 @@ SURFACE_FIELDS = ("visibility", "vertex_colors", "uvs", "image_layers", "emissio
                   "alpha_layers", "transmission")
 """The Scene's optional arrays (per triangle, and the point emitters), saved when present."""
 LIGHT_FIELDS = ("kind", "position", "direction", "up", "color", "power", "radius", "spot_size", "spot_blend", "size",
-                "name")
+                "name", "shape", "angle")
 
 
 def save_scene(scene, path):
@@ -40,6 +40,12 @@ def save_scene(scene, path):
         raise LPVError(f"Cannot write scene file '{path}' ({error.strerror}); choose a writable path.")
 
 
+def _light_softness(data, i):
+    """Light `i`'s area shape and sun angle, where the file has them (older files: none)."""
+    return {name: cast(data[f"light{i}_{name}"]) for name, cast in (("shape", str), ("angle", float))
+            if f"light{i}_{name}" in data}
+
+
 def load_scene(path):
     """The Scene of an .npz file written by `save_scene`."""
     if not Path(path).is_file():
@@ -55,7 +61,7 @@ def load_scene(path):
                             up=get("up"), color=get("color"), power=float(get("power")),
                             radius=float(get("radius")), spot_size=float(get("spot_size")),
                             spot_blend=float(get("spot_blend")), size=tuple(get("size").tolist()),
-                            name=str(get("name"))))
+                            name=str(get("name")), **_light_softness(data, i)))
     camera = Camera(data["camera_view"], data["camera_projection"]) if "camera_view" in data else None
     dropped = data["dropped"]
     images = [SurfaceImage(str(data[f"image{i}_name"]), data[f"image{i}_pixels"])

@@ -127,6 +127,12 @@ class Settings(Validated):
                                           "replaces converge_sets", 0.0, 3600.0)
     indirect_intensity: float = _param(1.0, "Scale of the indirect light", 0.0, 100.0)
     shadow_bias: float = _param(1.5, "Shadow-map normal offset in texels", 0.0, 16.0)
+    shadow_taps: int = _param(32, "Taps of a soft shadow's filter (PCSS: lights with a size); its blocker search "
+                                  "takes half. Each VPL set turns them anew, so a converging frame averages the "
+                                  "noise away", 4, 64)
+    sun_cascade_resolution: int = _param(1024, "Texels along one side of each map of a sun's cascade: the maps of "
+                                               "its direct light fitted to what the camera sees, nearer ones finer",
+                                         16, 4096)
     width: int = _param(640, "Image width in pixels", 1, 16384)
     height: int = _param(480, "Image height in pixels", 1, 16384)
 

@@ -238,15 +238,26 @@ def add_irradiance(glc, targets, uniforms, irradiance):
     dispatch(program, *targets.size)
 
 
-def shade_direct(glc, targets, camera, rsm, shadow_bias):
-    """Add one light's shadowed Lambert term into the direct image."""
+VIEW_MAP_EDGE = 0.9
+"""A sun's view map (gpu/light_maps.py fit_view_maps) shades the pixels within this share
+of its half-width of its centre (the filter's taps beyond its edge would find no
+blocker); coarser maps the rest."""
+
+
+def shade_direct(glc, targets, camera, rsm, shadow_bias, shadow, inside=None, outside=None):
+    """Add one light's shadowed Lambert term into the direct image; `shadow` the uniforms
+    of its soft shadow (gpu/soft_shadows.py shadow_uniforms). `inside` and `outside`
+    (a sun's orthographic view maps, or None) keep to the pixels within VIEW_MAP_EDGE of
+    the one and beyond it of the other."""
     program = glc.compute("shade_direct")
     bind_gbuffer(targets)
     rsm.position.use(location=2)
     targets.direct.bind_to_image(0, read=True, write=True)
     set_uniforms(program, **gbuffer_uniforms(camera), rsm_position=2, **rsm.lookup_uniforms(),
                  texel_angle=2.0 / rsm.resolution, ortho_texel=rsm.ortho_texel, shadow_bias=shadow_bias,
-                 **rsm.light_uniforms)
+                 **rsm.light_uniforms, **shadow, use_inside=inside is not None, use_outside=outside is not None,
+                 inside_matrix=np.eye(4) if inside is None else inside.face_matrices[0],
+                 outside_matrix=np.eye(4) if outside is None else outside.face_matrices[0], view_map_edge=VIEW_MAP_EDGE)
     dispatch(program, *targets.size)
 
 

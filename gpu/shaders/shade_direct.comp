@@ -1,6 +1,6 @@
 #version 450 core
-// Direct light of one light: Lambert, shadowed by the light's RSM distances (3x3 PCF with a
-// normal offset), added into the direct image.
+// Direct light of one light: Lambert, shadowed by the light's RSM distances (a light of no
+// size: 3x3 PCF with a normal offset; else PCSS, soft_shadow.glsl), added into the direct image.
 #include "common.glsl"
 #include "light.glsl"
 #include "rsm_lookup.glsl"
@@ -11,6 +11,16 @@ layout(rgba32f, binding = 0) uniform image2D direct;
 uniform float texel_angle;   // 2 / resolution: a texel's width per unit distance
 uniform float ortho_texel;   // sun: a texel's width in world units
 uniform float shadow_bias;   // normal offset in texels
+uniform bool use_inside;       // shade only the pixels within view_map_edge of inside_matrix's map
+uniform bool use_outside;      // shade only the pixels beyond view_map_edge of outside_matrix's map
+uniform mat4 inside_matrix;    // a sun's view maps' view-projections (gpu/shade.py VIEW_MAP_EDGE)
+uniform mat4 outside_matrix;
+uniform float view_map_edge;   // within this share of a map's half-width
+
+bool within(mat4 view_projection, vec3 p) {
+    return all(lessThanEqual(abs((view_projection * vec4(p, 1.0)).xy), vec2(view_map_edge)));
+}
+#include "soft_shadow.glsl"
 
 float visibility(vec3 p) {
     vec3 w;
@@ -36,6 +46,7 @@ void main() {
     if (any(greaterThanEqual(pixel, imageSize(direct)))) return;
     vec3 p, n, albedo;
     if (!gbuffer_surface(pixel, p, n, albedo)) return;
+    if ((use_inside && !within(inside_matrix, p)) || (use_outside && within(outside_matrix, p))) return;
     vec3 w;
     float dist;
     light_ray(p, w, dist);
@@ -43,7 +54,14 @@ void main() {
     if (cos_theta <= 0.0) return;
     vec3 irradiance = light_irradiance(w, dist, cos_theta);
     float texel_world = light_kind == LIGHT_SUN ? ortho_texel : dist * texel_angle;
-    float v = visibility(p + n * shadow_bias * texel_world);
+    vec3 offset = p + n * shadow_bias * texel_world;
+    float v;
+    if (shadow_shape == SHADOW_HARD) {
+        v = visibility(offset);
+    } else {
+        light_ray(offset, w, dist);
+        v = soft_visibility(offset, n, w, dist, pixel);
+    }
     vec4 previous = imageLoad(direct, pixel);
     imageStore(direct, pixel, previous + vec4(albedo / PI * irradiance * v, 0.0));
 }

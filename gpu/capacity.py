@@ -15,6 +15,7 @@ from .indirect import indirect_method
 from .light_grid import CLUSTER_BYTES, LIGHT_GRID_BYTES_PER_CELL, cluster_capacity
 from .occupancy import LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
+from .light_maps import SUN_CASCADES
 from .rsm import face_atlas_size, map_face_count
 from .scene import POINT_EMITTER_COLUMNS
 from .surface_images import BYTES_PER_TEXEL, layer_size
@@ -99,6 +100,8 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     maps = sum(width * height * per_light + s.vpls_per_light * EMITTER_BYTES for width, height in atlases)
     per_layout = SHARED_BYTES_PER_TEXEL + MAP_BYTES_PER_TEXEL * warped
     maps += sum(width * height * per_layout + s.vpls_per_light * VPL_CELL_BYTES for width, height in set(atlases))
+    suns = sum(light.kind == "SUN" for light in mapped)  # each sun's maps fitted to the view (light_maps.py)
+    maps += suns * SUN_CASCADES * s.sun_cascade_resolution ** 2 * MAP_BYTES_PER_TEXEL
     indirect = indirect_method(s).needed_bytes(s, scene, pixels, len(mapped))
     indirect += emitter_bytes(s, scene, pixels, len(scene.lights) - len(mapped))
     if scene.emission is not None:  # emitters and their gather, the glow and the triangles' radiances

@@ -1,9 +1,11 @@
 // The camera G-buffer of shaders/gbuffer.frag: a depth texture and one packed surface
 // texel per pixel (octahedral normal in two 16-bit snorms, albedo as three floats);
-// positions are rebuilt from the depth.
+// positions are rebuilt from the depth. A second texture, g_specular, holds the glossy
+// reflection (F0 rgb, roughness) for the passes that shade it (gbuffer_specular).
 uniform sampler2D g_depth;
 uniform usampler2D g_surface;
 uniform mat4 inverse_view_projection;
+uniform sampler2D g_specular;
 
 vec2 octahedral_encode(vec3 n) {
     n /= abs(n.x) + abs(n.y) + abs(n.z);
@@ -38,4 +40,15 @@ bool gbuffer_surface(ivec2 pixel, out vec3 position, out vec3 normal, out vec3 a
     normal = octahedral_decode(unpackSnorm2x16(surface.x));
     albedo = uintBitsToFloat(surface.yzw);
     return true;
+}
+
+// The glossy reflection at `pixel`: F0 (rgb) and Blender's roughness (a).
+vec4 gbuffer_specular(ivec2 pixel) {
+    return texelFetch(g_specular, pixel, 0);
+}
+
+// The unit direction from the surface point `position` seen at `pixel` toward the camera
+// (perspective or orthographic alike: back along the pixel's ray, to the near plane).
+vec3 gbuffer_view(ivec2 pixel, vec3 position) {
+    return normalize(gbuffer_unproject(pixel, 0.0) - position);
 }

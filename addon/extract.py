@@ -128,7 +128,7 @@ def _assemble(meshes, batches, surfaces, emitters=None):
     alpha_layers = np.full(total, -1, dtype=np.int16) if alpha_images else None
     transmission = np.zeros((total, 4), dtype=np.float32) if see_through else None
     glossy = any(any(colour.specular) for colour in colours)
-    specular = np.zeros((total, 4), dtype=np.float32) if glossy else None
+    specular = np.zeros((total, 5), dtype=np.float32) if glossy else None
     coloured = any(colour.attribute is not None for _, palettes, _ in batches.values() for slots in palettes
                    for colour in slots)
     uvs = np.zeros((total, 3, 2), dtype=np.float32) if textured else None
@@ -248,7 +248,7 @@ class MeshSurface:
     approximated for want of a UV map or colour attribute, emitted radiance (T, 3), and
     what of the surface lets light through (gpu/scene.py Scene): alpha (T,), the image
     layer whose alpha multiplies it (T,) and the transmission (T, 4); its glossy
-    reflection (T, 4): F0 rgb and roughness."""
+    reflection (T, 5): F0 rgb, roughness and metallic."""
 
     albedo: np.ndarray
     layers: np.ndarray
@@ -386,7 +386,7 @@ class LocalMesh:
         emission = np.array([colour.emission for colour in slots], dtype=np.float32)
         alpha = np.array([colour.alpha for colour in slots], dtype=np.float32)
         transmission = np.array([(*colour.transmission_tint, colour.transmission) for colour in slots], np.float32)
-        specular = np.array([(*colour.specular, colour.roughness) for colour in slots], np.float32)
+        specular = np.array([(*colour.specular, colour.roughness, colour.metallic) for colour in slots], np.float32)
         return MeshSurface(factors[slot], layers, uvs, colors, approximated, emission[slot], alpha[slot],
                            alpha_layers, transmission[slot], specular[slot])
 

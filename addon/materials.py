@@ -110,7 +110,8 @@ class BaseColour:
 
     Its glossy reflection (docs/method.md, "Specular light") is GGX of `roughness`
     (Blender's, squared in the shader) with the reflectance `specular` at normal
-    incidence (F0, linear rgb; black: none): principled_specular."""
+    incidence (F0, linear rgb; black: none, principled_specular), its Fresnel a
+    dielectric's by that F0 where `metallic` is 0, Schlick's where it is 1."""
 
     factor: tuple
     image: object = None
@@ -125,6 +126,7 @@ class BaseColour:
     transmission_tint: tuple = (1.0, 1.0, 1.0)
     specular: tuple = (0.0, 0.0, 0.0)
     roughness: float = 1.0
+    metallic: float = 0.0
 
     @property
     def varies(self):
@@ -334,7 +336,7 @@ class _Evaluation:
             specular = principled_specular(self.average_of(base), weights["Metallic"], ior, level, specular_tint)
             return replace(colour.see_through(alpha, transmission, tint), alpha_image=alpha_image,
                            alpha_uv_map=alpha_uv_map, specular=specular,
-                           roughness=float(np.clip(roughness, 0.0, 1.0)))
+                           roughness=float(np.clip(roughness, 0.0, 1.0)), metallic=weights["Metallic"])
         if node.type == "BSDF_DIFFUSE":
             return self.colour(node.inputs["Color"], depth)
         if node.type == "MIX_SHADER":
@@ -484,7 +486,7 @@ def glossy(colour, parts):
     """`colour` with the glossy reflection of the weighted shaders `parts` (weight,
     BaseColour): their F0s weighted by what of each is not cut out, per the share not
     cut out of the sum, and their roughnesses weighted by their F0s (a mean roughness:
-    two lobes become one)."""
+    two lobes become one), and so their metallic shares."""
     alpha = sum(weight * part.alpha for weight, part in parts)
     if alpha <= 0.0:
         return colour
@@ -492,7 +494,9 @@ def glossy(colour, parts):
     shares = [(weight * part.alpha * max(part.specular), part.roughness) for weight, part in parts]
     total = sum(share for share, _ in shares)
     roughness = sum(share * r for share, r in shares) / total if total > 0 else 1.0
-    return replace(colour, specular=tuple(float(c) for c in np.clip(specular, 0.0, 1.0)), roughness=float(roughness))
+    metallic = sum(share * part.metallic for share, (_, part) in zip((s for s, _ in shares), parts))
+    return replace(colour, specular=tuple(float(c) for c in np.clip(specular, 0.0, 1.0)), roughness=float(roughness),
+                   metallic=float(metallic / total) if total > 0 else 0.0)
 
 
 def is_clear(colour):

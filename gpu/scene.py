@@ -254,8 +254,9 @@ class Scene:
     (rgb) (None: none). `albedo` is the mean of the whole surface not cut out; the part
     that does not transmit has albedo / (1 - transmission). `specular` (T, 4) float32
     is each triangle's glossy reflection (docs/method.md, "Specular light"): the
-    reflectance at normal incidence F0 (rgb, linear) and Blender's roughness (a)
-    (None: none, a purely diffuse scene). `world` (gpu/world.py World; None: none) lights the scene from afar and is
+    reflectance at normal incidence F0 (rgb, linear), Blender's roughness and the
+    metallic share (its Fresnel: a dielectric's at 0, Schlick's at 1) (None: none, a
+    purely diffuse scene; (T, 4) without the metallic share: 0). `world` (gpu/world.py World; None: none) lights the scene from afar and is
     what the camera sees where it sees no surface; `film` (Film) says how the pixels are
     filtered and whether that world is seen.
     `approximated_materials` names the materials the extraction could only approximate:
@@ -380,8 +381,10 @@ class Scene:
             transmission = np.asarray(self.transmission, dtype=np.float32).reshape(count, 4)
             arrays["transmission"] = np.clip(np.nan_to_num(transmission, nan=0.0), 0.0, 1.0)
         if self.specular is not None:
-            specular = np.asarray(self.specular, dtype=np.float32).reshape(count, 4)
-            arrays["specular"] = np.clip(np.nan_to_num(specular, nan=0.0), 0.0, 1.0)
+            specular = np.asarray(self.specular, dtype=np.float32).reshape(count, -1)
+            if specular.shape[1] == 4:
+                specular = np.concatenate([specular, np.zeros((count, 1), np.float32)], axis=1)
+            arrays["specular"] = np.clip(np.nan_to_num(specular[:, :5], nan=0.0), 0.0, 1.0)
         return arrays
 
     @staticmethod

@@ -16,8 +16,8 @@ class FrameTargets:
     The G-buffer is a depth texture and one packed RGBA32UI texel per pixel (normal and
     albedo, shaders/gbuffer.glsl), 20 bytes a pixel where position, normal and albedo as
     float images would take 52: the H100 has few raster units, and the G-buffer is most of
-    a camera move (docs/performance.md). A second texel (RGBA16F, `specular`) holds the
-    glossy reflection: F0 and roughness.
+    a camera move (docs/performance.md). A second texel (RGBA16UI, `specular`) holds the
+    glossy reflection: F0, roughness and metallic.
     """
 
     def __init__(self, gl, width, height):
@@ -29,7 +29,7 @@ class FrameTargets:
         self.direct, self.direct_mean, self.indirect, self.combined = (gl.texture(self.size, 4, dtype="f4")
                                                                        for _ in range(4))
         self.surface = gl.texture(self.size, 4, dtype="u4")
-        self.specular = gl.texture(self.size, 4, dtype="f2")
+        self.specular = gl.texture(self.size, 4, dtype="u2")
         self.depth = gl.depth_texture(self.size)
         if gl.error == "GL_OUT_OF_MEMORY":  # within the limits yet refused: llvmpipe makes no image of 1.5 GiB
             for texture in (self.direct, self.direct_mean, self.indirect, self.combined, self.surface, self.specular,

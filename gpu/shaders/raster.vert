@@ -6,6 +6,7 @@ in vec4 in_albedo;
 in vec4 in_surface;
 in vec4 in_transmission;
 in vec4 in_specular;
+in float in_metallic;
 uniform mat4 view_projection;
 out vec3 world_position;
 out vec3 world_normal;
@@ -13,6 +14,7 @@ out vec4 surface_albedo;
 out vec4 surface_coord;
 out vec4 surface_transmission;
 out vec4 surface_specular;
+out float surface_metallic;
 
 void main() {
     world_position = in_position;
@@ -21,5 +23,6 @@ void main() {
     surface_coord = in_surface;
     surface_transmission = in_transmission;
     surface_specular = in_specular;
+    surface_metallic = in_metallic;
     gl_Position = view_projection * vec4(in_position, 1.0);
 }

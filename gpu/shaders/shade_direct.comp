@@ -73,10 +73,11 @@ void main() {
         v = soft_visibility(offset, n, w, dist, pixel);
     }
     vec3 brdf = albedo / PI;
-    vec4 gloss = gbuffer_specular(pixel);
+    float metallic;
+    vec4 gloss = gbuffer_specular(pixel, metallic);
     if (any(greaterThan(gloss.rgb, vec3(0.0)))) {
         float alpha = specular_alpha(gloss.a, light_spread(dist));
-        brdf += ggx_brdf(n, gbuffer_view(pixel, p), -w, gloss.rgb, alpha);
+        brdf += ggx_brdf(n, gbuffer_view(pixel, p), -w, gloss.rgb, metallic, alpha);
     }
     vec4 previous = imageLoad(direct, pixel);
     imageStore(direct, pixel, previous + vec4(brdf * irradiance * v, 0.0));

@@ -154,7 +154,7 @@ def test_the_principled_glossy_part_is_f0_and_roughness():
     dielectric = 0.04 * 2 * 0.75 * np.array([1.0, 0.5, 0.5])
     np.testing.assert_allclose(extracted.specular[0, :3], 0.75 * dielectric + 0.25 * np.array([0.8, 0.6, 0.4]),
                                rtol=1e-5)
-    assert extracted.specular[0, 3] == pytest.approx(0.3)
+    assert extracted.specular[0, 3:] == pytest.approx((0.3, 0.25))
     assert extracted.approximated_materials == []
 
 
@@ -165,7 +165,7 @@ def test_a_linked_roughness_is_taken_at_its_value_and_named():
         links.new(nodes.new("ShaderNodeTexNoise").outputs["Fac"], principled.inputs["Roughness"])
     scene, _ = floor_scene(lambda: material_with("Noisy metal", build))
     extracted = scene_to_render(scene)
-    np.testing.assert_allclose(extracted.specular[0], (0.8, 0.8, 0.8, 0.2), rtol=1e-5)
+    np.testing.assert_allclose(extracted.specular[0], (0.8, 0.8, 0.8, 0.2, 1.0), rtol=1e-5)
     assert extracted.approximated_materials == ["Noisy metal"]
 
 

@@ -42,7 +42,13 @@ def floor_points(camera):
     return near + t[..., None] * (far - near)
 
 
-def ggx(points, f0, roughness):
+def dielectric_fresnel(c, eta):
+    g = np.sqrt(eta * eta - 1 + c * c)
+    a, b = (g - c) / (g + c), (c * (g + c) - 1) / (c * (g - c) + 1)
+    return 0.5 * a * a * (1 + b * b)
+
+
+def ggx(points, f0, roughness, metallic):
     """The GGX BRDF of shaders/specular.glsl at each point for the lamp and the eye."""
     n = np.array([0.0, 0.0, 1.0])
     l = LAMP - points
@@ -54,7 +60,9 @@ def ggx(points, f0, roughness):
     a2 = max(roughness ** 2, 0.002) ** 2
     d = a2 / (math.pi * (nh * nh * (a2 - 1) + 1) ** 2)
     vis = 0.5 / (nl * np.sqrt(nv * nv * (1 - a2) + a2) + nv * np.sqrt(nl * nl * (1 - a2) + a2))
-    fresnel = f0 + (1 - f0) * (1 - vh) ** 5
+    root = math.sqrt(f0)
+    dielectric = (dielectric_fresnel(vh, (1 + root) / (1 - root)) - f0) / (1 - f0)
+    fresnel = f0 + (1 - f0) * (metallic * (1 - vh) ** 5 + (1 - metallic) * dielectric)
     return d * vis * fresnel
 
 
@@ -66,15 +74,15 @@ def pipeline():
 
 
 def test_the_vertex_carries_f0_and_roughness():
-    assert VERTEX_LAYOUT[0].split()[-1] == "4f" and VERTEX_LAYOUT[-1] == "in_specular"
+    assert VERTEX_LAYOUT[0].split()[-2:] == ["4f", "1f"] and VERTEX_LAYOUT[-2:] == ("in_specular", "in_metallic")
 
 
-@pytest.mark.parametrize("f0, roughness", [(0.04, 0.3), (0.9, 0.5)])
-def test_a_glossy_floor_matches_ggx(pipeline, f0, roughness):
+@pytest.mark.parametrize("f0, roughness, metallic", [(0.04, 0.3, 0.0), (0.9, 0.5, 1.0), (0.3, 0.2, 0.5)])
+def test_a_glossy_floor_matches_ggx(pipeline, f0, roughness, metallic):
     diffuse = pipeline.render(floor_scene()).passes["direct"]
-    glossy = pipeline.render(floor_scene((f0, f0, f0, roughness))).passes["direct"]
+    glossy = pipeline.render(floor_scene((f0, f0, f0, roughness, metallic))).passes["direct"]
     irradiance = diffuse[..., 0] * math.pi / ALBEDO
-    expected = irradiance * (ALBEDO / math.pi + ggx(floor_points(floor_scene().camera), f0, roughness))
+    expected = irradiance * (ALBEDO / math.pi + ggx(floor_points(floor_scene().camera), f0, roughness, metallic))
     lit = irradiance > 0.05 * irradiance.max()
     assert np.abs(glossy[..., 0] - expected)[lit].mean() / expected[lit].mean() < 0.03
     peak = np.unravel_index(np.argmax(np.where(lit, expected, 0)), expected.shape)
@@ -84,5 +92,5 @@ def test_a_glossy_floor_matches_ggx(pipeline, f0, roughness):
 
 def test_no_f0_no_change(pipeline):
     diffuse = pipeline.render(floor_scene()).passes["direct"]
-    black = pipeline.render(floor_scene((0.0, 0.0, 0.0, 0.2))).passes["direct"]
+    black = pipeline.render(floor_scene((0.0, 0.0, 0.0, 0.2, 1.0))).passes["direct"]
     np.testing.assert_allclose(black, diffuse, atol=1e-6)

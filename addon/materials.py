@@ -16,7 +16,9 @@ A surface also lets light through (docs/method.md, "Alpha and transmission"): it
 `alpha` (the Principled BSDF's Alpha, a constant or an Image Texture's Alpha output, and
 the Transparent BSDF of a Mix Shader) cuts it out, and its transmission (the Principled
 BSDF's Transmission Weight, a Glass or Refraction BSDF, a coloured Transparent BSDF) is
-seen and lit through, tinted: a thin sheet without refraction.
+seen and lit through, tinted: a thin sheet without refraction. Its glossy reflection
+(docs/method.md, "Specular light") is the Principled BSDF's F0, roughness and metallic
+share, read as constants.
 """
 from dataclasses import dataclass, replace
 

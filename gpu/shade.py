@@ -246,6 +246,20 @@ def add_irradiance(glc, targets, uniforms, irradiance):
     dispatch(program, *targets.size)
 
 
+def add_world_reflection(glc, targets, camera, reflection):
+    """Add the world's light glossy surfaces reflect (shaders/world_reflection.comp) into
+    the direct image; `reflection` is the world's lighting map with its mip chain
+    (gpu/world_light.py WorldLight.reflection_texture)."""
+    program = glc.compute("world_reflection")
+    bind_gbuffer(targets)
+    targets.specular.use(location=2)
+    reflection.use(location=3)
+    targets.direct.bind_to_image(0, read=True, write=True)
+    set_uniforms(program, **gbuffer_uniforms(camera), g_specular=2, world_reflection=3,
+                 reflection_levels=int(np.log2(max(reflection.size))))
+    dispatch(program, *targets.size)
+
+
 VIEW_MAP_EDGE = 0.9
 """A sun's view map (gpu/light_maps.py fit_view_maps) shades the pixels within this share
 of its half-width of its centre (the filter's taps beyond its edge would find no

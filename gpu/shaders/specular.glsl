@@ -49,3 +49,15 @@ vec3 ggx_brdf(vec3 n, vec3 v, vec3 l, vec3 f0, float metallic, float alpha) {
     float visibility = 0.5 / (nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2));
     return distribution * visibility * principled_fresnel(f0, metallic, max(dot(v, h), 0.0));
 }
+
+// The split sum's DFG term: the share of uniform incoming light a glossy surface of F0
+// `f0` and Blender's `roughness` reflects toward a viewer at cos `nv` (Karis' analytic fit
+// of the GGX / Schlick integral, "Physically Based Shading on Mobile", 2014).
+vec3 environment_dfg(vec3 f0, float roughness, float nv) {
+    const vec4 c0 = vec4(-1.0, -0.0275, -0.572, 0.022);
+    const vec4 c1 = vec4(1.0, 0.0425, 1.04, -0.04);
+    vec4 r = roughness * c0 + c1;
+    float a004 = min(r.x * r.x, exp2(-9.28 * nv)) * r.x + r.y;
+    vec2 ab = vec2(-1.04, 1.04) * a004 + r.zw;
+    return f0 * ab.x + ab.y;
+}

@@ -1,8 +1,11 @@
 """The glossy reflection of direct light against Cycles (docs/method.md, "Specular
 light"): a dark floor of roughness 0.3 (the Principled BSDF's default specular) under a
 point light, seen at a slant, rendered by real Cycles and by our pipeline from the same
-camera. Its highlight is where Cycles has it, and about as bright.
+camera. Its highlight is where Cycles has it, and about as bright. And a chrome sphere
+lit by the world alone (a colour, forest.exr) reflects it about as brightly as Cycles'.
 """
+import os
+
 import numpy as np
 import pytest
 
@@ -72,3 +75,54 @@ def test_a_glossy_floors_highlight_is_where_cycles_has_it(pipeline, roughness, m
     assert np.abs(np.subtract(our_peak, peak)).max() <= 3
     assert 0.7 < ratio < 1.3
     assert 0.7 < overall < 1.3
+
+
+def build_chrome_sphere(world):
+    """A chrome sphere (Metallic 1, Roughness 0.05) filling much of the view, lit by the
+    world alone: a grey colour or Blender's forest.exr."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=1.0)
+    sphere = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    material = bpy.data.materials.new("chrome")
+    principled = material.node_tree.nodes["Principled BSDF"]
+    principled.inputs["Metallic"].default_value = 1.0
+    principled.inputs["Roughness"].default_value = 0.05
+    sphere.data.materials.append(material)
+    scene.world = bpy.data.worlds.new("world")
+    nodes, links = scene.world.node_tree.nodes, scene.world.node_tree.links
+    background = nodes["Background"]
+    if world == "colour":
+        background.inputs["Color"].default_value = (0.6, 0.7, 0.9, 1.0)
+    else:
+        texture = nodes.new("ShaderNodeTexEnvironment")
+        # system_resource(..., path=...) answers "" for a file in bpy 5.0: join the folder's path
+        texture.image = bpy.data.images.load(os.path.join(bpy.utils.system_resource("DATAFILES"), "studiolights",
+                                                          "world", "forest.exr"))
+        links.new(texture.outputs["Color"], background.inputs["Color"])
+    camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    camera.location = (0.0, -4.0, 0.0)
+    camera.rotation_euler = (np.radians(90), 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    scene.render.resolution_x = scene.render.resolution_y = SIZE
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    return scene
+
+
+@pytest.mark.parametrize("world", ["colour", "forest"])
+def test_a_chrome_sphere_reflects_the_world_as_cycles(pipeline, world):
+    scene = build_chrome_sphere(world)
+    reference = render_cycles_passes(scene, passes=("Combined",), samples=SAMPLES, pixel_filter_width=0.01,
+                                     max_bounces=1)
+    frame = pipeline.render(extract_scene(bpy.context.evaluated_depsgraph_get()))
+    covered = frame.coverage > 0.99
+    inside = covered & np.roll(covered, 1, 0) & np.roll(covered, -1, 0) & np.roll(covered, 1, 1) & \
+        np.roll(covered, -1, 1)  # the sphere less its silhouette's pixels
+    ours, cycles = frame.passes["combined"][inside].mean(), reference["Combined"][inside].mean()
+    print(f"\nchrome sphere under the world {world}: mean ours {ours:.4f}, Cycles {cycles:.4f}, "
+          f"ratio {ours / cycles:.3f} over {inside.sum()} pixels (Cycles {SAMPLES} samples at {SIZE}x{SIZE})")
+    assert inside.sum() > SIZE * SIZE / 8
+    assert 0.8 < ours / cycles < 1.2

@@ -127,6 +127,8 @@ def _assemble(meshes, batches, surfaces, emitters=None):
     alpha = np.ones(total, dtype=np.float32) if see_through else None
     alpha_layers = np.full(total, -1, dtype=np.int16) if alpha_images else None
     transmission = np.zeros((total, 4), dtype=np.float32) if see_through else None
+    glossy = any(any(colour.specular) for colour in colours)
+    specular = np.zeros((total, 5), dtype=np.float32) if glossy else None
     coloured = any(colour.attribute is not None for _, palettes, _ in batches.values() for slots in palettes
                    for colour in slots)
     uvs = np.zeros((total, 3, 2), dtype=np.float32) if textured else None
@@ -171,6 +173,8 @@ def _assemble(meshes, batches, surfaces, emitters=None):
                 per_instance(transmission)[which] = surface.transmission
             if alpha_layers is not None:
                 per_instance(alpha_layers)[which] = surface.alpha_layers
+            if specular is not None:
+                per_instance(specular)[which] = surface.specular
             approximated |= surface.approximated
         if mirrored.any():
             reversed_corners = np.flatnonzero(mirrored) + start
@@ -181,7 +185,7 @@ def _assemble(meshes, batches, surfaces, emitters=None):
     return {"triangles": triangles, "normals": normals, "albedo": albedo,
             "emission": emission if emission.any() else None, "visibility": visibility,
             "vertex_colors": vertex_colors, "uvs": uvs, "image_layers": image_layers if images else None,
-            "alpha": alpha, "alpha_layers": alpha_layers, "transmission": transmission,
+            "alpha": alpha, "alpha_layers": alpha_layers, "transmission": transmission, "specular": specular,
             "images": images, "approximated_materials": surfaces.approximated_entries(approximated), "origin": origin,
             "missing_images": sorted(surfaces.missing_images),
             "point_emitters": emitters.array(origin) if emitters is not None else None}
@@ -243,7 +247,8 @@ class MeshSurface:
     (T, ), corner UVs (T, 3, 2) and colours (T, 3, 3) (None: not read), the materials
     approximated for want of a UV map or colour attribute, emitted radiance (T, 3), and
     what of the surface lets light through (gpu/scene.py Scene): alpha (T,), the image
-    layer whose alpha multiplies it (T,) and the transmission (T, 4)."""
+    layer whose alpha multiplies it (T,) and the transmission (T, 4); its glossy
+    reflection (T, 5): F0 rgb, roughness and metallic."""
 
     albedo: np.ndarray
     layers: np.ndarray
@@ -254,6 +259,7 @@ class MeshSurface:
     alpha: np.ndarray = None
     alpha_layers: np.ndarray = None
     transmission: np.ndarray = None
+    specular: np.ndarray = None
 
 
 class LocalMesh:
@@ -380,8 +386,9 @@ class LocalMesh:
         emission = np.array([colour.emission for colour in slots], dtype=np.float32)
         alpha = np.array([colour.alpha for colour in slots], dtype=np.float32)
         transmission = np.array([(*colour.transmission_tint, colour.transmission) for colour in slots], np.float32)
+        specular = np.array([(*colour.specular, colour.roughness, colour.metallic) for colour in slots], np.float32)
         return MeshSurface(factors[slot], layers, uvs, colors, approximated, emission[slot], alpha[slot],
-                           alpha_layers, transmission[slot])
+                           alpha_layers, transmission[slot], specular[slot])
 
 
 def _image_layers(image, uvs, layer_of):

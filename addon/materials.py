@@ -16,7 +16,9 @@ A surface also lets light through (docs/method.md, "Alpha and transmission"): it
 `alpha` (the Principled BSDF's Alpha, a constant or an Image Texture's Alpha output, and
 the Transparent BSDF of a Mix Shader) cuts it out, and its transmission (the Principled
 BSDF's Transmission Weight, a Glass or Refraction BSDF, a coloured Transparent BSDF) is
-seen and lit through, tinted: a thin sheet without refraction.
+seen and lit through, tinted: a thin sheet without refraction. Its glossy reflection
+(docs/method.md, "Specular light") is the Principled BSDF's F0, roughness and metallic
+share, read as constants.
 """
 from dataclasses import dataclass, replace
 
@@ -73,6 +75,21 @@ ALPHA_APPROXIMATED = "alpha approximated (an input the preview does not evaluate
 
 COLOUR_APPROXIMATED = "diffuse colour approximated"
 
+SPECULAR_INPUTS = ("Roughness", "IOR", "Specular IOR Level", "Specular Tint")
+"""The Principled BSDF's inputs its glossy reflection reads (with Metallic and Base
+Color): a linked one is taken at its socket's value and the material approximated."""
+
+
+def principled_specular(base, metallic, ior, level, tint):
+    """F0, the Principled BSDF's reflectance at normal incidence, as Cycles makes it: the
+    dielectric's ((ior - 1) / (ior + 1))² times 2 x Specular IOR Level, tinted by Specular
+    Tint, mixed toward the base colour by Metallic (a metal's edge tint, F82, is not
+    modelled)."""
+    ior = max(float(ior), 1e-3)
+    dielectric = ((ior - 1.0) / (ior + 1.0)) ** 2 * 2.0 * max(float(level), 0.0) * np.asarray(tint, np.float64)[:3]
+    f0 = (1.0 - metallic) * np.clip(dielectric, 0.0, 1.0) + metallic * np.asarray(base, np.float64)[:3]
+    return tuple(float(c) for c in np.clip(f0, 0.0, 1.0))
+
 UPSTREAM_IMAGE_SEARCH_DEPTH = 8
 """How many nodes back from a colour socket an Image Texture is still looked for."""
 
@@ -91,7 +108,12 @@ class BaseColour:
     What of the light meeting the surface is not cut out is `alpha` (times, where
     `alpha_image` is an image, its alpha channel at the UV map `alpha_uv_map`); of that,
     the share `transmission` passes through tinted by `transmission_tint`, and the rest
-    is the surface the colour describes (the colour is already scaled by neither)."""
+    is the surface the colour describes (the colour is already scaled by neither).
+
+    Its glossy reflection (docs/method.md, "Specular light") is GGX of `roughness`
+    (Blender's, squared in the shader) with the reflectance `specular` at normal
+    incidence (F0, linear rgb; black: none, principled_specular), its Fresnel a
+    dielectric's by that F0 where `metallic` is 0, Schlick's where it is 1."""
 
     factor: tuple
     image: object = None
@@ -104,6 +126,9 @@ class BaseColour:
     alpha_uv_map: str = ""
     transmission: float = 0.0
     transmission_tint: tuple = (1.0, 1.0, 1.0)
+    specular: tuple = (0.0, 0.0, 0.0)
+    roughness: float = 1.0
+    metallic: float = 0.0
 
     @property
     def varies(self):
@@ -307,8 +332,13 @@ class _Evaluation:
             # Cycles tints each crossing by the square root of the base colour: a closed glass
             # solid, crossed twice, passes the base colour (the preview tints at each surface too)
             tint = np.sqrt(self.tint(base)) if transmission > 0 else (1, 1, 1)
-            return replace(colour.see_through(alpha, transmission, tint),
-                           alpha_image=alpha_image, alpha_uv_map=alpha_uv_map)
+            roughness, ior, level, specular_tint = (self.value(node.inputs[name]) for name in SPECULAR_INPUTS)
+            if weights["Metallic"] > 0 and base.varies:
+                self.approximated = True  # a textured metal's reflectance: its colour's average
+            specular = principled_specular(self.average_of(base), weights["Metallic"], ior, level, specular_tint)
+            return replace(colour.see_through(alpha, transmission, tint), alpha_image=alpha_image,
+                           alpha_uv_map=alpha_uv_map, specular=specular,
+                           roughness=float(np.clip(roughness, 0.0, 1.0)), metallic=weights["Metallic"])
         if node.type == "BSDF_DIFFUSE":
             return self.colour(node.inputs["Color"], depth)
         if node.type == "MIX_SHADER":
@@ -330,7 +360,7 @@ class _Evaluation:
         what of each is cut out and transmitted, weighted by what of it is not cut out;
         an image's alpha kept when one part alone has it (else taken as 1, approximated)."""
         if all(colour.opaque for _, colour in parts):
-            return self.combined(parts)
+            return glossy(self.combined(parts), parts)
         alpha = sum(weight * colour.alpha for weight, colour in parts)
         if alpha <= 0.0:
             return BLACK.see_through(0.0, 0.0, (1, 1, 1))
@@ -341,7 +371,7 @@ class _Evaluation:
         images = [part for _, part in parts if part.alpha_image is not None]
         if len(images) > 1:
             self.unsupported[ALPHA_APPROXIMATED] = True
-        return replace(colour.see_through(min(alpha, 1.0), min(transmitted / alpha, 1.0), tint),
+        return replace(glossy(colour.see_through(min(alpha, 1.0), min(transmitted / alpha, 1.0), tint), parts),
                        alpha_image=images[0].alpha_image if len(images) == 1 else None,
                        alpha_uv_map=images[0].alpha_uv_map if len(images) == 1 else "")
 
@@ -452,6 +482,23 @@ class _Evaluation:
             if not first.varies and weight == 1.0:  # a b: b scaled
                 return second.scaled(first.factor)
         return None
+
+
+def glossy(colour, parts):
+    """`colour` with the glossy reflection of the weighted shaders `parts` (weight,
+    BaseColour): their F0s weighted by what of each is not cut out, per the share not
+    cut out of the sum, and their roughnesses weighted by their F0s (a mean roughness:
+    two lobes become one), and so their metallic shares."""
+    alpha = sum(weight * part.alpha for weight, part in parts)
+    if alpha <= 0.0:
+        return colour
+    specular = sum(weight * part.alpha * np.array(part.specular) for weight, part in parts) / alpha
+    shares = [(weight * part.alpha * max(part.specular), part.roughness) for weight, part in parts]
+    total = sum(share for share, _ in shares)
+    roughness = sum(share * r for share, r in shares) / total if total > 0 else 1.0
+    metallic = sum(share * part.metallic for share, (_, part) in zip((s for s, _ in shares), parts))
+    return replace(colour, specular=tuple(float(c) for c in np.clip(specular, 0.0, 1.0)), roughness=float(roughness),
+                   metallic=float(metallic / total) if total > 0 else 0.0)
 
 
 def is_clear(colour):

@@ -24,9 +24,9 @@ from .vpl_gather import pixel_gather_bytes
 
 GIB = 2 ** 30
 
-CAMERA_BYTES_PER_PIXEL = 4 * 16 + 16 + 4
+CAMERA_BYTES_PER_PIXEL = 4 * 16 + 16 + 8 + 4
 """Direct, its mean over the sets, indirect and combined (RGBA32F), the G-buffer's packed
-texel (RGBA32UI) and depth."""
+texel (RGBA32UI), its glossy texel (RGBA16UI: F0, roughness and metallic) and depth."""
 SEEN_POINTS_BYTES = VIEW_LATTICE ** 2 * 16  # gpu/shade.py seen_points' buffer
 DEBUG_BYTES_PER_PIXEL = 2 * 16        # VPL Splats and Warp Status (RGBA32F)
 DISPLAY_BYTES_PER_PIXEL = 16          # the viewport's RGBA32F rows
@@ -43,7 +43,8 @@ SHARED_BYTES_PER_TEXEL = 4 + 4
 cell ids; the warped methods keep a spare set of maps there too (the warp's source)."""
 VPL_CELL_BYTES = 16 + 8               # per atlas layout: a Poisson cell's bounds and sample point
 
-VERTEX_BYTES = 18 * 4                 # position, normal, albedo, surface coordinate, transmission (mesh_buffer.py)
+VERTEX_BYTES = 23 * 4                 # position, normal, albedo, surface coordinate, transmission, specular
+                                      # (mesh_buffer.py)
 RIM_LIST_BYTES_PER_TRIANGLE = 2 * 3 * 4
 """Per paraboloid hemisphere: room for two lists of vertex indices (uint32) of the
 triangles split at its rim."""

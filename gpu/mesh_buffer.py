@@ -10,7 +10,8 @@ FRONT, CROSSING = 0, 1
 RIM_COMMAND_BYTES = 2 * 5 * 4
 
 
-VERTEX_LAYOUT = ("3f 3f 4f 4f 4f", "in_position", "in_normal", "in_albedo", "in_surface", "in_transmission")
+VERTEX_LAYOUT = ("3f 3f 4f 4f 4f 4f 1f", "in_position", "in_normal", "in_albedo", "in_surface", "in_transmission",
+                 "in_specular", "in_metallic")
 """A vertex's floats and attributes (shaders/vertex_layout.glsl says where the compute
 passes find them)."""
 
@@ -35,7 +36,8 @@ class MeshBuffer:
 
     A vertex is its position, normal, albedo (the triangle's times its corner's vertex
     colour) and alpha, surface coordinate (u, v, image layer, alpha image layer; layer -1:
-    no image) and transmission (tint, share), eighteen floats (VERTEX_LAYOUT).
+    no image), transmission (tint, share) and glossy reflection (F0 rgb, roughness; F0
+    black: none) and metallic share, twenty-three floats (VERTEX_LAYOUT).
     `see_through` says whether any triangle is cut out or transmits (the raster passes
     test alpha), `hashed` whether that differs from one VPL pattern to the next, and
     `transmits` whether light passing some triangle is tinted.
@@ -56,8 +58,12 @@ class MeshBuffer:
         transmission[..., :3] = 1.0
         if scene.transmission is not None:
             transmission[:] = scene.transmission[:, None, :]
-        interleaved = np.concatenate([scene.triangles, scene.normals, vertex_albedo(scene), surface, transmission],
-                                     axis=2).astype(np.float32)
+        specular = np.zeros((count, 3, 5), dtype=np.float32)
+        specular[..., 3] = 1.0
+        if scene.specular is not None:
+            specular[:] = scene.specular[:, None, :]
+        interleaved = np.concatenate([scene.triangles, scene.normals, vertex_albedo(scene), surface, transmission,
+                                      specular], axis=2).astype(np.float32)
         self.see_through = scene.see_through
         self.hashed = scene.hashed
         self.transmits = scene.transmission is not None

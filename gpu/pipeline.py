@@ -30,7 +30,7 @@ from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .pixel_filter import pixel_offset
 from .settings import DisplaySettings, Settings
 from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, read_gbuffer_record, render_gbuffer, render_glow,
-                    seen_points, shade_direct, shade_indirect)
+                    seen_points, shade_direct, shade_indirect, add_world_reflection)
 from .soft_shadows import shadow_uniforms
 from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
@@ -286,6 +286,10 @@ class Pipeline:
                 for finer, rsm in zip((None, *cascade), cascade):
                     shade_direct(self.glc, targets, scene.camera, rsm, s.shadow_bias, shadow,
                                  inside=rsm if rsm is not m.rsm else None, outside=finer)
+            if scene.world is not None and scene.specular is not None:
+                if self._world is None:
+                    self._world = WorldLight(self.glc)
+                add_world_reflection(self.glc, targets, scene.camera, self._world.reflection_texture(scene.world))
         if len(lit.emitters):
             with self.glc.timed(stats, "emitter_light_ms"):
                 self._emitter_grid.value.add_light(targets, gbuffer_uniforms(scene.camera), s,

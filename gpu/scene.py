@@ -252,7 +252,11 @@ class Scene:
     `alpha_layers` (T,) is not -1 (None: 1, no image); `transmission` (T, 4) float32, of
     what is not cut out the share (w) that passes through tinted by the linear colour
     (rgb) (None: none). `albedo` is the mean of the whole surface not cut out; the part
-    that does not transmit has albedo / (1 - transmission). `world` (gpu/world.py World; None: none) lights the scene from afar and is
+    that does not transmit has albedo / (1 - transmission). `specular` (T, 4) float32
+    is each triangle's glossy reflection (docs/method.md, "Specular light"): the
+    reflectance at normal incidence F0 (rgb, linear), Blender's roughness and the
+    metallic share (its Fresnel: a dielectric's at 0, Schlick's at 1) (None: none, a
+    purely diffuse scene; (T, 4) without the metallic share: 0). `world` (gpu/world.py World; None: none) lights the scene from afar and is
     what the camera sees where it sees no surface; `film` (Film) says how the pixels are
     filtered and whether that world is seen.
     `approximated_materials` names the materials the extraction could only approximate:
@@ -281,6 +285,7 @@ class Scene:
     alpha: np.ndarray = None
     alpha_layers: np.ndarray = None
     transmission: np.ndarray = None
+    specular: np.ndarray = None
     point_emitters: np.ndarray = None
     world: object = None
     film: Film = Film()
@@ -375,6 +380,11 @@ class Scene:
         if self.transmission is not None:
             transmission = np.asarray(self.transmission, dtype=np.float32).reshape(count, 4)
             arrays["transmission"] = np.clip(np.nan_to_num(transmission, nan=0.0), 0.0, 1.0)
+        if self.specular is not None:
+            specular = np.asarray(self.specular, dtype=np.float32).reshape(count, -1)
+            if specular.shape[1] == 4:
+                specular = np.concatenate([specular, np.zeros((count, 1), np.float32)], axis=1)
+            arrays["specular"] = np.clip(np.nan_to_num(specular[:, :5], nan=0.0), 0.0, 1.0)
         return arrays
 
     @staticmethod
@@ -435,7 +445,8 @@ class Scene:
         self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
         self.visibility = None if np.all(seen == SEEN_BY_ALL) else seen
-        for name in ("vertex_colors", "uvs", "image_layers", "emission", "alpha", "alpha_layers", "transmission"):
+        for name in ("vertex_colors", "uvs", "image_layers", "emission", "alpha", "alpha_layers", "transmission",
+                     "specular"):
             setattr(self, name, np.ascontiguousarray(per_triangle[name]) if name in per_triangle else None)
         if self.emission is not None and not self.emission.any():
             self.emission = None
@@ -445,6 +456,8 @@ class Scene:
             self.alpha_layers = None
         if self.transmission is not None and not np.any(self.transmission[:, 3] > 0.0):
             self.transmission = None
+        if self.specular is not None and not np.any(self.specular[:, :3] > 0.0):
+            self.specular = None
         if self.image_layers is not None and not np.any(self.image_layers >= 0):
             self.image_layers = None
         if self.image_layers is None and self.alpha_layers is None:
@@ -501,7 +514,8 @@ class Scene:
             return self._geometry_key
         h = hashlib.sha1()
         for array in (self.triangles, self.normals, self.albedo, self.visibility, self.vertex_colors, self.uvs,
-                      self.image_layers, self.emission, self.alpha, self.alpha_layers, self.transmission):
+                      self.image_layers, self.emission, self.alpha, self.alpha_layers, self.transmission,
+                      self.specular):
             h.update(b"-" if array is None else np.ascontiguousarray(array).tobytes())
         for image in self.images:
             h.update(image.key().encode())

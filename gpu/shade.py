@@ -16,7 +16,8 @@ class FrameTargets:
     The G-buffer is a depth texture and one packed RGBA32UI texel per pixel (normal and
     albedo, shaders/gbuffer.glsl), 20 bytes a pixel where position, normal and albedo as
     float images would take 52: the H100 has few raster units, and the G-buffer is most of
-    a camera move (docs/performance.md).
+    a camera move (docs/performance.md). A second texel (RGBA16UI, `specular`) holds the
+    glossy reflection: F0, roughness and metallic.
     """
 
     def __init__(self, gl, width, height):
@@ -28,16 +29,19 @@ class FrameTargets:
         self.direct, self.direct_mean, self.indirect, self.combined = (gl.texture(self.size, 4, dtype="f4")
                                                                        for _ in range(4))
         self.surface = gl.texture(self.size, 4, dtype="u4")
+        self.specular = gl.texture(self.size, 4, dtype="u2")
         self.depth = gl.depth_texture(self.size)
         if gl.error == "GL_OUT_OF_MEMORY":  # within the limits yet refused: llvmpipe makes no image of 1.5 GiB
-            for texture in (self.direct, self.direct_mean, self.indirect, self.combined, self.surface, self.depth):
+            for texture in (self.direct, self.direct_mean, self.indirect, self.combined, self.surface, self.specular,
+                            self.depth):
                 texture.release()
             raise LPVError(f"{gl.info['GL_RENDERER']} cannot make {width} x {height} images (GL_OUT_OF_MEMORY); "
                            f"lower the resolution.")
-        for texture in (self.surface, self.depth):
+        for texture in (self.surface, self.specular, self.depth):
             texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self.depth.compare_func = ""
-        self.framebuffer = gl.framebuffer(color_attachments=[self.surface], depth_attachment=self.depth)
+        self.framebuffer = gl.framebuffer(color_attachments=[self.surface, self.specular],
+                                          depth_attachment=self.depth)
         self.direct_framebuffer = gl.framebuffer(color_attachments=[self.direct])
         self.display = None  # the composite as RGBA rows, made on a viewport's first request
         self.seen = gl.buffer(reserve=VIEW_LATTICE * VIEW_LATTICE * 16)  # seen_points' positions
@@ -104,7 +108,7 @@ class FrameTargets:
 
     def resources(self):
         """Every texture and buffer made so far (the display and debug ones on request)."""
-        return tuple(resource for resource in (self.depth, self.surface, self.direct, self.direct_mean, self.indirect,
+        return tuple(resource for resource in (self.depth, self.surface, self.specular, self.direct, self.direct_mean, self.indirect,
                                                self.combined,
                                                self.seen, self.display, self.vpl_splats, self.warp_status, self.glow,
                                                self.passing_tint)
@@ -129,6 +133,10 @@ def gbuffer_uniforms(camera):
 def bind_gbuffer(targets):
     targets.depth.use(location=0)
     targets.surface.use(location=1)
+
+
+SPECULAR_UNIT = 3
+"""The texture unit of the G-buffer's glossy texel in shade_direct (the RSM's is 2)."""
 
 
 def cut_out_defines(mesh):
@@ -238,6 +246,20 @@ def add_irradiance(glc, targets, uniforms, irradiance):
     dispatch(program, *targets.size)
 
 
+def add_world_reflection(glc, targets, camera, reflection):
+    """Add the world's light glossy surfaces reflect (shaders/world_reflection.comp) into
+    the direct image; `reflection` is the world's lighting map with its mip chain
+    (gpu/world_light.py WorldLight.reflection_texture)."""
+    program = glc.compute("world_reflection")
+    bind_gbuffer(targets)
+    targets.specular.use(location=2)
+    reflection.use(location=3)
+    targets.direct.bind_to_image(0, read=True, write=True)
+    set_uniforms(program, **gbuffer_uniforms(camera), g_specular=2, world_reflection=3,
+                 reflection_levels=int(np.log2(max(reflection.size))))
+    dispatch(program, *targets.size)
+
+
 VIEW_MAP_EDGE = 0.9
 """A sun's view map (gpu/light_maps.py fit_view_maps) shades the pixels within this share
 of its half-width of its centre (the filter's taps beyond its edge would find no
@@ -245,15 +267,16 @@ blocker); coarser maps the rest."""
 
 
 def shade_direct(glc, targets, camera, rsm, shadow_bias, shadow, inside=None, outside=None):
-    """Add one light's shadowed Lambert term into the direct image; `shadow` the uniforms
+    """Add one light's shadowed Lambert and glossy terms into the direct image; `shadow` the uniforms
     of its soft shadow (gpu/soft_shadows.py shadow_uniforms). `inside` and `outside`
     (a sun's orthographic view maps, or None) keep to the pixels within VIEW_MAP_EDGE of
     the one and beyond it of the other."""
     program = glc.compute("shade_direct")
     bind_gbuffer(targets)
     rsm.position.use(location=2)
+    targets.specular.use(location=SPECULAR_UNIT)
     targets.direct.bind_to_image(0, read=True, write=True)
-    set_uniforms(program, **gbuffer_uniforms(camera), rsm_position=2, **rsm.lookup_uniforms(),
+    set_uniforms(program, **gbuffer_uniforms(camera), rsm_position=2, g_specular=SPECULAR_UNIT, **rsm.lookup_uniforms(),
                  texel_angle=2.0 / rsm.resolution, ortho_texel=rsm.ortho_texel, shadow_bias=shadow_bias,
                  **rsm.light_uniforms, **shadow, use_inside=inside is not None, use_outside=outside is not None,
                  inside_matrix=np.eye(4) if inside is None else inside.face_matrices[0],

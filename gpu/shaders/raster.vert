@@ -5,12 +5,16 @@ in vec3 in_normal;
 in vec4 in_albedo;
 in vec4 in_surface;
 in vec4 in_transmission;
+in vec4 in_specular;
+in float in_metallic;
 uniform mat4 view_projection;
 out vec3 world_position;
 out vec3 world_normal;
 out vec4 surface_albedo;
 out vec4 surface_coord;
 out vec4 surface_transmission;
+out vec4 surface_specular;
+out float surface_metallic;
 
 void main() {
     world_position = in_position;
@@ -18,5 +22,7 @@ void main() {
     surface_albedo = in_albedo;
     surface_coord = in_surface;
     surface_transmission = in_transmission;
+    surface_specular = in_specular;
+    surface_metallic = in_metallic;
     gl_Position = view_projection * vec4(in_position, 1.0);
 }

@@ -1,10 +1,12 @@
 #version 450 core
-// Direct light of one light: Lambert, shadowed by the light's RSM distances (a light of no
-// size: 3x3 PCF with a normal offset; else PCSS, soft_shadow.glsl), added into the direct image.
+// Direct light of one light: Lambert and the glossy reflection (Smith-GGX with Schlick's
+// Fresnel, specular.glsl), shadowed by the light's RSM distances (a light of no size: 3x3
+// PCF with a normal offset; else PCSS, soft_shadow.glsl), added into the direct image.
 #include "common.glsl"
 #include "light.glsl"
 #include "rsm_lookup.glsl"
 #include "gbuffer.glsl"
+#include "specular.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 uniform sampler2D rsm_position;
 layout(rgba32f, binding = 0) uniform image2D direct;
@@ -21,6 +23,14 @@ bool within(mat4 view_projection, vec3 p) {
     return all(lessThanEqual(abs((view_projection * vec4(p, 1.0)).xy), vec2(view_map_edge)));
 }
 #include "soft_shadow.glsl"
+
+// The light's angular radius seen from `dist` away (its tangent; a sun's is its own):
+// the glossy lobe is widened by it (a sized light's highlight is the lobe over its disc).
+float light_spread(float dist) {
+    if (shadow_shape == SHADOW_HARD) return 0.0;
+    float radius = shadow_facing ? shadow_radius : sqrt(length(shadow_axis_x) * length(shadow_axis_y));
+    return light_kind == LIGHT_SUN ? radius : radius / max(dist, 1e-6);
+}
 
 float visibility(vec3 p) {
     vec3 w;
@@ -62,6 +72,13 @@ void main() {
         light_ray(offset, w, dist);
         v = soft_visibility(offset, n, w, dist, pixel);
     }
+    vec3 brdf = albedo / PI;
+    float metallic;
+    vec4 gloss = gbuffer_specular(pixel, metallic);
+    if (any(greaterThan(gloss.rgb, vec3(0.0)))) {
+        float alpha = specular_alpha(gloss.a, light_spread(dist));
+        brdf += ggx_brdf(n, gbuffer_view(pixel, p), -w, gloss.rgb, metallic, alpha);
+    }
     vec4 previous = imageLoad(direct, pixel);
-    imageStore(direct, pixel, previous + vec4(albedo / PI * irradiance * v, 0.0));
+    imageStore(direct, pixel, previous + vec4(brdf * irradiance * v, 0.0));
 }

@@ -141,6 +141,34 @@ def test_the_principled_diffuse_part_loses_what_metallic_and_transmission_take()
     np.testing.assert_allclose(scene_to_render(scene).albedo[0], np.array([0.8, 0.6, 0.4]) * 0.5 * 0.75, rtol=1e-5)
 
 
+def test_the_principled_glossy_part_is_f0_and_roughness():
+    def build(nodes, links, principled):
+        principled.inputs["Base Color"].default_value = (0.8, 0.6, 0.4, 1.0)
+        principled.inputs["Metallic"].default_value = 0.25
+        principled.inputs["Roughness"].default_value = 0.3
+        principled.inputs["IOR"].default_value = 1.5
+        principled.inputs["Specular IOR Level"].default_value = 0.75
+        principled.inputs["Specular Tint"].default_value = (1.0, 0.5, 0.5, 1.0)
+    scene, _ = floor_scene(lambda: material_with("Glossy", build))
+    extracted = scene_to_render(scene)
+    dielectric = 0.04 * 2 * 0.75 * np.array([1.0, 0.5, 0.5])
+    np.testing.assert_allclose(extracted.specular[0, :3], 0.75 * dielectric + 0.25 * np.array([0.8, 0.6, 0.4]),
+                               rtol=1e-5)
+    assert extracted.specular[0, 3:] == pytest.approx((0.3, 0.25))
+    assert extracted.approximated_materials == []
+
+
+def test_a_linked_roughness_is_taken_at_its_value_and_named():
+    def build(nodes, links, principled):
+        principled.inputs["Metallic"].default_value = 1.0
+        principled.inputs["Roughness"].default_value = 0.2
+        links.new(nodes.new("ShaderNodeTexNoise").outputs["Fac"], principled.inputs["Roughness"])
+    scene, _ = floor_scene(lambda: material_with("Noisy metal", build))
+    extracted = scene_to_render(scene)
+    np.testing.assert_allclose(extracted.specular[0], (0.8, 0.8, 0.8, 0.2, 1.0), rtol=1e-5)
+    assert extracted.approximated_materials == ["Noisy metal"]
+
+
 def test_a_mix_multiplying_an_image_by_a_colour_stays_exact():
     def build(nodes, links, principled):
         texture = nodes.new("ShaderNodeTexImage")

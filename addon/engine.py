@@ -96,35 +96,30 @@ class LPVPreviewEngine(bpy.types.RenderEngine):
 
     def redraw_when_rendered(self):
         """Draw again once the GL thread has finished the frame it makes (once)."""
-        if self.polling:
-            return
-        self.polling = True
-
-        def poll():
-            try:
-                if self.session is not None and self.session.rendering and not self.session.frame_done:
-                    return POLL_SECONDS
-                self.polling = False
-                self.tag_redraw()
-            except ReferenceError:  # the engine was freed meanwhile
-                pass
-            return None
-        bpy.app.timers.register(poll, first_interval=POLL_SECONDS)
+        self._redraw_once("polling", POLL_SECONDS,
+                          lambda: self.session is not None and self.session.rendering and not self.session.frame_done)
 
     def redraw_later(self):
         """Draw again in REBUILD_SECONDS (once), to show the samples come by then."""
-        if self.redraw_pending:
+        self._redraw_once("redraw_pending", REBUILD_SECONDS)
+
+    def _redraw_once(self, flag, interval, waiting=lambda: False):
+        """Tag a redraw after `interval` seconds, and every `interval` after while
+        `waiting()`, unless the attribute `flag` says one is on its way already."""
+        if getattr(self, flag):
             return
-        self.redraw_pending = True
+        setattr(self, flag, True)
 
         def redraw():
             try:
-                self.redraw_pending = False
+                if waiting():
+                    return interval
+                setattr(self, flag, False)
                 self.tag_redraw()
             except ReferenceError:  # the engine was freed meanwhile
                 pass
             return None
-        bpy.app.timers.register(redraw, first_interval=REBUILD_SECONDS)
+        bpy.app.timers.register(redraw, first_interval=interval)
 
 
 SKIPPED_PANELS = {"VIEWLAYER_PT_filter", "VIEWLAYER_PT_layer_passes", "RENDER_PT_eevee_performance",

@@ -8,6 +8,7 @@ and is named as approximated."""
 import math
 
 import numpy as np
+from mathutils import Euler
 
 from ..gpu.world import World, directions_of, map_coordinates
 from .image_pixels import linear_pixels
@@ -237,27 +238,15 @@ def mapped(vector, node):
     location = np.array(node.inputs["Location"].default_value) if "Location" in node.inputs else np.zeros(3)
     rotation = np.array(node.inputs["Rotation"].default_value) if "Rotation" in node.inputs else np.zeros(3)
     scale = np.array(node.inputs["Scale"].default_value) if "Scale" in node.inputs else np.ones(3)
-    matrix = euler_matrix(rotation)
+    matrix = np.array(Euler(rotation, "XYZ").to_matrix())
+    unscaled = np.where(scale == 0, 1.0, scale)
     if node.vector_type == "TEXTURE":
-        out = (vector - (location if node.vector_type != "VECTOR" else 0)) @ matrix
-        return out / np.where(scale == 0, 1.0, scale)
+        return ((vector - location) @ matrix) / unscaled
+    if node.vector_type == "NORMAL":
+        out = (vector / unscaled) @ matrix.T
+        return out / np.maximum(np.linalg.norm(out, axis=-1, keepdims=True), 1e-30)
     out = (vector * scale) @ matrix.T
-    if node.vector_type == "POINT":
-        out = out + location
-    elif node.vector_type == "NORMAL":
-        out = (vector / np.where(scale == 0, 1.0, scale)) @ matrix.T
-        out = out / np.maximum(np.linalg.norm(out, axis=-1, keepdims=True), 1e-30)
-    return out
-
-
-def euler_matrix(rotation):
-    """Blender's XYZ Euler rotation matrix (x first, then y, then z)."""
-    x, y, z = rotation
-    cx, sx, cy, sy, cz, sz = math.cos(x), math.sin(x), math.cos(y), math.sin(y), math.cos(z), math.sin(z)
-    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
-    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
-    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
-    return rz @ ry @ rx
+    return out + location if node.vector_type == "POINT" else out
 
 
 def mirror_ball_coordinates(directions):

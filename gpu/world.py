@@ -39,21 +39,6 @@ def map_coordinates(directions):
     return u, v
 
 
-def sample_map(radiance, directions):
-    """The map's radiance along `directions` (..., 3), bilinear, wrapping around in u."""
-    height, width = radiance.shape[:2]
-    u, v = map_coordinates(directions)
-    x = u * width - 0.5
-    y = np.clip(v * height - 0.5, 0.0, height - 1.0)
-    x0, y0 = np.floor(x).astype(np.int64), np.floor(y).astype(np.int64)
-    fx, fy = (x - x0)[..., None], (y - y0)[..., None]
-    x0, x1 = x0 % width, (x0 + 1) % width
-    y1 = np.minimum(y0 + 1, height - 1)
-    top = radiance[y0, x0] * (1 - fx) + radiance[y0, x1] * fx
-    bottom = radiance[y1, x0] * (1 - fx) + radiance[y1, x1] * fx
-    return top * (1 - fy) + bottom * fy
-
-
 @dataclass
 class World:
     """The world: `lighting` (height, width, 3) float32, the radiance that lights the
@@ -65,6 +50,8 @@ class World:
     background: np.ndarray
     approximated: tuple = ()
     _key: str = field(default=None, repr=False, compare=False)
+    _power: np.ndarray = field(default=None, repr=False, compare=False)  # texel_power, flat, and its running sum
+    _cumulative: np.ndarray = field(default=None, repr=False, compare=False)
 
     @staticmethod
     def uniform(colour, size=(8, 16)):
@@ -99,14 +86,16 @@ class World:
         proportion to the lighting's power with the random numbers of `pattern`, each a
         cosine emitter facing the scene from DISTANCE_SCALE diagonals beyond `centre`,
         of the flux that gives a surface there L cos θ / (count pdf) of irradiance."""
-        power = self.texel_power().ravel()
-        total = power.sum()
+        if self._cumulative is None:  # the same for every pattern: made once a world
+            self._power = self.texel_power().ravel()
+            self._cumulative = np.cumsum(self._power)
+        power, total = self._power, self._cumulative[-1]
         rows = np.zeros((count, 3, 4), dtype=np.float32)
         if total <= 0 or count == 0:
             return rows[:0]
         height, width = self.lighting.shape[:2]
         rng = np.random.default_rng(pattern)
-        cumulative = np.cumsum(power) / total
+        cumulative = self._cumulative / total
         texel = np.minimum(np.searchsorted(cumulative, (np.arange(count) + rng.random(count)) / count), power.size - 1)
         row, column = np.divmod(texel, width)
         # a point within the texel, uniform in u and in cos θ (its solid angle)

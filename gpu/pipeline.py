@@ -93,6 +93,7 @@ class Pipeline:
         self._placement = KeyedCache()     # what it depends on -> the grids placed around the view, the sun cascades
         self._cascade_boxes = ()   # the boxes of a sun's direct-light cascade (gpu/light_maps.py cascade_boxes)
         self._shown_keys = ()      # the light cache keys of the last frame
+        self._gbuffer_offset = False  # the last G-buffer looks through a point off the pixels' centres
         self._fits = None          # what the last frame that fitted the machine depended on
         self.last_origin = np.zeros(3)  # the world point the last frame's positions are relative to
         self.vpl_pattern = 0       # the Poisson pattern of the VPLs (gpu/vpl.py)
@@ -184,6 +185,7 @@ class Pipeline:
         sets = self._accumulated[1] + 1 if adding else 1
         camera = scene.camera.jittered(pixel_offset(sets - 1, scene.film.filter_width), (s.width, s.height))
         shot = scene if camera is scene.camera else replace(scene, camera=camera)  # this set's view of the scene
+        self._gbuffer_offset = camera is not scene.camera  # the G-buffer looks through a point off the centres
         start = time.perf_counter()
         stats = {}
         if vpl_set is not None:
@@ -395,19 +397,27 @@ class Pipeline:
                 if key.endswith("_ms") and key != "total_ms":
                     spent[key] = spent.get(key, 0.0) + value
         if not single:
-            with self.glc.timed(spent, "gbuffer_ms"):  # the pixels' centres again, for what reads the G-buffer after
-                render_gbuffer(self.glc, self._mesh.value, scene.camera, self.targets)
             frame.passes, frame.coverage, _ = self._read(scene, passes, None, display_settings, True, spent)
             frame.stats.update({key: value for key, value in spent.items() if key != "total_ms"})
         frame.stats["converge_ms"] = (time.perf_counter() - start) * 1000.0
         return frame
 
+    def _centred_gbuffer(self, scene):
+        """The last frame's G-buffer at the pixels' centres, drawn again when its last VPL
+        set looked through another point of them: what reads it after a frame (the
+        corrections, the debug passes) takes pixel centres."""
+        if self._gbuffer_offset:
+            render_gbuffer(self.glc, self._mesh.value, scene.camera, self.targets)
+            self._gbuffer_offset = False
+
     def read_gbuffer(self, scene):
         """The last frame's G-buffer as a GBufferRecord (gpu/shade.py), for the corrections."""
+        self._centred_gbuffer(scene)
         return read_gbuffer_record(self.glc, self.targets, scene.camera)
 
     def draw_debug_passes(self, scene, display_settings=None):
         """Draw the last frame's debug passes (DEBUG_PASS_NAMES) into its images."""
+        self._centred_gbuffer(scene)
         render_debug_passes(self.glc, self.targets, scene.camera, self.last_light_maps,
                             (display_settings or DisplaySettings()).vpl_point_size)
 

@@ -29,6 +29,8 @@ CAMERA_BYTES_PER_PIXEL = 4 * 16 + 16 + 8 + 4
 texel (RGBA32UI), its glossy texel (RGBA16UI: F0, roughness and metallic) and depth."""
 SEEN_POINTS_BYTES = VIEW_LATTICE ** 2 * 16  # gpu/shade.py seen_points' buffer
 DEBUG_BYTES_PER_PIXEL = 2 * 16        # VPL Splats and Warp Status (RGBA32F)
+REFLECTION_BYTES_PER_PIXEL = 16       # the Reflections image of a scene with glossy surfaces (RGBA32F)
+WORLD_MAP_BYTES_PER_TEXEL = 12        # the world's maps (RGB32F); its lighting map's mip chain adds a third
 DISPLAY_BYTES_PER_PIXEL = 16          # the viewport's RGBA32F rows
 READBACK_BYTES_PER_PIXEL = 16         # a pass as the GPU gives it back (RGBA32F), before its RGB copy
 PASS_BYTES_PER_PIXEL = 5 * 3 * 4
@@ -108,6 +110,15 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     if scene.emission is not None:  # emitters and their gather, the glow and the triangles' radiances
         indirect += 2 * s.emission_samples * EMITTER_BYTES + pixel_gather_bytes(s, scene, pixels)
         indirect += pixels * 16 + scene.triangle_count * 16
+    if scene.world is not None:  # its background and lighting maps, its emitters and their gather
+        world = scene.world
+        indirect += (world.background.size + world.lighting.size * 4 // 3) // 3 * WORLD_MAP_BYTES_PER_TEXEL
+        if world.lights_anything and s.world_samples > 0:
+            indirect += s.world_samples * EMITTER_BYTES
+            if scene.emission is None:
+                indirect += pixel_gather_bytes(s, scene, pixels)
+    if scene.specular is not None:
+        camera += pixels * REFLECTION_BYTES_PER_PIXEL
     mesh = scene.triangle_count * (3 * VERTEX_BYTES + 2 * RIM_LIST_BYTES_PER_TRIANGLE * (s.method != "cm"))
     mesh += len(scene.images) * layer_size(scene.images) ** 2 * BYTES_PER_TEXEL
     host = pixels * (READBACK_BYTES_PER_PIXEL * bool(passes) + PASS_BYTES_PER_PIXEL * len(passes))

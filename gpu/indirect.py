@@ -97,6 +97,11 @@ class IndirectMethod:
         that name them."""
         return self.volumes[0].lookup_uniforms(first_unit)
 
+    def march_occupancy(self):
+        """The voxelised occupancy a reflected ray is marched through, with its levels'
+        layers (finest first); None where the method holds none."""
+        return None
+
     def cell_light(self):
         """The light in each cell of the first grid, (x, y, z, rgb) float32, for the slice
         overlay (gpu/debug_views.py)."""
@@ -193,6 +198,12 @@ class LPVMethod(IndirectMethod):
         sums = [LightPropagationVolume.read(v)[..., 0] for v in self.volumes[0].sums]
         return (np.stack(sums, axis=-1) * 2 * math.sqrt(math.pi)).transpose(2, 1, 0, 3)
 
+    def march_occupancy(self):
+        occupancy = self.bounce_occupancy
+        if occupancy is None or occupancy.voxelised is None:
+            return None
+        return occupancy, tuple(range(len(self.levels)))
+
     def _held(self):
         return (self.bounce_occupancy,) if self.bounce_occupancy is not None else ()
 
@@ -241,6 +252,10 @@ class GatheringMethod(IndirectMethod):
 
     def forget(self):
         self.volumes[0].occupancy.forget()
+
+    def march_occupancy(self):
+        occupancy = self.volumes[0].occupancy
+        return (occupancy, tuple(self._layers())) if occupancy.voxelised is not None else None
 
 
 class LightGridMethod(GatheringMethod):

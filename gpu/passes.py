@@ -23,6 +23,7 @@ RENDER_PASSES = (
     RenderPass("Combined", "combined", "RGBA", compared=2),
     RenderPass("Direct", "direct"),
     RenderPass("Indirect", "indirect", compared=1),
+    RenderPass("Reflections", "reflections"),
     RenderPass("VPL Splats", "vpl_splats", debug=True),
     RenderPass("Warp Status", "warp_status", debug=True),
 )

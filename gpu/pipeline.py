@@ -29,8 +29,8 @@ from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .pixel_filter import pixel_offset
 from .settings import DisplaySettings, Settings
-from .shade import (FrameTargets, bind_gbuffer, gbuffer_uniforms, read_gbuffer_record, render_gbuffer, render_glow,
-                    seen_points, shade_direct, shade_indirect, add_world_reflection)
+from .shade import (FrameTargets, ReflectionInputs, bind_gbuffer, gbuffer_uniforms, read_gbuffer_record, render_gbuffer,
+                    render_glow, seen_points, shade_direct, shade_indirect)
 from .soft_shadows import shadow_uniforms
 from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
@@ -288,10 +288,6 @@ class Pipeline:
                 for finer, rsm in zip((None, *cascade), cascade):
                     shade_direct(self.glc, targets, scene.camera, rsm, s.shadow_bias, shadow,
                                  inside=rsm if rsm is not m.rsm else None, outside=finer)
-            if scene.world is not None and scene.specular is not None:
-                if self._world is None:
-                    self._world = WorldLight(self.glc)
-                add_world_reflection(self.glc, targets, scene.camera, self._world.reflection_texture(scene.world))
         if len(lit.emitters):
             with self.glc.timed(stats, "emitter_light_ms"):
                 self._emitter_grid.value.add_light(targets, gbuffer_uniforms(scene.camera), s,
@@ -333,11 +329,26 @@ class Pipeline:
         with self.glc.timed(stats, "indirect_ms"):
             world = None
             if scene.world is not None and not scene.film.transparent:
-                if self._world is None:
-                    self._world = WorldLight(self.glc)
-                world = self._world.background_texture(scene.world)
+                world = self._world_light().background_texture(scene.world)
             shade_indirect(self.glc, targets, scene.camera, indirect, len(indirect.levels), s.grid_phases,
-                           s.indirect_intensity, display, sets - 1, glow=glowing, world=world)
+                           s.indirect_intensity, display, sets - 1, glow=glowing, world=world,
+                           reflections=self._reflection_inputs(scene, indirect))
+
+    def _world_light(self):
+        if self._world is None:
+            self._world = WorldLight(self.glc)
+        return self._world
+
+    def _reflection_inputs(self, scene, indirect):
+        """What the reflections of glossy surfaces read (gpu/shade.py ReflectionInputs);
+        None where no surface is glossy."""
+        if scene.specular is None:
+            return None
+        world = self._world_light().reflection_texture(scene.world) if scene.world is not None else None
+        march = indirect.march_occupancy() or (self._emission.march_occupancy() if self._emission else None)
+        occupancy, layers = march or (None, ())
+        low, high = scene.bounds()
+        return ReflectionInputs(world, occupancy, layers, float(np.linalg.norm(high - low)), self.vpl_pattern)
 
     def _read(self, scene, passes, display_into, display_settings, read, stats):
         """The `passes` read back (with `read`; debug ones drawn first), the combined one's
@@ -453,9 +464,7 @@ class Pipeline:
             sources.append((self._emission.emitters, self._emission.count))
             key += (scene.geometry_key(), s.emission_samples)
         if self._world_lights(scene):
-            if self._world is None:
-                self._world = WorldLight(self.glc)
-            self._world.sample(scene, s.world_samples, self.vpl_pattern)
+            self._world_light().sample(scene, s.world_samples, self.vpl_pattern)
             sources.append((self._world.emitters, self._world.count))
             key += (scene.world.key(), s.world_samples)
         # what the bounce marches through and bounds, whichever method gathers it

@@ -49,6 +49,8 @@ class FrameTargets:
         self.splat_framebuffer = None
         self.glow = self.glow_framebuffer = None  # emissive surfaces' radiance, made on first use
         self.passing_tint = self.tint_framebuffer = None  # transmitting surfaces' tint, made on first use
+        self.reflections = None  # the light glossy surfaces reflect of their surroundings, made on first use
+        self.reflecting = False  # whether the last composite wrote the reflections
 
     def debug_images(self):
         """The VPL Splats and Warp Status images, and the framebuffer the splats are drawn
@@ -81,6 +83,12 @@ class FrameTargets:
             self.tint_framebuffer.depth_mask = False
         return self.passing_tint, self.tint_framebuffer
 
+    def reflection_image(self):
+        """The reflections image, made on first use."""
+        if self.reflections is None:
+            self.reflections = self.gl.texture(self.size, 4, dtype="f4")
+        return self.reflections
+
     def display_buffer(self):
         if self.display is None:
             self.display = self.gl.buffer(reserve=self.size[0] * self.size[1] * 16)
@@ -95,6 +103,8 @@ class FrameTargets:
         combined image's alpha is the coverage (1 where the camera sees a surface or an
         emitter, 0 where it sees the background)."""
         width, height = self.size
+        if name == "reflections" and not self.reflecting:
+            return np.zeros((height, width, 4), np.float32)
         texture = self.direct_mean if name == "direct" else getattr(self, name)  # the direct pass: the sets' mean
         return np.frombuffer(texture.read(), dtype=np.float32).reshape(height, width, 4)[::-1]
 
@@ -111,7 +121,7 @@ class FrameTargets:
         return tuple(resource for resource in (self.depth, self.surface, self.specular, self.direct, self.direct_mean, self.indirect,
                                                self.combined,
                                                self.seen, self.display, self.vpl_splats, self.warp_status, self.glow,
-                                               self.passing_tint)
+                                               self.passing_tint, self.reflections)
                      if resource is not None)
 
     def release(self):
@@ -246,20 +256,6 @@ def add_irradiance(glc, targets, uniforms, irradiance):
     dispatch(program, *targets.size)
 
 
-def add_world_reflection(glc, targets, camera, reflection):
-    """Add the world's light glossy surfaces reflect (shaders/world_reflection.comp) into
-    the direct image; `reflection` is the world's lighting map with its mip chain
-    (gpu/world_light.py WorldLight.reflection_texture)."""
-    program = glc.compute("world_reflection")
-    bind_gbuffer(targets)
-    targets.specular.use(location=2)
-    reflection.use(location=3)
-    targets.direct.bind_to_image(0, read=True, write=True)
-    set_uniforms(program, **gbuffer_uniforms(camera), g_specular=2, world_reflection=3,
-                 reflection_levels=int(np.log2(max(reflection.size))))
-    dispatch(program, *targets.size)
-
-
 VIEW_MAP_EDGE = 0.9
 """A sun's view map (gpu/light_maps.py fit_view_maps) shades the pixels within this share
 of its half-width of its centre (the filter's taps beyond its edge would find no
@@ -337,16 +333,35 @@ def read_gbuffer_record(glc, targets, camera):
     return GBufferRecord(position, normal, albedo, seen, footprint.astype(np.float32))
 
 
+@dataclass
+class ReflectionInputs:
+    """What the reflections of shaders/reflections.glsl read besides the G-buffer: the
+    world's lighting map with its mip chain (None: no world), the occupancy a ray that
+    leaves the screen is marched through with its levels' layers (None: not marched), how
+    far a ray goes and the VPL pattern that draws the rays."""
+
+    world: object
+    occupancy: object
+    layers: tuple
+    trace_length: float
+    pattern: int
+
+
 def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, display=False, accumulated=0,
-                   glow=False, world=None):
+                   glow=False, world=None, reflections=None):
     """Look the indirect grids (gpu/indirect.py: `levels` nested levels of `phases` grids
     each) up at every pixel and write the indirect and combined images, and with `display`
     the combined one into the display buffer too. With `accumulated` > 0 the indirect
     image holds the mean of that many VPL sets' light, which this set's joins. With `glow`
     the composite adds the glow image (render_glow); with `world` (the background map's
-    texture, gpu/world_light.py) it shows the world where the camera sees no surface."""
+    texture, gpu/world_light.py) it shows the world where the camera sees no surface; with
+    `reflections` (ReflectionInputs) it adds what glossy surfaces reflect."""
+    march = reflections is not None and reflections.occupancy is not None
+    defines = {"REFLECTIONS": 1} if reflections is not None else {}
+    if march:
+        defines["MARCH_ESCAPE"] = 1
     program = glc.compute("shade_indirect", LEVELS=levels, PHASES=phases,
-                          INDIRECT=INDIRECT_METHODS.index(indirect.name))
+                          INDIRECT=INDIRECT_METHODS.index(indirect.name), **defines)
     bind_gbuffer(targets)
     units = indirect.lookup_uniforms(first_unit=2)
     targets.direct.bind_to_image(0, read=True, write=False)
@@ -366,4 +381,17 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
                  cell_sizes=np.array([grid.cell_size for grid in grids]), grid_size=grids[0].size,
                  intensity=intensity, accumulated=accumulated, add_glow=glow, add_world=world is not None,
                  world_background=world_unit)
+    targets.reflecting = reflections is not None
+    if reflections is not None:
+        targets.reflection_image().bind_to_image(5, read=True, write=True)
+        targets.specular.use(location=world_unit + 1)
+        if reflections.world is not None:
+            reflections.world.use(location=world_unit + 2)
+        march_uniforms = (reflections.occupancy.march_uniforms(list(reflections.layers), first_unit=world_unit + 3)
+                          if march else {})
+        set_uniforms(program, **march_uniforms, g_specular=world_unit + 1, world_reflection=world_unit + 2,
+                     reflect_world=reflections.world is not None,
+                     reflection_levels=int(np.log2(max(reflections.world.size))) if reflections.world is not None else 0,
+                     view_projection=camera.projection @ camera.view, trace_length=reflections.trace_length,
+                     reflection_pattern=reflections.pattern)
     dispatch(program, *targets.size)

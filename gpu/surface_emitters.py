@@ -102,6 +102,12 @@ class SurfaceEmission:
             self._own = VPLGather(self.glc, levels)
         return self._own
 
+    def march_occupancy(self):
+        """Its own gather's voxelised occupancy with its levels' layers; None before one."""
+        if self._own is None or self._own.occupancy.voxelised is None:
+            return None
+        return self._own.occupancy, tuple(range(len(self._own.levels)))
+
     def add_light(self, gather, mesh, targets, uniforms, camera_position, singularity_bound, pattern, others=()):
         """Gather the irradiance of the emitters (and of the emitter sets `others`: the
         world's) at every pixel with `gather` (a VPLGather; its occupancy voxelised once

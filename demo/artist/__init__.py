@@ -8,5 +8,6 @@ Blender's factory startup file (not an empty one) and returns the bpy scene. Imp
 this package does not import bpy.
 """
 
-ARTIST_SCENES = ("default_cube", "hdri_product", "sky_interior", "noon_exterior", "world_only")
+ARTIST_SCENES = ("default_cube", "hdri_product", "sky_interior", "noon_exterior", "world_only", "studio_materials",
+                 "area_room", "sunlit_foliage")
 """The suite, in the order the benchmark reports it."""

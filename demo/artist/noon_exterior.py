@@ -3,10 +3,7 @@ direction (as artists pair them, the lamp giving crisp shadows), a lawn, a path,
 house with a pitched roof, a tree and a stone ball."""
 import math
 
-import bpy
-from mathutils import Vector
-
-from .shading import (add_modifier, add_primitive, camera_at, factory_scene, principled, sky_world,
+from .shading import (add_modifier, add_primitive, add_sun_lamp, camera_at, factory_scene, principled, sky_world,
                       towards_sky_sun)
 
 SUN_ELEVATION, SUN_ROTATION = 70.0, 150.0
@@ -16,14 +13,7 @@ def build(resolution=(1920, 1080), sun_strength=4.0):
     scene = factory_scene(resolution)
     scene.cycles.samples = 1024
     sky_world(SUN_ELEVATION, SUN_ROTATION)
-    towards_sun = Vector(towards_sky_sun(SUN_ELEVATION, SUN_ROTATION))
-    sun = bpy.data.lights.new("Sun", "SUN")
-    sun.energy = sun_strength
-    sun.angle = math.radians(0.545)  # the sun's own angular diameter
-    sun_object = bpy.data.objects.new("Sun", sun)
-    sun_object.rotation_euler = (-towards_sun).to_track_quat("-Z", "Y").to_euler()
-    sun_object.location = (0.0, 0.0, 10.0)
-    scene.collection.objects.link(sun_object)
+    add_sun_lamp(towards_sky_sun(SUN_ELEVATION, SUN_ROTATION), sun_strength, angle_degrees=0.545)  # the sun's own
     add_primitive("plane", "Lawn", principled("Grass", (0.12, 0.25, 0.05), roughness=0.9), size=60.0)
     add_primitive("plane", "Path", principled("Gravel", (0.45, 0.42, 0.38), roughness=0.95), size=1.0,
                   location=(0.0, -4.0, 0.01), scale=(1.2, 6.0, 1.0))

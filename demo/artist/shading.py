@@ -46,6 +46,29 @@ def add_primitive(kind, name, material=None, smooth=False, **options):
     return obj
 
 
+def add_box(name, centre, size, material):
+    """A cube scaled to `size` (metres) about `centre`, its scale applied as an artist
+    applies it (Ctrl-A > Scale)."""
+    box = add_primitive("cube", name, material, size=1.0, location=centre)
+    box.scale = size
+    bpy.ops.object.transform_apply(location=False, rotation=False, scale=True)
+    return box
+
+
+def add_sun_lamp(towards_sun, strength, angle_degrees):
+    """A Sun lamp shining from the unit direction `towards_sun` (toward the sun), with its
+    strength (W/m²) and angular diameter."""
+    from mathutils import Vector
+    sun = bpy.data.lights.new("Sun", "SUN")
+    sun.energy = strength
+    sun.angle = math.radians(angle_degrees)
+    sun_object = bpy.data.objects.new("Sun", sun)
+    sun_object.rotation_euler = (-Vector(towards_sun)).to_track_quat("-Z", "Y").to_euler()
+    sun_object.location = (0.0, 0.0, 10.0)
+    bpy.context.scene.collection.objects.link(sun_object)
+    return sun_object
+
+
 def add_modifier(obj, kind, **settings):
     modifier = obj.modifiers.new(kind.title(), kind)
     for key, value in settings.items():
@@ -54,9 +77,9 @@ def add_modifier(obj, kind, **settings):
 
 
 def principled(name, base_color, roughness=0.5, metallic=0.0, emission=None, emission_strength=0.0, alpha=1.0,
-               image=None):
+               image=None, image_alpha=False, transmission=0.0, ior=1.5):
     """A Principled BSDF material as the Material tab makes it, with these inputs set; with
-    `image`, an Image Texture of it feeds Base Color."""
+    `image`, an Image Texture of it feeds Base Color (and with `image_alpha`, Alpha)."""
     material = bpy.data.materials.new(name)
     tree = material.node_tree
     node = tree.nodes["Principled BSDF"]
@@ -65,6 +88,8 @@ def principled(name, base_color, roughness=0.5, metallic=0.0, emission=None, emi
     inputs["Roughness"].default_value = roughness
     inputs["Metallic"].default_value = metallic
     inputs["Alpha"].default_value = alpha
+    inputs["Transmission Weight"].default_value = transmission
+    inputs["IOR"].default_value = ior
     if emission is not None:
         inputs["Emission Color"].default_value = (*emission, 1.0)
         inputs["Emission Strength"].default_value = emission_strength
@@ -72,6 +97,8 @@ def principled(name, base_color, roughness=0.5, metallic=0.0, emission=None, emi
         texture = tree.nodes.new("ShaderNodeTexImage")
         texture.image = image
         tree.links.new(texture.outputs["Color"], inputs["Base Color"])
+        if image_alpha:
+            tree.links.new(texture.outputs["Alpha"], inputs["Alpha"])
     material.diffuse_color = (*base_color, alpha)
     return material
 
@@ -90,6 +117,35 @@ def packed_tile_image(name, size=256, tiles=8, colours=((0.55, 0.42, 0.3), (0.32
     image.pixels.foreach_set(pixels.ravel())
     image.pack()
     return image
+
+
+def packed_leaf_image(name, size=128, colour=(0.12, 0.35, 0.08)):
+    """A leaf texture with alpha, made with numpy and packed into the file: an elliptic
+    leaf with a paler midrib on a transparent ground, as a foliage card's image."""
+    image = bpy.data.images.new(name, size, size, alpha=True)
+    t = (np.arange(size) + 0.5) / size * 2.0 - 1.0
+    u, v = np.meshgrid(t, t)
+    inside = (u / 0.45) ** 2 + v ** 2 < 0.9 * (1.0 - 0.3 * v)
+    rgb = np.broadcast_to(np.asarray(colour), (size, size, 3)).copy()
+    rgb[np.abs(u) < 0.03] = np.asarray(colour) * 1.8
+    pixels = np.concatenate([rgb, inside[..., None].astype(float)], axis=2).astype(np.float32)
+    image.pixels.foreach_set(pixels.ravel())
+    image.pack()
+    return image
+
+
+def add_area_light(name, location, rotation_degrees, power, size, shape="SQUARE", size_y=None):
+    """An Area light as Add > Light > Area adds it, with its power (W), shape and size."""
+    bpy.ops.object.light_add(type="AREA", location=location,
+                             rotation=tuple(math.radians(a) for a in rotation_degrees))
+    light = bpy.context.active_object
+    light.name = light.data.name = name
+    light.data.energy = power
+    light.data.shape = shape
+    light.data.size = size
+    if size_y is not None:
+        light.data.size_y = size_y
+    return light
 
 
 def _world(name):

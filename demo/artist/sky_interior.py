@@ -2,11 +2,7 @@
 cubes, the windows cut from one wall by Boolean modifiers with hidden cutters, no lamps;
 the world is a Sky Texture of Blender's default type with the sun 35° up, in front of
 the windows."""
-import math
-
-import bpy
-
-from .shading import add_modifier, add_primitive, camera_at, factory_scene, principled, sky_world
+from .shading import add_box, add_modifier, camera_at, factory_scene, principled, sky_world
 
 ROOM = (6.0, 5.0, 3.0)  # inside width (x), depth (y), height (z), metres
 WALL = 0.2
@@ -27,23 +23,15 @@ def build(resolution=(1920, 1080)):
              "Back wall": ((0, (depth + WALL) / 2, height / 2), (width + 2 * WALL, WALL, height), plaster),
              "Left wall": ((-(width + WALL) / 2, 0, height / 2), (WALL, depth, height), plaster),
              "Right wall": (((width + WALL) / 2, 0, height / 2), (WALL, depth, height), plaster)}
-    walls = {name: _box(name, centre, size, material) for name, (centre, size, material) in slabs.items()}
+    walls = {name: add_box(name, centre, size, material) for name, (centre, size, material) in slabs.items()}
     for index, x in enumerate((-1.4, 1.4)):
-        cutter = _box(f"Window cutter {index + 1}", (x, -(depth + WALL) / 2, 1.6), (1.4, 4 * WALL, 1.6), None)
+        cutter = add_box(f"Window cutter {index + 1}", (x, -(depth + WALL) / 2, 1.6), (1.4, 4 * WALL, 1.6), None)
         cutter.display_type = "WIRE"
         cutter.hide_render = True
         add_modifier(walls["Window wall"], "BOOLEAN", operation="DIFFERENCE", object=cutter)
-    sofa = _box("Sofa", (0.0, depth / 2 - 0.6, 0.4), (2.2, 0.9, 0.8), fabric)
+    sofa = add_box("Sofa", (0.0, depth / 2 - 0.6, 0.4), (2.2, 0.9, 0.8), fabric)
     add_modifier(sofa, "BEVEL", width=0.06, segments=3)
-    table = _box("Table", (0.6, 0.3, 0.225), (1.2, 0.7, 0.45), wood)
+    table = add_box("Table", (0.6, 0.3, 0.225), (1.2, 0.7, 0.45), wood)
     add_modifier(table, "BEVEL", width=0.02, segments=2)
     camera_at(scene, (-width / 2 + 0.5, depth / 2 - 0.4, 1.7), (0.8, -depth / 2, 0.9), lens=20.0)
     return scene
-
-
-def _box(name, centre, size, material):
-    """A cube scaled to `size` (metres) about `centre`, its scale applied as an artist applies it."""
-    box = add_primitive("cube", name, material, size=1.0, location=centre)
-    box.scale = size
-    bpy.ops.object.transform_apply(location=False, rotation=False, scale=True)
-    return box

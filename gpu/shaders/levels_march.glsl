@@ -2,13 +2,11 @@
 // marched in the finest level that holds it. LEVELS levels, finest first; `level_layers`
 // says which layer of the occupancy holds each.
 #include "occupancy.glsl"
-uniform usampler3D occupancy;
-uniform usampler3D coarse;
+#include "occupancy_volumes.glsl"
 uniform vec3 level_origins[LEVELS];
 uniform float level_voxels[LEVELS];  // a voxel's side in each level
 uniform int level_layers[LEVELS];
 uniform int voxels;                  // a level's voxels along each side
-uniform int voxels_per_cell;
 const float EMITTER_RADIUS = 0.5;  // finest voxels around a VPL where the march sees no occluder (its own surface)
 const float EMITTER_OFFSET = 1.0;  // finest voxels off a VPL's surface where its marches start: out of its own voxel
 

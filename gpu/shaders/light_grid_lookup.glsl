@@ -5,9 +5,7 @@
 // surface is left out.
 #include "occupancy.glsl"
 uniform sampler3D light_grid[GRIDS];
-uniform usampler3D occupancy;
-uniform usampler3D coarse;
-uniform int voxels_per_cell;
+#include "occupancy_volumes.glsl"
 const float SURFACE_RADIUS = 1.5;  // voxels around the surface point where the march sees no occluder
 
 vec3 grid_irradiance(int grid, vec3 p, vec3 n) {

@@ -11,8 +11,12 @@
 // image's alpha is the pixel's coverage: 1 where it sees a surface or an emitter's glow,
 // 0 where it sees the background (Film Transparent); the viewport's rows stay opaque.
 // There the world's background map (gpu/world.py, equirectangular) is seen along the ray.
+// With REFLECTIONS the light glossy surfaces reflect (reflections.glsl) goes into the
+// reflections image (its mean over the sets, as the others) and the composite.
 #include "common.glsl"
 #include "gbuffer.glsl"
+#include "occupancy.glsl"  // here, not in a branch below: an include is expanded once, where first named
+#include "occupancy_volumes.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 #define GRIDS (LEVELS * PHASES)
 uniform vec3 grid_origins[GRIDS];
@@ -28,6 +32,9 @@ uniform int grid_size;
 #if INDIRECT != 2
 #include "light_grid_levels.glsl"
 #endif
+#ifdef MARCH_ESCAPE
+#include "levels_march.glsl"
+#endif
 layout(rgba32f, binding = 0) uniform readonly image2D direct;
 layout(rgba32f, binding = 1) uniform image2D indirect;
 layout(rgba32f, binding = 2) uniform image2D combined;
@@ -40,6 +47,21 @@ uniform bool add_glow;   // the emissive surfaces' own radiance (shade.py render
 layout(rgba32f, binding = 3) uniform readonly image2D glow;
 uniform bool add_world;  // the world seen where no surface is
 uniform sampler2D world_background;
+layout(rgba32f, binding = 5) uniform image2D reflections;
+
+// The irradiance at the surface point p (normal n) seen at `pixel`; with a VPL gather the
+// pixel's own whatever n is (it knows no other).
+vec3 surface_irradiance(ivec2 pixel, vec3 p, vec3 n) {
+#if INDIRECT == 2
+    return texelFetch(gathered, pixel, 0).rgb;
+#else
+    return levels_irradiance(p, n);
+#endif
+}
+#ifdef REFLECTIONS
+#include "specular.glsl"
+#include "reflections.glsl"
+#endif
 
 // The world's radiance along the unit direction `d`, as Blender's Environment Texture maps
 // it (the texture's first row looks straight down).
@@ -55,22 +77,44 @@ void main() {
     vec3 light = vec3(0.0);
     vec3 p, n, albedo;
     bool surface = gbuffer_surface(pixel, p, n, albedo);
-    if (surface) {
-        vec3 irradiance = vec3(0.0);
-#if INDIRECT == 2
-        irradiance = texelFetch(gathered, pixel, 0).rgb;
-#else
-        irradiance = levels_irradiance(p, n);
+    // every grid lookup of the pixel in one loop: its own, then its reflection's
+    int lookups = surface ? 1 : 0;
+    ivec2 pixels[3] = ivec2[3](pixel, pixel, pixel);
+    vec3 points[3] = vec3[3](p, p, p);
+    vec3 normals[3] = vec3[3](n, n, n);
+    vec3 weights[3] = vec3[3](albedo / PI * intensity, vec3(0.0), vec3(0.0));
+    vec3 reflected = vec3(0.0);
+#ifdef REFLECTIONS
+    float metallic;
+    vec4 gloss = surface ? gbuffer_specular(pixel, metallic) : vec4(0.0);
+    if (any(greaterThan(gloss.rgb, vec3(0.0)))) {
+        Reflection reflection = trace_reflection(pixel, p, n, gloss);
+        reflected = reflection.light;
+        for (int k = 0; k < reflection.lookups; ++k) {
+            pixels[1 + k] = reflection.pixels[k];
+            points[1 + k] = reflection.points[k];
+            normals[1 + k] = reflection.normals[k];
+            weights[1 + k] = reflection.weights[k];
+        }
+        lookups += reflection.lookups;
+    }
 #endif
-        light = albedo / PI * irradiance * intensity;
+    for (int k = 0; k < lookups; ++k) {
+        vec3 looked_up = weights[k] * surface_irradiance(pixels[k], points[k], normals[k]);
+        if (k == 0) light = looked_up;
+        else reflected += looked_up;
     }
     float weight = 1.0 / float(accumulated + 1);  // this set's in the mean
+#ifdef REFLECTIONS
+    imageStore(reflections, pixel, vec4(accumulated > 0 ? mix(imageLoad(reflections, pixel).rgb, reflected, weight)
+                                                        : reflected, 1.0));
+#endif
     vec3 indirect_mean = accumulated > 0 ? mix(imageLoad(indirect, pixel).rgb, light, weight) : light;
     imageStore(indirect, pixel, vec4(indirect_mean, 1.0));
     vec3 direct_average = accumulated > 0 ? mix(imageLoad(direct_mean, pixel).rgb, direct_light.rgb, weight)
                                           : direct_light.rgb;
     imageStore(direct_mean, pixel, vec4(direct_average, 1.0));
-    vec4 composite = vec4(direct_light.rgb + light, 1.0);
+    vec4 composite = vec4(direct_light.rgb + light + reflected, 1.0);
     float coverage = surface ? 1.0 : 0.0;
     if (!surface && add_world)
         composite.rgb += world_radiance(normalize(gbuffer_unproject(pixel, 1.0) - gbuffer_unproject(pixel, 0.0)));

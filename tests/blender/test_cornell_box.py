@@ -50,8 +50,8 @@ def test_every_pass_is_finite_and_non_negative(frame):
         assert image.shape == (SIZE, SIZE, 3), name
         assert np.all(np.isfinite(image)), name
         assert image.min() >= 0.0, name
-    np.testing.assert_allclose(frame.passes["combined"], frame.passes["direct"] + frame.passes["indirect"],
-                               rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(frame.passes["combined"], frame.passes["direct"] + frame.passes["indirect"]
+                               + frame.passes["reflections"], rtol=1e-5, atol=1e-6)
     assert frame.passes["indirect"].mean() > 0.01 * frame.passes["direct"].mean()
 
 

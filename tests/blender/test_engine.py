@@ -133,15 +133,16 @@ def test_an_f12_render_larger_than_the_memory_free_reports_what_it_needs(cornell
 
 def test_f12_render_writes_our_passes_into_a_multilayer_exr(cornell, tmp_path):
     channels = render_exr(cornell, tmp_path / "f12.exr")
-    expected = {f"ViewLayer.{name}.{c}" for name in ("Combined", "Direct", "Indirect") for c in "RGB"}
+    expected = {f"ViewLayer.{name}.{c}" for name in ("Combined", "Direct", "Indirect", "Reflections") for c in "RGB"}
     assert expected | {"ViewLayer.Combined.A"} <= set(channels), sorted(channels)
     for name, values in channels.items():
         assert values.shape == (40, 48) and np.all(np.isfinite(values)), name
     direct = np.stack([channels[f"ViewLayer.Direct.{c}"] for c in "RGB"], axis=-1)
     indirect = np.stack([channels[f"ViewLayer.Indirect.{c}"] for c in "RGB"], axis=-1)
+    reflections = np.stack([channels[f"ViewLayer.Reflections.{c}"] for c in "RGB"], axis=-1)
     combined = np.stack([channels[f"ViewLayer.Combined.{c}"] for c in "RGB"], axis=-1)
-    assert direct.mean() > 0 and indirect.mean() > 0
-    np.testing.assert_allclose(combined, direct + indirect, rtol=1e-4, atol=1e-6)
+    assert direct.mean() > 0 and indirect.mean() > 0 and reflections.mean() > 0
+    np.testing.assert_allclose(combined, direct + indirect + reflections, rtol=1e-4, atol=1e-6)
     # The same frame rendered by the pipeline alone (top row first, like OpenImageIO's read).
     depsgraph = bpy.context.evaluated_depsgraph_get()
     settings = settings_from_properties(cornell.lpv_preview, width=48, height=40)

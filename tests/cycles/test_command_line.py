@@ -21,7 +21,7 @@ def test_demo_writes_exr_pngs_and_stats(tmp_path, capsys):
     assert main(["demo", "--out", str(out), *SMALL]) == 0
     assert sorted(os.listdir(out)) == ["combined.png", "indirect.png", "passes.exr", "stats.json"]
     passes = read_exr(str(out / "passes.exr"))
-    assert sorted(passes) == ["combined", "direct", "indirect"]
+    assert sorted(passes) == ["combined", "direct", "indirect", "reflections"]
     for image in passes.values():
         assert image.shape == (64, 64, 3) and np.all(np.isfinite(image))
     stats = json.loads((out / "stats.json").read_text())
@@ -39,7 +39,7 @@ def test_render_a_saved_blend_file(tmp_path):
     assert read_exr(str(out / "passes.exr"))["combined"].shape == (64, 64, 3)
     assert main(["render", str(blend), "--out", str(out), "--debug-passes", "--method", "wdpm", *SMALL]) == 0
     passes = read_exr(str(out / "passes.exr"))
-    assert sorted(passes) == ["combined", "direct", "indirect", "vpl_splats", "warp_status"]
+    assert sorted(passes) == ["combined", "direct", "indirect", "reflections", "vpl_splats", "warp_status"]
     assert passes["vpl_splats"].sum() > 0 and passes["warp_status"].sum() > 0
 
 

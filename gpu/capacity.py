@@ -39,6 +39,7 @@ EXR's interleaved channels, PNG tone mapping, Blender's RenderResult rows): `dem
 4096 x 4096 peaked at 262 bytes a pixel in all on llvmpipe, this estimate's 264."""
 
 MAP_BYTES_PER_TEXEL = 3 * 16          # an RSM's position, normal and flux (RGBA32F)
+TINT_BYTES_PER_TEXEL = 8              # its tint (RGBA16F), in a scene with transmitting surfaces
 WARP_STATUS_BYTES_PER_TEXEL = 4
 SHARED_BYTES_PER_TEXEL = 4 + 4
 """Per atlas layout: the depth renderbuffer its maps are drawn with and the VPLs' Poisson
@@ -99,12 +100,13 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
                        + DEBUG_BYTES_PER_PIXEL * any(name in DEBUG_PASS_NAMES for name in passes))
     mapped = mapped_lights(s, scene)
     atlases = [face_atlas_size(map_face_count(light, map_method(s.method)), s.rsm_resolution) for light in mapped]
-    per_light = MAP_BYTES_PER_TEXEL + WARP_STATUS_BYTES_PER_TEXEL * warped
+    map_texel = MAP_BYTES_PER_TEXEL + TINT_BYTES_PER_TEXEL * (scene.transmission is not None)
+    per_light = map_texel + WARP_STATUS_BYTES_PER_TEXEL * warped
     maps = sum(width * height * per_light + s.vpls_per_light * EMITTER_BYTES for width, height in atlases)
     per_layout = SHARED_BYTES_PER_TEXEL + MAP_BYTES_PER_TEXEL * warped
     maps += sum(width * height * per_layout + s.vpls_per_light * VPL_CELL_BYTES for width, height in set(atlases))
     suns = sum(light.kind == "SUN" for light in mapped)  # each sun's maps fitted to the view (light_maps.py)
-    maps += suns * SUN_CASCADES * s.sun_cascade_resolution ** 2 * MAP_BYTES_PER_TEXEL
+    maps += suns * SUN_CASCADES * s.sun_cascade_resolution ** 2 * map_texel
     indirect = indirect_method(s).needed_bytes(s, scene, pixels, len(mapped))
     indirect += emitter_bytes(s, scene, pixels, len(scene.lights) - len(mapped))
     if scene.emission is not None:  # emitters and their gather, the glow and the triangles' radiances

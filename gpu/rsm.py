@@ -2,7 +2,9 @@
 needs, or one orthographic map for a sun.
 
 All faces of one light share an atlas (up to three faces a row) of three float textures:
-position + shadow distance, light-facing normal + surfel area, reflected flux. A texel's
+position + shadow distance, light-facing normal + surfel area, reflected flux; and, in a
+scene with transmitting surfaces, a fourth: the tint of the light reaching the texel's
+surface through them. A texel's
 flux is albedo x intensity x the texel's solid angle (METHOD §2), so the texels' fluxes
 add up to the power the light delivers to visible surfaces times their albedo.
 """
@@ -39,6 +41,7 @@ class ReflectiveShadowMap:
     light_uniforms: dict
     ortho_texel: float                  # sun: a texel's width in world units, else 0
     flux_bound: float                   # no channel of the total flux can exceed this
+    tint: moderngl.Texture = None       # what transmitting surfaces in front multiply its light by (None: no such surface)
 
     @property
     def face_count(self):
@@ -60,7 +63,7 @@ class ReflectiveShadowMap:
         return np.frombuffer(texture.read(), dtype=np.float32).reshape(height, width, 4)
 
     def release(self):
-        self.glc.recycle(self.position, self.normal, self.flux)
+        self.glc.recycle(self.position, self.normal, self.flux, *((self.tint,) if self.tint is not None else ()))
 
 
 def light_frame(light):
@@ -198,8 +201,10 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
                         for f in range(len(faces))], dtype=np.int32)
     gl = glc.gl
     textures = [glc.texture(atlas_size, 4) for _ in range(3)]
+    tint = glc.texture(atlas_size, 4, dtype="f2") if mesh.transmits else None
     depth = glc.depth_renderbuffer(atlas_size)
-    framebuffer = gl.framebuffer(color_attachments=textures, depth_attachment=depth)
+    framebuffer = gl.framebuffer(color_attachments=textures + ([tint] if tint is not None else []),
+                                 depth_attachment=depth)
     tessellated = kind == PROJECTION_PARABOLOID and tessellation_unit is not None
     if tessellated:
         gl.patch_vertices = 3
@@ -211,9 +216,10 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
             return [glc.program("dpm", fragment, **defines), glc.program("pass_through", fragment, geometry="dpm",
                                                                          **defines)]
         return [glc.program("raster", fragment, **defines)]
-    passes = [(face_programs("rsm", **cut_out_defines(mesh)), False)]
+    tinted = {"TINT_MAP": 1} if tint is not None else {}
+    passes = [(face_programs("rsm", **cut_out_defines(mesh), **tinted), False)]
     if mesh.transmits:
-        passes.append((face_programs("passing_tint", TINT_ATTACHMENT=2), True))
+        passes.append((face_programs("passing_tint", TINT_ATTACHMENT=2, **tinted), True))
     uniforms = light_uniforms(light, origin)
     framebuffer.use()
     framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
@@ -245,4 +251,4 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
     framebuffer.release()
     glc.recycle(depth)
     return ReflectiveShadowMap(glc, light, resolution, kind, np.array(faces), origins, atlas_size, *textures,
-                               uniforms, ortho_texel, flux_bound)
+                               uniforms, ortho_texel, flux_bound, tint)

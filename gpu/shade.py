@@ -145,8 +145,9 @@ def bind_gbuffer(targets):
     targets.surface.use(location=1)
 
 
-SPECULAR_UNIT = 3
-"""The texture unit of the G-buffer's glossy texel in shade_direct (the RSM's is 2)."""
+SPECULAR_UNIT, TINT_UNIT = 3, 4
+"""The texture units of the G-buffer's glossy texel and the map's tint in shade_direct
+(the RSM's position is 2)."""
 
 
 def cut_out_defines(mesh):
@@ -271,8 +272,11 @@ def shade_direct(glc, targets, camera, rsm, shadow_bias, shadow, inside=None, ou
     bind_gbuffer(targets)
     rsm.position.use(location=2)
     targets.specular.use(location=SPECULAR_UNIT)
+    if rsm.tint is not None:
+        rsm.tint.use(location=TINT_UNIT)
     targets.direct.bind_to_image(0, read=True, write=True)
-    set_uniforms(program, **gbuffer_uniforms(camera), rsm_position=2, g_specular=SPECULAR_UNIT, **rsm.lookup_uniforms(),
+    set_uniforms(program, **gbuffer_uniforms(camera), rsm_position=2, g_specular=SPECULAR_UNIT, rsm_tint=TINT_UNIT,
+                 use_tint=rsm.tint is not None, **rsm.lookup_uniforms(),
                  texel_angle=2.0 / rsm.resolution, ortho_texel=rsm.ortho_texel, shadow_bias=shadow_bias,
                  **rsm.light_uniforms, **shadow, use_inside=inside is not None, use_outside=outside is not None,
                  inside_matrix=np.eye(4) if inside is None else inside.face_matrices[0],
@@ -392,6 +396,8 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
         set_uniforms(program, **march_uniforms, g_specular=world_unit + 1, world_reflection=world_unit + 2,
                      reflect_world=reflections.world is not None,
                      reflection_levels=int(np.log2(max(reflections.world.size))) if reflections.world is not None else 0,
-                     view_projection=camera.projection @ camera.view, trace_length=reflections.trace_length,
+                     view_projection=camera.projection @ camera.view, view_z_row=tuple(map(float, camera.view[2])),
+                     projection_z=tuple(float(camera.projection[i, j]) for i, j in ((2, 2), (2, 3), (3, 2), (3, 3))),
+                     trace_length=reflections.trace_length,
                      reflection_pattern=reflections.pattern)
     dispatch(program, *targets.size)

@@ -10,6 +10,8 @@
 // Needs common.glsl, gbuffer.glsl, specular.glsl, the method's lookup and, with
 // MARCH_ESCAPE, levels_march.glsl.
 uniform mat4 view_projection;
+uniform vec4 view_z_row;             // the view matrix's third row: a point's view-space z
+uniform vec4 projection_z;           // the projection's (2,2), (2,3), (3,2), (3,3): view z from a window depth
 uniform int reflection_pattern;      // the VPL pattern: each set draws other rays
 uniform float trace_length;          // world units a ray is traced: the scene's diagonal
 uniform bool reflect_world;
@@ -40,11 +42,11 @@ vec3 lobe_direction(vec3 n, vec3 v, float alpha, vec2 u) {
     return dot(d, n) > 0.0 ? d : r;
 }
 
-// The distance from the pixel's near-plane point along its ray to `q` (perspective or
-// orthographic alike).
-float ray_depth(ivec2 pixel, vec3 q) {
-    vec3 origin = gbuffer_unproject(pixel, 0.0);
-    return dot(q - origin, normalize(gbuffer_unproject(pixel, 1.0) - origin));
+// The distance in front of the camera of the surface at window depth `depth` (the
+// projection solved for view z: perspective or orthographic alike).
+float window_distance(float depth) {
+    float ndc = depth * 2.0 - 1.0;
+    return -(projection_z.y - ndc * projection_z.w) / (ndc * projection_z.z - projection_z.x);
 }
 
 // The pixel the world point `q` falls in; false off the screen or behind the camera.
@@ -69,8 +71,8 @@ bool behind_surface(vec3 p, vec3 d, float t, out ivec2 pixel, out float edge, ou
     float depth = texelFetch(g_depth, pixel, 0).r;
     if (depth >= 1.0) return false;
     if (dot(octahedral_decode(unpackSnorm2x16(texelFetch(g_surface, pixel, 0).x)), d) >= 0.0) return false;
-    float surface = ray_depth(pixel, gbuffer_unproject(pixel, depth));
-    float sample_depth = ray_depth(pixel, q);
+    float surface = window_distance(depth);
+    float sample_depth = -dot(view_z_row, vec4(q, 1.0));
     return sample_depth > surface && sample_depth - surface < TRACE_THICKNESS * max(surface, 1e-6) + t / float(TRACE_STEPS);
 }
 
@@ -100,27 +102,20 @@ bool screen_trace(vec3 p, vec3 d, float jitter, out ivec2 hit, out float fade) {
     return false;
 }
 
-// A pixel's reflection before the grids are looked up: `light` is what needs no lookup,
-// and each of the lookups (up to two, at `pixels`, `points` and `normals`) adds its
-// irradiance times its `weights`. The grids are looked up in one place of the shader
+// A pixel's reflection before the grids are looked up: `light` is what needs no lookup;
+// the pixel's own irradiance adds times `own`, and the hit's (when `seen`, at `pixel`,
+// `point` and `normal`) times `weight`. The grids are looked up in one place of the shader
 // (shade_indirect.comp main): on llvmpipe a light grid lookup inlined at more places
 // broke the G-buffer's reads.
 struct Reflection {
     vec3 light;
-    int lookups;
-    ivec2 pixels[2];
-    vec3 points[2];
-    vec3 normals[2];
-    vec3 weights[2];
+    vec3 own;
+    bool seen;
+    ivec2 pixel;
+    vec3 point;
+    vec3 normal;
+    vec3 weight;
 };
-
-void add_lookup(inout Reflection reflection, ivec2 pixel, vec3 point, vec3 normal, vec3 weight) {
-    reflection.pixels[reflection.lookups] = pixel;
-    reflection.points[reflection.lookups] = point;
-    reflection.normals[reflection.lookups] = normal;
-    reflection.weights[reflection.lookups] = weight;
-    reflection.lookups += 1;
-}
 
 // Add `share` of the light leaving the surface the camera sees at `pixel` (its direct
 // light, glow and, through a lookup, diffuse indirect light): what a reflected ray that
@@ -131,12 +126,18 @@ void add_seen(inout Reflection reflection, ivec2 pixel, float share) {
     vec3 light = imageLoad(direct, pixel).rgb;
     if (add_glow) light += imageLoad(glow, pixel).rgb;
     reflection.light += share * light;
-    add_lookup(reflection, pixel, q, m, share * albedo / PI * intensity);
+    reflection.seen = true;
+    reflection.pixel = pixel;
+    reflection.point = q;
+    reflection.normal = m;
+    reflection.weight = share * albedo / PI * intensity;
 }
 
 // Add `share` of the light around the direction `d` from `p` where the screen does not
 // show it: the world's (prefiltered for GGX alpha `alpha` along the mirror direction `r`)
-// where the ray escapes, else the grids' indirect light.
+// where the ray escapes, else the indirect light the pixel's own lookup found (the
+// surroundings' mean radiance above the surface, E / π: a lookup along d costs a second
+// one).
 void add_surroundings(inout Reflection reflection, ivec2 pixel, vec3 p, vec3 n, vec3 r, vec3 d, float alpha,
                       float share) {
     bool escapes = reflect_world;
@@ -152,7 +153,7 @@ void add_surroundings(inout Reflection reflection, ivec2 pixel, vec3 p, vec3 n, 
         vec2 uv = vec2(0.5 - atan(r.y, r.x) / (2.0 * PI), 1.0 - acos(clamp(r.z, -1.0, 1.0)) / PI);
         reflection.light += share * textureLod(world_reflection, uv, level).rgb;
     } else {
-        add_lookup(reflection, pixel, p, d, vec3(share / PI * intensity));
+        reflection.own += vec3(share / PI * intensity);
     }
 }
 
@@ -161,7 +162,8 @@ void add_surroundings(inout Reflection reflection, ivec2 pixel, vec3 p, vec3 n, 
 Reflection trace_reflection(ivec2 pixel, vec3 p, vec3 n, vec4 gloss) {
     Reflection reflection;
     reflection.light = vec3(0.0);
-    reflection.lookups = 0;
+    reflection.own = vec3(0.0);
+    reflection.seen = false;
     vec3 v = gbuffer_view(pixel, p);
     float alpha = specular_alpha(gloss.a, 0.0);
     uint h = reflection_hash(uint(pixel.x) * 1973u + reflection_hash(uint(pixel.y) * 9277u
@@ -184,6 +186,7 @@ Reflection trace_reflection(ivec2 pixel, vec3 p, vec3 n, vec4 gloss) {
     if (rest > 0.0) add_surroundings(reflection, pixel, p, n, r, d, alpha, rest);
     vec3 dfg = environment_dfg(gloss.rgb, gloss.a, max(dot(n, v), 1e-4));
     reflection.light *= dfg;
-    for (int k = 0; k < reflection.lookups; ++k) reflection.weights[k] *= dfg;
+    reflection.weight *= dfg;
+    reflection.own *= dfg;
     return reflection;
 }

@@ -1,6 +1,8 @@
 #version 450 core
 // Reflective shadow map texel: position, light-facing normal, reflected flux (METHOD §2).
-// With CUT_OUT a texel the surface does not cover (surface.glsl) lets the light pass.
+// With CUT_OUT a texel the surface does not cover (surface.glsl) lets the light pass. With
+// TINT_MAP the fourth attachment starts at 1: transmitting surfaces in front multiply it
+// (passing_tint.frag).
 #include "common.glsl"
 #include "light.glsl"
 #include "paraboloid.glsl"
@@ -20,6 +22,9 @@ uniform int projection_kind;
 layout(location = 0) out vec4 out_position;  // xyz world, w shadow distance (0: empty)
 layout(location = 1) out vec4 out_normal;    // xyz normal toward the light, w surfel area
 layout(location = 2) out vec4 out_flux;      // rgb reflected flux in W, w 1
+#ifdef TINT_MAP
+layout(location = 3) out vec4 out_tint;      // rgb what the light passing transmitting surfaces is multiplied by
+#endif
 
 void main() {
 #ifdef CUT_OUT
@@ -48,4 +53,7 @@ void main() {
     out_position = vec4(world_position, max(dist, 1e-30));
     out_normal = vec4(n, area);
     out_flux = vec4(surface_colour(surface_albedo, surface_coord) * power, 1.0);
+#ifdef TINT_MAP
+    out_tint = vec4(1.0);
+#endif
 }

@@ -1,7 +1,9 @@
 #version 450 core
 // Direct light of one light: Lambert and the glossy reflection (Smith-GGX with Schlick's
 // Fresnel, specular.glsl), shadowed by the light's RSM distances (a light of no size: 3x3
-// PCF with a normal offset; else PCSS, soft_shadow.glsl), added into the direct image.
+// PCF with a normal offset; else PCSS, soft_shadow.glsl) and tinted by the transmitting
+// surfaces the light passes (the map's tint at the surface's texel, with `use_tint`), added
+// into the direct image.
 #include "common.glsl"
 #include "light.glsl"
 #include "rsm_lookup.glsl"
@@ -9,6 +11,8 @@
 #include "specular.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 uniform sampler2D rsm_position;
+uniform sampler2D rsm_tint;
+uniform bool use_tint;
 layout(rgba32f, binding = 0) uniform image2D direct;
 uniform float texel_angle;   // 2 / resolution: a texel's width per unit distance
 uniform float ortho_texel;   // sun: a texel's width in world units
@@ -72,6 +76,10 @@ void main() {
         light_ray(offset, w, dist);
         v = soft_visibility(offset, n, w, dist, pixel);
     }
+    int face;
+    ivec2 centre;
+    if (use_tint && rsm_face_texel(p, face, centre))
+        irradiance *= texelFetch(rsm_tint, lookup_origin[face] + centre, 0).rgb;
     vec3 brdf = albedo / PI;
     float metallic;
     vec4 gloss = gbuffer_specular(pixel, metallic);

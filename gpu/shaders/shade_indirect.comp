@@ -77,32 +77,37 @@ void main() {
     vec3 light = vec3(0.0);
     vec3 p, n, albedo;
     bool surface = gbuffer_surface(pixel, p, n, albedo);
-    // every grid lookup of the pixel in one loop: its own, then its reflection's
+    // every grid lookup of the pixel in one loop: its own, then its reflection's hit
     int lookups = surface ? 1 : 0;
-    ivec2 pixels[3] = ivec2[3](pixel, pixel, pixel);
-    vec3 points[3] = vec3[3](p, p, p);
-    vec3 normals[3] = vec3[3](n, n, n);
-    vec3 weights[3] = vec3[3](albedo / PI * intensity, vec3(0.0), vec3(0.0));
-    vec3 reflected = vec3(0.0);
+    ivec2 pixels[2] = ivec2[2](pixel, pixel);
+    vec3 points[2] = vec3[2](p, p);
+    vec3 normals[2] = vec3[2](n, n);
+    vec3 weights[2] = vec3[2](albedo / PI * intensity, vec3(0.0));
+    vec3 reflected = vec3(0.0), own_reflected = vec3(0.0);
 #ifdef REFLECTIONS
     float metallic;
     vec4 gloss = surface ? gbuffer_specular(pixel, metallic) : vec4(0.0);
     if (any(greaterThan(gloss.rgb, vec3(0.0)))) {
         Reflection reflection = trace_reflection(pixel, p, n, gloss);
         reflected = reflection.light;
-        for (int k = 0; k < reflection.lookups; ++k) {
-            pixels[1 + k] = reflection.pixels[k];
-            points[1 + k] = reflection.points[k];
-            normals[1 + k] = reflection.normals[k];
-            weights[1 + k] = reflection.weights[k];
+        own_reflected = reflection.own;
+        if (reflection.seen) {
+            pixels[1] = reflection.pixel;
+            points[1] = reflection.point;
+            normals[1] = reflection.normal;
+            weights[1] = reflection.weight;
+            lookups = 2;
         }
-        lookups += reflection.lookups;
     }
 #endif
     for (int k = 0; k < lookups; ++k) {
-        vec3 looked_up = weights[k] * surface_irradiance(pixels[k], points[k], normals[k]);
-        if (k == 0) light = looked_up;
-        else reflected += looked_up;
+        vec3 irradiance = surface_irradiance(pixels[k], points[k], normals[k]);
+        if (k == 0) {
+            light = weights[0] * irradiance;
+            reflected += own_reflected * irradiance;
+        } else {
+            reflected += weights[1] * irradiance;
+        }
     }
     float weight = 1.0 / float(accumulated + 1);  // this set's in the mean
 #ifdef REFLECTIONS

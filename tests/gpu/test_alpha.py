@@ -57,10 +57,16 @@ def test_an_alpha_zero_card_is_dropped():
 
 def test_glass_tints_what_is_seen_through_it_and_the_light_its_maps_pass_on(pipeline):
     tint = (1.0, 0.25, 0.5)
+    hidden = pipeline.render(card_scene(transmission=(*tint, 1.0), camera_sees_card=False).sanitize(),
+                             passes=("direct",))
+    # the sun's light crosses the glass once on its way to the floor
+    np.testing.assert_allclose(hidden.passes["direct"][CENTRE, CENTRE].mean(axis=(0, 1)), np.multiply(tint, LIT),
+                               rtol=0.02)
     scene = card_scene(transmission=(*tint, 1.0)).sanitize()
     frame = pipeline.render(scene, passes=("direct",))
-    np.testing.assert_allclose(frame.passes["direct"][CENTRE, CENTRE].mean(axis=(0, 1)), np.multiply(tint, LIT),
-                               rtol=0.02)
+    # and seen through the glass, once more on its way to the camera
+    np.testing.assert_allclose(frame.passes["direct"][CENTRE, CENTRE].mean(axis=(0, 1)),
+                               np.multiply(np.square(tint), LIT), rtol=0.02)
     flux = pipeline.last_light_maps[0].rsm.read(pipeline.last_light_maps[0].rsm.flux)
     middle = flux.shape[0] // 2
     under_glass, beside = flux[middle, middle, :3], flux[middle, middle + flux.shape[1] // 4, :3]

@@ -67,6 +67,10 @@ materials says the same of every material using one."""
 PRINCIPLED_UNSUPPORTED = {
     "Transmission Weight": f"transmission ({AS_THIN_SHEET})",
     "Subsurface Weight": "subsurface scattering (rendered as plain diffuse)",
+    "Coat Weight": "coat (folded into the one glossy lobe; its tint and normal left out)",
+    "Sheen Weight": "sheen (left out)",
+    "Anisotropic": "anisotropy (an isotropic lobe)",
+    "Thin Film Thickness": "thin film (left out)",
 }
 """Principled BSDF inputs -> what the preview does with them, where they differ from
 their no-effect value (0) or are linked."""
@@ -89,6 +93,21 @@ def principled_specular(base, metallic, ior, level, tint):
     dielectric = ((ior - 1.0) / (ior + 1.0)) ** 2 * 2.0 * max(float(level), 0.0) * np.asarray(tint, np.float64)[:3]
     f0 = (1.0 - metallic) * np.clip(dielectric, 0.0, 1.0) + metallic * np.asarray(base, np.float64)[:3]
     return tuple(float(c) for c in np.clip(f0, 0.0, 1.0))
+
+
+
+def with_coat(specular, roughness, weight, coat_roughness, coat_ior):
+    """The one glossy lobe of a Principled BSDF under a coat of `weight`: the coat's
+    dielectric F0 at Coat IOR added over the base's F0 (what the coat lets through), the
+    lobe's roughness the two lobes' roughnesses weighted by their F0s."""
+    base = np.asarray(specular, np.float64)
+    ior = max(float(coat_ior), 1e-3)
+    coat = float(np.clip(weight, 0.0, 1.0)) * ((ior - 1.0) / (ior + 1.0)) ** 2
+    f0 = np.clip(base + coat * (1.0 - base), 0.0, 1.0)
+    share = float(base.mean())
+    blended = (share * roughness + coat * float(coat_roughness)) / max(share + coat, 1e-9)
+    return tuple(float(c) for c in f0), float(np.clip(blended, 0.0, 1.0))
+
 
 UPSTREAM_IMAGE_SEARCH_DEPTH = 8
 """How many nodes back from a colour socket an Image Texture is still looked for."""
@@ -336,9 +355,14 @@ class _Evaluation:
             if weights["Metallic"] > 0 and base.varies:
                 self.approximated = True  # a textured metal's reflectance: its colour's average
             specular = principled_specular(self.average_of(base), weights["Metallic"], ior, level, specular_tint)
+            roughness = float(np.clip(roughness, 0.0, 1.0))
+            coat = self.value(node.inputs["Coat Weight"])
+            if float(coat) > 0.0:
+                specular, roughness = with_coat(specular, roughness, coat, self.value(node.inputs["Coat Roughness"]),
+                                                self.value(node.inputs["Coat IOR"]))
             return replace(colour.see_through(alpha, transmission, tint), alpha_image=alpha_image,
-                           alpha_uv_map=alpha_uv_map, specular=specular,
-                           roughness=float(np.clip(roughness, 0.0, 1.0)), metallic=weights["Metallic"])
+                           alpha_uv_map=alpha_uv_map, specular=specular, roughness=roughness,
+                           metallic=weights["Metallic"])
         if node.type == "BSDF_DIFFUSE":
             return self.colour(node.inputs["Color"], depth)
         if node.type == "MIX_SHADER":

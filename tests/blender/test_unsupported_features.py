@@ -275,3 +275,18 @@ def test_a_transparent_mix_by_an_image_alpha_cuts_the_surface_out():
     assert extracted.alpha is None and extracted.transmission is None
     np.testing.assert_array_equal(extracted.alpha_layers, extracted.image_layers)
     np.testing.assert_array_equal(extracted.images[0].pixels[..., 3], [[0, 1], [1, 0]])  # top row first
+
+
+def test_a_coat_is_folded_into_the_glossy_lobe_and_sheen_named():
+    def build(nodes, links, principled):
+        principled.inputs["Roughness"].default_value = 0.6
+        principled.inputs["Coat Weight"].default_value = 1.0
+        principled.inputs["Coat Roughness"].default_value = 0.1
+        principled.inputs["Sheen Weight"].default_value = 0.5
+    scene, _ = floor_scene(lambda: material_with("Car paint", build))
+    extracted = scene_to_render(scene)
+    assert extracted.approximated_materials == [
+        "Car paint: coat (folded into the one glossy lobe; its tint and normal left out); sheen (left out)"]
+    f0, roughness = extracted.specular[0, :3], extracted.specular[0, 3]
+    np.testing.assert_allclose(f0, 0.04 + 0.04 * 0.96, rtol=1e-4)  # the base's F0 and the coat's (IOR 1.5)
+    assert roughness == pytest.approx(0.35, rel=1e-4)  # their roughnesses weighted by their equal F0s

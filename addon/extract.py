@@ -56,7 +56,8 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     """
     camera = extract_camera(depsgraph, resolution)
     geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
-    scene = Scene(**geometry, lights=[], film=film_of(depsgraph.scene_eval))
+    scene = Scene(**geometry, lights=[], film=film_of(depsgraph.scene_eval),
+                  diffuse_bounces=diffuse_bounces_of(depsgraph.scene_eval))
     return scene.in_local_frame(lights, camera, world_of(depsgraph.scene_eval)).sanitize()
 
 
@@ -65,6 +66,15 @@ def film_of(scene, viewport=False):
     (not in a `viewport`, which shows the world as Cycles' does)."""
     render = scene.render
     return Film(float(render.filter_size), bool(render.film_transparent) and not viewport)
+
+
+def diffuse_bounces_of(scene):
+    """How often diffuse light may bounce in a bpy scene, as its Light Paths say: Cycles'
+    Diffuse bounces within Max Bounces; None where Cycles' settings are not there."""
+    cycles = getattr(scene, "cycles", None)
+    if cycles is None:
+        return None
+    return int(min(cycles.diffuse_bounces, cycles.max_bounces))
 
 
 def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):

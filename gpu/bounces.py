@@ -1,76 +1,60 @@
-"""More bounces: each light's VPLs lit by one another, generation by generation
-(shaders/bounce.comp).
+"""More bounces: generation by generation, points drawn anew on the surfaces the lights
+see, each lit by the whole generation before (every light's VPLs and the emitters'
+bounce together, through the occupancy: gpu/emitter_bounce.py light_receivers), become
+VPLs the indirect stage gathers beside the first generation.
 
-Generation g + 1 lies where the first does and carries the light generation g gives it
-times the surface's albedo; the indirect stage gathers from one set per light whose flux
-is the sum of every generation's, so a frame of two bounces or eight costs the gather
-no more than one. Each light's light bounces through the places its own map sees (light
-is additive, and two lights' VPLs on one surface would count its bounce twice): a
-surface a light does not see passes none of that light's on.
+Unlike VPLs lit by one another, the points lie wherever the surfaces are, so the second
+bounce reaches what no light's map sees (the shadowed side of a sunlit room), and light
+that several lights bring to one surface bounces once (docs/method.md, "More bounces").
 """
-import math
+from .emitter_bounce import light_receivers
 
-from .context import run_workgroups, set_uniforms
-from .occupancy import march_batch
-from .vpl import EMITTER_BYTES
-
-RECEIVER_SENDERS = 256
-"""Senders each VPL (and each receiver of the emitters' bounce, gpu/emitter_bounce.py)
-gathers from per bounce and set: a strided subset (scaled up), so the cost is this many
-marches a VPL, whatever the VPL count; converging frames change the subset."""
-LANES = 64  # invocations sharing one receiver's senders (shaders/bounce.comp, emitter_bounce.comp)
-BOUNCE_SCRATCH_BYTES_PER_VPL = 16 + 2 * EMITTER_BYTES  # received irradiance, two generations
+MAX_BOUNCES = 8  # gpu/settings.py bounces' upper end: each generation draws its points with its own seed
 
 
-class Bounces:
-    """Each light's VPLs with every generation's flux summed (`sets`)."""
+def light_bounces(settings, scene):
+    """The diffuse bounces a frame of `scene` carries: the settings' Bounces (0: as many as
+    the scene's Light Paths say, 1 where they say nothing) within the Light Paths. 0 (Light
+    Paths of no diffuse bounce) shows no indirect light."""
+    said = scene.diffuse_bounces
+    wanted = settings.bounces or (said if said is not None else 1)
+    return wanted if said is None else min(wanted, said)
+
+
+def generation_seed(pattern, bounce):
+    """The random numbers of bounce `bounce`'s points in VPL pattern `pattern`: apart from
+    every other generation's and from the emitters' bounce (seeded by the pattern)."""
+    return (pattern + 1) * 65536 + bounce
+
+
+class Generations:
+    """The light's later generations as EmitterVPLs (`made`), the second first."""
 
     def __init__(self, glc):
         self.glc = glc
-        self.sets = []  # (buffer, count) per light: the totals
+        self.made = []
 
-    def build(self, maps, bounces, occupancy, layers, singularity_bound, pattern):
-        """Light each light's VPLs (`maps`: light_maps.LightMaps) by one another, `bounces` - 1
-        times over, marching `occupancy`'s grids `layers` (indices, finest first); returns
-        the totals."""
+    @property
+    def flux_bound(self):
+        return sum(generation.flux_bound for generation in self.made)
+
+    def build(self, first, bounces, receivers, occupancy, layers, singularity_bound, pattern):
+        """Generations 2 to `bounces` from the `first` one's (buffer, count) sets, each on the
+        points `receivers(seed)` gives, marching `occupancy`'s grids `layers`; returns
+        their (buffer, count) sets."""
         self.release()
-        gl = self.glc.gl
-        program = self.glc.compute("bounce", LEVELS=len(layers), LANES=LANES)
-        set_uniforms(program, **occupancy.march_uniforms(list(layers), first_unit=0),
-                     singularity_bound=singularity_bound)
-        for m in maps:
-            count = m.vpls.count
-            total = gl.buffer(reserve=count * EMITTER_BYTES)
-            gl.copy_buffer(total, m.vpls.buffer)
-            self.sets.append((total, count))
-            stride = max(1, math.ceil(count / RECEIVER_SENDERS))
-            batch = march_batch(occupancy.voxels, len(layers), LANES * stride)
-            irradiance = gl.buffer(reserve=count * 16)
-            generations = [gl.buffer(reserve=count * EMITTER_BYTES) for _ in range(2)]
-            m.vpls.buffer.bind_to_storage_buffer(1)
-            irradiance.bind_to_storage_buffer(2)
-            total.bind_to_storage_buffer(4)
-            set_uniforms(program, receiver_count=count, sender_count=count, stride=stride, batch=batch,
-                         **m.vpl_map.light_uniforms)
-            senders = m.vpls.buffer
-            for bounce in range(1, bounces):
-                made = generations[bounce % 2]
-                senders.bind_to_storage_buffer(0)
-                made.bind_to_storage_buffer(3)
-                set_uniforms(program, pattern=pattern * bounces + bounce)
-                firsts = range(0, count, batch)
-                for first in firsts:
-                    set_uniforms(program, first_sender=first, accumulate=first > 0, finish=first == firsts[-1])
-                    run_workgroups(program, count)
-                senders = made
-            for buffer in (irradiance, *generations):
-                buffer.release()
-        return self.sets
+        senders = list(first)
+        for bounce in range(1, bounces):
+            generation = light_receivers(self.glc, receivers(generation_seed(pattern, bounce)), senders, occupancy,
+                                         layers, singularity_bound, pattern * MAX_BOUNCES + bounce)
+            self.made.append(generation)
+            senders = [(generation.buffer, generation.count)]
+        return [(generation.buffer, generation.count) for generation in self.made]
 
     def resources(self):
-        return tuple(buffer for buffer, _ in self.sets)
+        return tuple(generation.buffer for generation in self.made)
 
     def release(self):
-        for resource in self.resources():
-            resource.release()
-        self.sets = []
+        for generation in self.made:
+            generation.release()
+        self.made = []

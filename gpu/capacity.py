@@ -8,6 +8,7 @@ so there the GPU bytes count against it too.
 """
 import os
 
+from .emitter_bounce import RECEIVER_BYTES
 from .emitter_grid import CLUSTER_FLOATS, grid_resolution
 from .errors import LPVError
 from .grids import VIEW_LATTICE
@@ -75,7 +76,7 @@ def emitter_bytes(s, scene, pixels, lamps):
     unshadowed volumes, its occupancy and clusters, an image) and the receivers of their
     bounce, for the scene's point emitters and `lamps` point lights beyond the budget."""
     count = scene.point_emitter_count + lamps
-    bounce = s.emitter_bounce_samples * (2 * EMITTER_BYTES + 32) if count or scene.emission is not None else 0
+    bounce = s.emitter_bounce_samples * RECEIVER_BYTES if count or scene.emission is not None else 0
     if bounce:
         bounce += indirect_method(s).emitter_bounce_bytes(s)
     if not count:

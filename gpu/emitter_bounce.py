@@ -1,17 +1,24 @@
-"""The emitters' indirect light: points sampled on the surfaces the lights see, each lit
-by the emitters (point emitters, emissive surfaces) through a march over the occupancy
+"""Light passed on by points on the surfaces: points sampled on the surfaces the lights
+see, each lit by a set of emitters through a march over the occupancy
 (shaders/emitter_bounce.comp), become VPLs that the indirect stage gathers beside the
-lights' own: a room lit by emissive particles gets its bounce light."""
+lights' own. The emitters (point emitters, emissive surfaces, the world) bounce this way,
+and every bounce after the first (gpu/bounces.py)."""
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from .bounces import LANES, RECEIVER_SENDERS
 from .context import run_workgroups, set_uniforms
 from .occupancy import march_batch
 from .surface_emitters import TrianglePoints
 from .vpl import EMITTER_BYTES
+
+RECEIVER_SENDERS = 256
+"""Senders each receiver gathers from per set: a strided subset (scaled up), so the cost is
+this many marches a receiver, whatever the sender count; converging frames change the
+subset."""
+LANES = 64  # invocations sharing one receiver's senders (shaders/emitter_bounce.comp)
+RECEIVER_BYTES = 2 * EMITTER_BYTES + 32  # a receiver's row, its VPL and its irradiance while lit
 
 
 @dataclass

@@ -8,8 +8,8 @@ import math
 
 import numpy as np
 
-from .bounces import BOUNCE_SCRATCH_BYTES_PER_VPL, Bounces
-from .emitter_bounce import light_receivers
+from .bounces import Generations, light_bounces
+from .emitter_bounce import RECEIVER_BYTES, light_receivers
 from .light_grid import CLUSTER_BYTES, DIRECTIONS, LIGHT_GRID_BYTES_PER_CELL, LightGrid, cluster_capacity, \
     cluster_levels
 from .lpv import GEOMETRY_VOLUME_BYTES_PER_CELL, LPV_BYTES_PER_CELL, LightPropagationVolume
@@ -27,16 +27,18 @@ class IndirectMethod:
     """Its name in gpu/settings.py INDIRECT_METHODS."""
     stages = ()
     """The timed stages (stats keys) a build redoes when the lights or the grids change.
-    With more than one bounce, the gathering methods light the VPLs by one another
-    between them too (bounce_ms)."""
+    With more than one bounce, the gathering methods gather later generations of the
+    light too, lit on points of the surfaces (gpu/bounces.py; bounce_ms)."""
     gathers_per_pixel = False
     """Whether every pixel gathers after the G-buffer (gather_pixels, pixel_gather_ms)."""
+    more_bounces = False
+    """Whether it carries bounces after the first (gpu/bounces.py)."""
 
     def __init__(self, glc, grids, phases):
         self.glc = glc
         self.grids = tuple(grids)
         self.levels = self.grids[::phases]
-        self.bounces = Bounces(glc)
+        self.generations = Generations(glc)
         self.emitter_vpls = None  # the emitters' bounce (gpu/emitter_bounce.py)
         self.volumes = self._volumes()
 
@@ -67,10 +69,10 @@ class IndirectMethod:
 
     def build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources=(), receivers=None):
         """Fill the grids from the lights' maps (gpu/light_maps.py LightMaps), timing each
-        stage; with `settings.bounces` above 1 (gathering methods) from the VPLs lit by
-        one another too (gpu/bounces.py), their senders' subsets following the VPL
-        `pattern`; and from the emitter sets `sources` ((buffer, count) pairs) through the
-        points `receivers()` gives (gpu/emitter_bounce.py)."""
+        stage; from the emitter sets `sources` ((buffer, count) pairs) through the points
+        `receivers(seed)` gives (gpu/emitter_bounce.py); and with `settings.bounces` above 1
+        (gathering methods) from the later generations (gpu/bounces.py), on points that
+        `receivers` gives too, their senders' subsets following the VPL `pattern`."""
         if self.emitter_vpls is not None:
             self.emitter_vpls.release()
             self.emitter_vpls = None
@@ -118,14 +120,14 @@ class IndirectMethod:
 
     def resources(self):
         return (*(resource for volume in self.volumes for resource in volume.resources()),
-                *self.bounces.resources(),
+                *self.generations.resources(),
                 *((self.emitter_vpls.buffer,) if self.emitter_vpls is not None else ()),
                 *(resource for held in self._held() for resource in held.resources()))
 
     def release(self):
         for volume in self.volumes:
             volume.release()
-        self.bounces.release()
+        self.generations.release()
         for held in (self.emitter_vpls, *self._held()):
             if held is not None:
                 held.release()
@@ -166,7 +168,7 @@ class LPVMethod(IndirectMethod):
                 self.bounce_occupancy = Occupancy(self.glc, self.levels)
             with self.glc.timed(stats, "emitter_bounce_ms"):
                 self.bounce_occupancy.voxelise(mesh)
-                self.emitter_vpls = light_receivers(self.glc, receivers(), sources, self.bounce_occupancy,
+                self.emitter_vpls = light_receivers(self.glc, receivers(pattern), sources, self.bounce_occupancy,
                                                     range(len(self.levels)), settings.singularity_bound, pattern)
             vpl_sets.append(self.emitter_vpls)
             flux_bound += self.emitter_vpls.flux_bound
@@ -210,44 +212,45 @@ class LPVMethod(IndirectMethod):
 
 class GatheringMethod(IndirectMethod):
     """A method that gathers every emitter's light with visibility through an occupancy
-    of the scene, so the VPLs may first light one another (gpu/bounces.py)."""
+    of the scene, so later bounces may first be lit on points of the surfaces
+    (gpu/bounces.py)."""
+
+    more_bounces = True
 
     @staticmethod
     def key(settings):
-        return settings.singularity_bound, settings.bounces
+        return settings.singularity_bound, settings.bounces, settings.emitter_bounce_samples * (settings.bounces > 1)
 
     @staticmethod
-    def bounce_bytes(settings, mapped):
-        """Each light's summed generations, and one light's scratch."""
-        if settings.bounces <= 1:
-            return 0
-        return settings.vpls_per_light * (mapped * EMITTER_BYTES + BOUNCE_SCRATCH_BYTES_PER_VPL)
+    def bounce_bytes(settings, scene):
+        """The later generations' points (gpu/bounces.py)."""
+        return max(light_bounces(settings, scene) - 1, 0) * settings.emitter_bounce_samples * RECEIVER_BYTES
 
     def _layers(self):
         """The occupancy's grid of each level."""
         raise NotImplementedError
 
     def _gathered_emitters(self, maps, mesh, settings, stats, pattern, sources, receivers, flux_bound):
-        """The occupancy voxelised, the (buffer, count) sets to gather from (the VPLs, lit
-        by one another with more bounces, and the emitters' bounce) and their flux bound."""
+        """The occupancy voxelised, the (buffer, count) sets to gather from (the VPLs, the
+        emitters' bounce and, with more bounces, the later generations) and their flux
+        bound."""
         occupancy = self.volumes[0].occupancy
         with self.glc.timed(stats, self.stages[0]):
             occupancy.voxelise(mesh)
         emitters = [emitter for m in maps for emitter in m.emitter_sets()]
-        if settings.bounces > 1 and maps:
-            with self.glc.timed(stats, "bounce_ms"):
-                emitters = self.bounces.build(maps, settings.bounces, occupancy, self._layers(),
-                                              settings.singularity_bound, pattern)
-            emitters += [(m.far_vpls.buffer, m.far_vpls.count) for m in maps if m.far_vpls is not None]
-            flux_bound *= settings.bounces  # a generation carries at most its area times what it receives
-        else:
-            self.bounces.release()
         if sources:
             with self.glc.timed(stats, "emitter_bounce_ms"):
-                self.emitter_vpls = light_receivers(self.glc, receivers(), sources, occupancy, self._layers(),
+                self.emitter_vpls = light_receivers(self.glc, receivers(pattern), sources, occupancy, self._layers(),
                                                     settings.singularity_bound, pattern)
             emitters = emitters + [(self.emitter_vpls.buffer, self.emitter_vpls.count)]
             flux_bound += self.emitter_vpls.flux_bound
+        if settings.bounces > 1 and emitters:
+            with self.glc.timed(stats, "bounce_ms"):
+                emitters = emitters + self.generations.build(emitters, settings.bounces, receivers, occupancy,
+                                                             self._layers(), settings.singularity_bound, pattern)
+            flux_bound += self.generations.flux_bound
+        else:
+            self.generations.release()
         return emitters, flux_bound
 
     def forget(self):
@@ -274,7 +277,7 @@ class LightGridMethod(GatheringMethod):
         return (s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
                 + scene.triangle_count * LARGE_TRIANGLE_BYTES
                 + cluster_capacity(s.vpls_per_light * mapped) * CLUSTER_BYTES
-                + cls.bounce_bytes(s, mapped))
+                + cls.bounce_bytes(s, scene))
 
     @staticmethod
     def longest_side(settings):
@@ -315,7 +318,7 @@ class VPLGatherMethod(GatheringMethod):
 
     @classmethod
     def needed_bytes(cls, settings, scene, pixels, mapped):
-        return pixel_gather_bytes(settings, scene, pixels) + cls.bounce_bytes(settings, mapped)
+        return pixel_gather_bytes(settings, scene, pixels) + cls.bounce_bytes(settings, scene)
 
     @staticmethod
     def longest_side(settings):

@@ -13,6 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .bounces import light_bounces
 from .capacity import check_frame_fits
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
@@ -262,7 +263,7 @@ class Pipeline:
         """The indirect method of the settings over `grids`, built again when the lights,
         VPL pattern, grids, sources or settings it reads changed; its volumes kept while
         the method and grids are the same."""
-        s = self.settings
+        s = self.settings.with_changes(bounces=max(light_bounces(self.settings, scene), 1))
         method = indirect_method(s)
         key = (method.name, tuple(keys), self.vpl_pattern, grids, s.propagation_iterations, s.occlusion,
                sources_key) + method.key(s)
@@ -273,7 +274,7 @@ class Pipeline:
                 indirect = method(self.glc, grids, s.grid_phases)
             receivers = lambda: self._receivers.get(scene.geometry_key(), lambda: Receivers(scene))  # noqa: E731
             indirect.build(maps, self._mesh.value, scene.bounds(), s, stats, self.vpl_pattern, sources,
-                           lambda: receivers().rows(s.emitter_bounce_samples, self.vpl_pattern))
+                           lambda seed: receivers().rows(s.emitter_bounce_samples, seed))
             self._indirect.put(key, indirect)
         return self._indirect.value
 
@@ -330,8 +331,9 @@ class Pipeline:
             world = None
             if scene.world is not None and not scene.film.transparent:
                 world = self._world_light().background_texture(scene.world)
+            intensity = s.indirect_intensity if light_bounces(s, scene) > 0 else 0.0  # Light Paths of no bounce
             shade_indirect(self.glc, targets, scene.camera, indirect, len(indirect.levels), s.grid_phases,
-                           s.indirect_intensity, display, sets - 1, glow=glowing, world=world,
+                           intensity, display, sets - 1, glow=glowing, world=world,
                            reflections=self._reflection_inputs(scene, indirect))
 
     def _world_light(self):
@@ -377,7 +379,7 @@ class Pipeline:
             "skipped_emitters": lit.skipped_emitters, "triangles": scene.triangle_count,
             "dropped_triangles": dict(scene.dropped), "images": [image.name for image in scene.images],
             "approximated_materials": list(scene.approximated_materials),
-            "world": scene.world is not None,
+            "world": scene.world is not None, "bounces": light_bounces(s, scene) if indirect.more_bounces else min(light_bounces(s, scene), 1),
             "world_approximated": list(scene.world.approximated) if scene.world else [],
             "missing_images": list(scene.missing_images), "rsm_resolution": s.rsm_resolution,
             "rsm_faces": int(sum(m.rsm.face_count for m in maps)), **indirect.statistics(s),

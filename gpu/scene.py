@@ -258,7 +258,9 @@ class Scene:
     metallic share (its Fresnel: a dielectric's at 0, Schlick's at 1) (None: none, a
     purely diffuse scene; (T, 4) without the metallic share: 0). `world` (gpu/world.py World; None: none) lights the scene from afar and is
     what the camera sees where it sees no surface; `film` (Film) says how the pixels are
-    filtered and whether that world is seen.
+    filtered and whether that world is seen; `diffuse_bounces` is how often diffuse light
+    may bounce, as its Light Paths say (Cycles' Diffuse bounces within Max Bounces; None:
+    the scene says nothing).
     `approximated_materials` names the materials the extraction could only approximate:
     a name alone when their colour is approximated, "name: what" for shaders the preview
     does not support ("Smoke: volume (rendered as an opaque surface)"); `missing_images`
@@ -289,6 +291,7 @@ class Scene:
     point_emitters: np.ndarray = None
     world: object = None
     film: Film = Film()
+    diffuse_bounces: int = None
     images: list = field(default_factory=list)
     approximated_materials: list = field(default_factory=list)
     missing_images: list = field(default_factory=list)

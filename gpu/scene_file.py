@@ -30,6 +30,8 @@ def save_scene(scene, path):
         "world_lighting": scene.world.lighting, "world_background": scene.world.background,
         "world_approximated": np.array(scene.world.approximated, dtype=str)}
     film = {"film": np.array([scene.film.filter_width, float(scene.film.transparent)])}
+    if scene.diffuse_bounces is not None:
+        film["diffuse_bounces"] = np.array(scene.diffuse_bounces)
     try:
         np.savez_compressed(path, triangles=scene.triangles, normals=scene.normals, albedo=scene.albedo,
                             light_count=len(scene.lights), **lights, **camera, **surface,
@@ -73,7 +75,8 @@ def load_scene(path):
                  {"non_finite": int(dropped[0]), "zero_area": int(dropped[1])},
                  **{name: data[name] for name in SURFACE_FIELDS if name in data}, images=images,
                  approximated_materials=[str(name) for name in data.get("approximated_materials", [])],
-                 world=world, film=film)
+                 world=world, film=film,
+                 diffuse_bounces=int(data["diffuse_bounces"]) if "diffuse_bounces" in data else None)
 
 
 def cycles_reference_path(scene_path):

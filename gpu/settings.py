@@ -112,9 +112,10 @@ class Settings(Validated):
     light_cutoff: float = _param(0.001, "Share of the light at the view that the weakest lights and emitters may "
                                         "give together and be skipped (bounded by intensity over distance²)",
                                  0.0, 0.5, expert=True)
-    bounces: int = _param(1, "Diffuse bounces of the indirect light: above 1 the VPLs are lit by one another "
-                             "that many times less one, as Cycles' full global illumination (light grid and VPL "
-                             "gathering)", 1, 8)
+    bounces: int = _param(0, "Diffuse bounces of the indirect light at most, within the scene's Light Paths "
+                             "(Cycles' Diffuse and Max Bounces); 0: as many as the Light Paths say (1 for a scene "
+                             "that says nothing). Above 1, each later bounce is lit on points of the surfaces by "
+                             "the one before (light grid and VPL gathering)", 0, 8)
     singularity_bound: float = _param(1.0, "How far a VPL's 1/r² is bounded next to it: r² grows by this times the "
                                            "area the VPL stands for over pi (1: as a disk of that area lights its "
                                            "axis; 0: unbounded, exact on average but spiky); the n-th VPL set of a "

@@ -89,11 +89,13 @@ def test_a_rendered_frame_averages_as_many_sets_as_asked_or_for_as_long(rooms):
 
 
 def generations(pipeline):
-    """The flux of the last frame's VPLs summed over them: the first generation's, and
-    every later one's together."""
-    first = sum(m.vpls.read()["flux"].sum(axis=0) for m in pipeline.last_light_maps)
-    total = sum(VPLSet(buffer, count).read()["flux"].sum(axis=0) for buffer, count in pipeline.last_indirect.bounces.sets)
-    return first, total - first
+    """The flux of the last frame's VPLs summed over them: the first generation's (near
+    and far), and every later one's together."""
+    first = sum(VPLSet(buffer, count).read()["flux"].sum(axis=0)
+                for m in pipeline.last_light_maps for buffer, count in m.emitter_sets())
+    later = sum((VPLSet(generation.buffer, generation.count).read()["flux"].sum(axis=0)
+                 for generation in pipeline.last_indirect.generations.made), np.zeros(3))
+    return first, later
 
 
 @pytest.mark.parametrize("method", ["vpl_gather", "light_grid"])

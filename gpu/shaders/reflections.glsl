@@ -20,6 +20,7 @@ uniform int reflection_levels;       // its mip chain's last level
 const int TRACE_STEPS = 32;          // samples along a ray, closer together near its start
 const int REFINE_STEPS = 5;          // bisections of the step that passed behind a surface
 const float TRACE_THICKNESS = 0.03;  // a surface's assumed thickness behind its depth, per unit distance
+const float MARCH_CLEARANCE = 1.5;   // finest voxels the ray rises off its surface before the march looks
 const vec2 SCREEN_ALPHA = vec2(0.12, 0.35);  // GGX alpha over which the screen's share falls from 1 to 0
 const float SCREEN_EDGE = 0.1;       // share of the screen's half-width over which a hit fades out
 
@@ -61,10 +62,10 @@ bool screen_pixel(vec3 q, out ivec2 pixel, out float edge) {
 }
 
 // Whether the ray from `p` along `d` passes behind the surface the camera sees at the
-// pixel of the point t along it (within the assumed thickness) and meets it from its
-// front; that pixel. Behind a surface it leaves (an object's far side, which the screen
-// does not show) the ray goes on.
-bool behind_surface(vec3 p, vec3 d, float t, out ivec2 pixel, out float edge, out bool off_screen) {
+// pixel of the point t along it, crossing it since the point `before` along it or within
+// the assumed thickness behind it, and meets it from its front; that pixel. Behind a
+// surface it leaves (an object's far side, which the screen does not show) the ray goes on.
+bool behind_surface(vec3 p, vec3 d, float before, float t, out ivec2 pixel, out float edge, out bool off_screen) {
     vec3 q = p + d * t;
     off_screen = !screen_pixel(q, pixel, edge);
     if (off_screen) return false;
@@ -73,7 +74,8 @@ bool behind_surface(vec3 p, vec3 d, float t, out ivec2 pixel, out float edge, ou
     if (dot(octahedral_decode(unpackSnorm2x16(texelFetch(g_surface, pixel, 0).x)), d) >= 0.0) return false;
     float surface = window_distance(depth);
     float sample_depth = -dot(view_z_row, vec4(q, 1.0));
-    return sample_depth > surface && sample_depth - surface < TRACE_THICKNESS * max(surface, 1e-6) + t / float(TRACE_STEPS);
+    float before_depth = -dot(view_z_row, vec4(p + d * before, 1.0));
+    return sample_depth > surface && (before_depth <= surface || sample_depth - surface < TRACE_THICKNESS * max(surface, 1e-6));
 }
 
 // The pixel a ray from `p` along `d` first passes behind a surface at, with its fade toward
@@ -84,13 +86,13 @@ bool screen_trace(vec3 p, vec3 d, float jitter, out ivec2 hit, out float fade) {
     for (int i = 1; i <= TRACE_STEPS; ++i) {
         float s = (float(i) - 1.0 + jitter) / float(TRACE_STEPS);
         float t = trace_length * s * s;
-        if (behind_surface(p, d, t, hit, fade, off_screen)) {
+        if (behind_surface(p, d, previous, t, hit, fade, off_screen)) {
             float low = previous, high = t;
             for (int k = 0; k < REFINE_STEPS; ++k) {
                 float middle = 0.5 * (low + high);
                 ivec2 pixel;
                 float edge;
-                if (behind_surface(p, d, middle, pixel, edge, off_screen)) { high = middle; hit = pixel; fade = edge; }
+                if (behind_surface(p, d, low, middle, pixel, edge, off_screen)) { high = middle; hit = pixel; fade = edge; }
                 else low = middle;
             }
             fade = clamp(fade / SCREEN_EDGE, 0.0, 1.0);
@@ -142,9 +144,10 @@ void add_surroundings(inout Reflection reflection, ivec2 pixel, vec3 p, vec3 n, 
                       float share) {
     bool escapes = reflect_world;
 #ifdef MARCH_ESCAPE
-    if (escapes) {
+    if (escapes) {  // marched from where the ray has left its own surface's voxels (a grazing ray far along)
         float voxel = level_voxels[0];
-        escapes = !levels_blocked(p + n * EMITTER_OFFSET * voxel, p + d * trace_length, p);
+        float rise = MARCH_CLEARANCE * voxel / max(dot(d, n), 1e-3);
+        escapes = rise >= trace_length || !levels_blocked(p + n * EMITTER_OFFSET * voxel + d * rise, p + d * trace_length, p);
     }
 #endif
     if (escapes) {

@@ -6,10 +6,7 @@
 // first + batch) into `irradiance`, each side of the surface's apart (a triangle's
 // winding says nothing of where its room is); with `finish`, the receiver becomes a VPL
 // facing its brighter side: its flux its albedo (which its flux held) times that side's
-// irradiance times the area it stands for. A side whose point SIDE_CLEARANCE finest voxels
-// off the surface lies in a voxel another surface passes receives nothing: it faces into
-// a wall thinner than a voxel, whose other face receives that light (its light would
-// count twice and reach the far room). An emissive surface's emitter nearer a
+// irradiance times the area it stands for. An emissive surface's emitter nearer a
 // receiver than GAP_VOXELS finest voxels lights it not: the occupancy cannot tell what
 // lies between (a ceiling over a panel hung just under it would send the panel's back
 // light past the panel, which holds it in); a point emitter's near light is kept.
@@ -32,7 +29,6 @@ uniform bool finish;
 
 shared vec3 sums[2][LANES];
 const float GAP_VOXELS = 3.0;  // finest voxels within which an emissive surface lights no receiver
-const float SIDE_CLEARANCE = 1.5;  // finest voxels off the surface where a side must find no other surface
 
 void main() {
     int index = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);
@@ -71,9 +67,6 @@ void main() {
     irradiance[2 * index] = vec4(front, 0.0);
     irradiance[2 * index + 1] = vec4(back, 0.0);
     if (!finish) return;
-    vec3 clearance = SIDE_CLEARANCE * level_voxels[0] * r.normal.xyz;
-    if (levels_occupied(r.position.xyz + clearance)) front = vec3(0.0);
-    if (levels_occupied(r.position.xyz - clearance)) back = vec3(0.0);
     bool back_brighter = dot(back, vec3(1.0)) > dot(front, vec3(1.0));
     Emitter vpl = r;
     vpl.normal.xyz = back_brighter ? -r.normal.xyz : r.normal.xyz;

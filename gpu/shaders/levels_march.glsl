@@ -35,13 +35,3 @@ bool levels_blocked(vec3 a, vec3 b, vec3 emitter) {
     }
     return false;
 }
-
-// Whether a surface passes the voxel of p in the finest level that holds p (none outside).
-bool levels_occupied(vec3 p) {
-    for (int level = 0; level < LEVELS; ++level) {
-        vec3 v = (p - level_origins[level]) / level_voxels[level];
-        if (any(lessThan(v, vec3(0.0))) || any(greaterThanEqual(v, vec3(float(voxels))))) continue;
-        return texelFetch(occupancy, ivec3(floor(v)) + ivec3(0, 0, level_layers[level] * voxels), 0).r != 0u;
-    }
-    return false;
-}

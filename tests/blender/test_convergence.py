@@ -48,7 +48,7 @@ def rooms():
 @pytest.mark.parametrize("method", ["vpl_gather", "light_grid"])
 def test_a_still_frame_averages_its_vpl_sets_and_a_change_starts_again(rooms, method):
     rooms = dataclasses.replace(rooms, film=Film(filter_width=0.0))  # no sub-pixel offsets: the sets are comparable
-    settings = Settings(indirect_method=method, **SMALL)
+    settings = Settings(indirect_method=method, bounces=1, **SMALL)  # one bounce: the pixel gather's bound alone differs
     pipeline = Pipeline(settings)
     try:
         first = pipeline.render(rooms, vpl_set=0, passes=("indirect",))
@@ -67,7 +67,7 @@ def test_a_still_frame_averages_its_vpl_sets_and_a_change_starts_again(rooms, me
         moved = copy.copy(rooms)
         moved.camera = rooms.camera.moved_by((0.05, 0.0, 0.0))
         assert pipeline.render(moved, vpl_set=2, accumulate=True, passes=()).stats["vpl_sets"] == 1
-        changed = Settings(indirect_method=method, indirect_intensity=1.5, **SMALL)
+        changed = Settings(indirect_method=method, indirect_intensity=1.5, bounces=1, **SMALL)
         assert pipeline.render(moved, changed, vpl_set=3, accumulate=True, passes=()).stats["vpl_sets"] == 1
         assert pipeline.render(moved, changed, vpl_set=4, accumulate=True, passes=()).stats["vpl_sets"] == 2
     finally:
@@ -111,8 +111,10 @@ def test_more_bounces_add_less_and_less_light(rooms, method):
             if bounces > 1:
                 first, added = generations(pipeline)
                 later.append(added)
-        assert np.all(later[0] > 0.05 * first) and np.all(later[0] < 0.8 * first)  # albedos are at most 0.8
-        assert np.all(later[1] > later[0]) and np.all(later[1] - later[0] < 0.8 * later[0])
+        # the albedos are at most 0.8: a generation carries at most 0.8 of the one before (a 2 cm wall's
+        # faces, which the occupancy cannot tell apart, would carry more: gpu/bounces.py conserve)
+        assert np.all(later[0] > 0.05 * first) and np.all(later[0] <= 0.8 * first * (1 + 1e-4))
+        assert np.all(later[1] > later[0]) and np.all(later[1] - later[0] <= 0.8 * later[0] * (1 + 1e-4))
         assert means[0] * 1.05 < means[1] < means[2]
     finally:
         pipeline.release()

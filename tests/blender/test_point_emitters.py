@@ -229,7 +229,8 @@ def test_a_lamp_bounces_alike_through_its_maps_and_as_an_emitter(method):
     means = []
     for budget in (1, 0):
         settings = Settings(**{**SMALL, "vpls_per_light": 2048, "emitter_bounce_samples": 2048, "lpv_resolution": 16},
-                            indirect_method=method, light_map_budget=budget, emitter_shadows=False)
+                            indirect_method=method, light_map_budget=budget, emitter_shadows=False,
+                            bounces=1)  # the first bounce: through the map's VPLs or the surface points
         pipeline = Pipeline(settings)
         try:
             frame = pipeline.render(scene, passes=("indirect",))

@@ -18,7 +18,7 @@ WIDTH, HEIGHT, SETS = 128, 8, 8
 def penumbra(kind, size, shape="SQUARE"):
     """The 10-90 % width of the edge's penumbra in metres, and the edge profile."""
     shadow_edge.build(kind, size, WIDTH, HEIGHT, shape)
-    pipeline = Pipeline(Settings(width=WIDTH, height=HEIGHT, converge_sets=SETS))
+    pipeline = Pipeline(Settings(width=WIDTH, height=HEIGHT, converge_sets=SETS, bounces=1))  # the shadows are direct light
     try:
         images = []
         for shown in (True, False):

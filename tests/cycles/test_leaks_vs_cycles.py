@@ -24,7 +24,7 @@ from ..leak_scenes import BUILDERS, unblocked_scene  # noqa: E402
 SIZE = (64, 48)
 SAMPLES = 32
 SETTINGS = Settings(width=SIZE[0], height=SIZE[1], rsm_resolution=256, vpls_per_light=1024, lpv_resolution=16,
-                    indirect_method="light_grid")
+                    indirect_method="light_grid", bounces=1)  # against Cycles' one bounce
 
 
 class Measured:

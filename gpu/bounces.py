@@ -13,6 +13,9 @@ from .emitter_bounce import light_receivers
 from .vpl import EMITTER_BYTES
 
 MAX_BOUNCES = 8  # gpu/settings.py bounces' upper end: each generation draws its points with its own seed
+LATER_SENDERS = 128
+"""Senders a later generation's point gathers from per set (the emitters' bounce: 256,
+gpu/emitter_bounce.py): half the marches, for light that converging frames average."""
 
 
 def light_bounces(settings, scene):
@@ -84,7 +87,7 @@ class Generations:
             points = receivers(generation_seed(pattern, bounce))
             points = thinned(points, 2 ** (bounce - 1))
             generation = light_receivers(self.glc, points, senders, occupancy, layers, singularity_bound,
-                                         pattern * MAX_BOUNCES + bounce)
+                                         pattern * MAX_BOUNCES + bounce, LATER_SENDERS)
             conserve(generation, total_flux(senders) * (points[:, 2, :3].max(axis=0) if len(points) else 0.0))
             self.made.append(generation)
             senders = [(generation.buffer, generation.count)]

@@ -58,9 +58,11 @@ class Receivers:
         return rows
 
 
-def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity_bound, pattern):
+def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity_bound, pattern,
+                    senders_per_receiver=RECEIVER_SENDERS):
     """The receivers (rows of `Receivers.rows`) lit by the emitter sets ((buffer,
-    count) pairs), marching `occupancy`'s grids `layers`: an EmitterVPLs."""
+    count) pairs), each receiver gathering a strided subset of `senders_per_receiver` of
+    each set, marching `occupancy`'s grids `layers`: an EmitterVPLs."""
     gl = glc.gl
     count = max(len(receivers), 1)
     if not len(receivers):
@@ -76,7 +78,7 @@ def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity
     lit.bind_to_storage_buffer(3)
     passes = [(buffer, senders, first, stride, batch)
               for buffer, senders in emitter_sets if senders
-              for stride in [max(1, math.ceil(senders / RECEIVER_SENDERS))]
+              for stride in [max(1, math.ceil(senders / senders_per_receiver))]
               for batch in [march_batch(occupancy.voxels, len(layers), LANES * stride)]
               for first in range(0, senders, batch)]
     for number, (buffer, senders, first, stride, batch) in enumerate(passes):

@@ -18,7 +18,9 @@ WIDTH, HEIGHT, SETS = 128, 8, 8
 def penumbra(kind, size, shape="SQUARE"):
     """The 10-90 % width of the edge's penumbra in metres, and the edge profile."""
     shadow_edge.build(kind, size, WIDTH, HEIGHT, shape)
-    pipeline = Pipeline(Settings(width=WIDTH, height=HEIGHT, converge_sets=SETS, bounces=1))  # the shadows are direct light
+    # the shadows are direct light: one bounce of few VPLs over a coarse grid
+    pipeline = Pipeline(Settings(width=WIDTH, height=HEIGHT, converge_sets=SETS, bounces=1, vpls_per_light=64,
+                                 lpv_resolution=8))
     try:
         images = []
         for shown in (True, False):

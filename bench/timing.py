@@ -3,10 +3,13 @@
 Both warm the GPU up first: its clocks drop while the CPU measures quality between
 points (the H100 idles at 345 MHz against 1980 under load).
 """
+import argparse
+import json
 import statistics
 import time
 
-from ..gpu.pipeline import STAGES
+from ..gpu.pipeline import STAGES, Pipeline
+from ..gpu.scene_file import load_scene
 
 WARM_UP_FRAMES = 2
 THROUGHPUT_WARM_UP_SECONDS = 0.5  # of work before timing: brings the GPU's clocks up
@@ -59,3 +62,40 @@ def throughput_ms(glc, work, runs=THROUGHPUT_RUNS):
         work()
     glc.gl.finish()
     return (time.perf_counter() - start) * 1000.0 / runs
+
+
+def frame_summary(times, stages):
+    """Of timed_frames' medians: the frame's milliseconds with its least and most, and the
+    `stages`' medians (0 for one that did not run), rounded for a report."""
+    low, high = times["total_ms_spread"]
+    return {"frame_ms": round(times["total_ms"], 2), "least_ms": round(low, 2), "most_ms": round(high, 2),
+            **{stage: round(times.get(stage, 0.0), 2) for stage in stages}}
+
+
+def time_cases(folder, names, frames, cases, stages):
+    """The JSON report of exported scenes' variants: for each FOLDER/NAME.npz of `names`,
+    `cases(scene)` gives (case, scene, settings) triples, each timed over `frames` frames
+    (timed_frames) and summed up with `stages` (frame_summary; `bounces` from the last
+    frame's statistics)."""
+    report, renderer = {}, None
+    for name in names:
+        for case, scene, settings in cases(load_scene(f"{folder}/{name}.npz")):
+            pipeline = Pipeline(settings)
+            try:
+                times, last = timed_frames(pipeline, scene, frames, passes=())
+                renderer = pipeline.glc.renderer
+            finally:
+                pipeline.release()
+            report[f"{name}, {case}"] = {"bounces": last["bounces"], **frame_summary(times, stages)}
+    return {"renderer": renderer, "frames": frames, "runs": report}
+
+
+def time_cases_command(description, cases, stages):
+    """A script's command line: `DIR NAME [NAME ...] [--frames 15]`, the time_cases report
+    printed as JSON."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("folder", help="the folder of NAME.npz files (python -m lpv_preview export NAME)")
+    parser.add_argument("names", nargs="+")
+    parser.add_argument("--frames", type=int, default=15, help="timed frames per median")
+    args = parser.parse_args()
+    print(json.dumps(time_cases(args.folder, args.names, args.frames, cases, stages), indent=1))

@@ -5,12 +5,12 @@ VPLs the indirect stage gathers beside the first generation.
 
 Unlike VPLs lit by one another, the points lie wherever the surfaces are, so the second
 bounce reaches what no light's map sees (the shadowed side of a sunlit room), and light
-that several lights bring to one surface bounces once (docs/method.md, "More bounces").
+that several lights bring to one surface bounces once (docs/method.md, "Bounces").
 """
 import numpy as np
 
+from .context import dispatch, set_uniforms
 from .emitter_bounce import light_receivers
-from .vpl import EMITTER_BYTES
 
 MAX_BOUNCES = 8  # gpu/settings.py bounces' upper end: each generation draws its points with its own seed
 LATER_SENDERS = 128
@@ -43,27 +43,28 @@ def thinned(points, factor):
     return kept
 
 
-def total_flux(sets):
-    """The rgb flux of emitter sets ((buffer, count) pairs) summed, read back."""
-    total = np.zeros(3)
-    for buffer, count in sets:
-        rows = np.frombuffer(buffer.read(count * EMITTER_BYTES), dtype=np.float32).reshape(count, 3, 4)
-        total += rows[rows[:, 0, 3] > 0, 2, :3].sum(axis=0)
-    return total
-
-
-def conserve(generation, limit):
-    """Scale a generation's flux down, channel by channel, to at most `limit`: the light
-    that reaches the surfaces, at most all its senders', times their largest albedo. Only
-    the faces of a slab thinner than a voxel, whose points the occupancy lights on the same
-    side, carry more (docs/method.md, "Bounces")."""
-    rows = np.frombuffer(generation.buffer.read(), dtype=np.float32).reshape(generation.count, 3, 4).copy()
-    total = rows[:, 2, :3].sum(axis=0)
-    scale = np.where(total > limit, limit / np.maximum(total, 1e-30), 1.0)
-    if np.any(scale < 1.0):
-        rows[:, 2, :3] *= scale.astype(np.float32)
-        generation.buffer.write(rows.tobytes())
-        generation.flux_bound = float((total * scale).max())
+def conserve(glc, generation, senders, largest_albedo):
+    """Scale a generation's flux down, channel by channel, to at most its senders' total
+    times their receivers' `largest_albedo` (light cannot grow from bounce to bounce), on
+    the GPU (shaders/flux_total.comp, flux_conserve.comp). Only the faces of a slab
+    thinner than a voxel, whose points the occupancy lights on the same side, carry more
+    (docs/method.md, "Bounces")."""
+    totals = glc.gl.buffer(reserve=2 * 16)
+    try:
+        program = glc.compute("flux_total")
+        totals.bind_to_storage_buffer(1)
+        for slot, sets in ((0, senders), (1, [(generation.buffer, generation.count)])):
+            for number, (buffer, count) in enumerate(sets):
+                buffer.bind_to_storage_buffer(0)
+                set_uniforms(program, row_count=count, slot=slot, accumulate=number > 0)
+                program.run(1)
+                program.ctx.memory_barrier()
+        program = glc.compute("flux_conserve")
+        generation.buffer.bind_to_storage_buffer(0)
+        set_uniforms(program, row_count=generation.count, largest_albedo=tuple(float(a) for a in largest_albedo))
+        dispatch(program, generation.count, local=(64,))
+    finally:
+        totals.release()
 
 
 class Generations:
@@ -77,18 +78,21 @@ class Generations:
     def flux_bound(self):
         return sum(generation.flux_bound for generation in self.made)
 
-    def build(self, first, bounces, receivers, occupancy, layers, singularity_bound, pattern):
-        """Generations 2 to `bounces` from the `first` one's (buffer, count) sets, each on the
-        points `receivers(seed)` gives, marching `occupancy`'s grids `layers`; returns
-        their (buffer, count) sets."""
+    def build(self, first, first_bound, bounces, receivers, occupancy, layers, singularity_bound, pattern):
+        """Generations 2 to `bounces` from the `first` one's (buffer, count) sets, whose flux
+        no channel's total exceeds `first_bound`, each on the points `receivers(seed)`
+        gives, marching `occupancy`'s grids `layers`; returns their (buffer, count) sets.
+        Nothing is read back: a generation's bound is the one before's times its points'
+        largest albedo, which `conserve` holds it to."""
         self.release()
-        senders = list(first)
+        senders, bound = list(first), first_bound
         for bounce in range(1, bounces):
-            points = receivers(generation_seed(pattern, bounce))
-            points = thinned(points, 2 ** (bounce - 1))
+            points = thinned(receivers(generation_seed(pattern, bounce)), 2 ** (bounce - 1))
+            largest_albedo = points[:, 2, :3].max(axis=0) if len(points) else np.zeros(3)
+            bound *= float(largest_albedo.max())
             generation = light_receivers(self.glc, points, senders, occupancy, layers, singularity_bound,
-                                         pattern * MAX_BOUNCES + bounce, LATER_SENDERS)
-            conserve(generation, total_flux(senders) * (points[:, 2, :3].max(axis=0) if len(points) else 0.0))
+                                         pattern * MAX_BOUNCES + bounce, LATER_SENDERS, flux_bound=bound)
+            conserve(self.glc, generation, senders, largest_albedo)
             self.made.append(generation)
             senders = [(generation.buffer, generation.count)]
         return [(generation.buffer, generation.count) for generation in self.made]

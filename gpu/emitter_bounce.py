@@ -59,10 +59,11 @@ class Receivers:
 
 
 def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity_bound, pattern,
-                    senders_per_receiver=RECEIVER_SENDERS):
+                    senders_per_receiver=RECEIVER_SENDERS, flux_bound=None):
     """The receivers (rows of `Receivers.rows`) lit by the emitter sets ((buffer,
     count) pairs), each receiver gathering a strided subset of `senders_per_receiver` of
-    each set, marching `occupancy`'s grids `layers`: an EmitterVPLs."""
+    each set, marching `occupancy`'s grids `layers`: an EmitterVPLs whose flux bound is
+    `flux_bound` where given, else their flux read back and summed."""
     gl = glc.gl
     count = max(len(receivers), 1)
     if not len(receivers):
@@ -90,5 +91,6 @@ def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity
         buffer.release()
     if not passes:
         lit.write(np.zeros((count, 3, 4), dtype=np.float32).tobytes())
-    flux = np.frombuffer(lit.read(), dtype=np.float32).reshape(count, 3, 4)[:, 2, :3]
-    return EmitterVPLs(lit, count, float(flux.sum(axis=0).max()))
+    if flux_bound is None:
+        flux_bound = float(np.frombuffer(lit.read(), dtype=np.float32).reshape(count, 3, 4)[:, 2, :3].sum(axis=0).max())
+    return EmitterVPLs(lit, count, flux_bound)

@@ -246,8 +246,9 @@ class GatheringMethod(IndirectMethod):
             flux_bound += self.emitter_vpls.flux_bound
         if settings.bounces > 1 and emitters:
             with self.glc.timed(stats, "bounce_ms"):
-                emitters = emitters + self.generations.build(emitters, settings.bounces, receivers, occupancy,
-                                                             self._layers(), settings.singularity_bound, pattern)
+                emitters = emitters + self.generations.build(emitters, flux_bound, settings.bounces, receivers,
+                                                             occupancy, self._layers(), settings.singularity_bound,
+                                                             pattern)
             flux_bound += self.generations.flux_bound
         else:
             self.generations.release()

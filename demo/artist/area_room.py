@@ -2,7 +2,7 @@
 walls, floor and ceiling are cubes, a glossy wooden floor, a sofa and a table with a
 steel bowl; the factory world is outside and never seen."""
 
-from .shading import add_area_light, add_box, add_modifier, add_primitive, camera_at, factory_scene, principled
+from .shading import add_area_light, add_box, add_modifier, add_primitive, add_room, camera_at, factory_scene, principled
 
 ROOM = (5.0, 4.0, 2.8)  # inside width (x), depth (y), height (z), metres
 WALL = 0.2
@@ -16,14 +16,7 @@ def build(resolution=(1920, 1080)):
     fabric = principled("Sofa fabric", (0.55, 0.2, 0.15), roughness=1.0)
     steel = principled("Steel", (0.75, 0.75, 0.75), roughness=0.25, metallic=1.0)
     width, depth, height = ROOM
-    slabs = {"Floor": ((0, 0, -WALL / 2), (width + 2 * WALL, depth + 2 * WALL, WALL), floor),
-             "Ceiling": ((0, 0, height + WALL / 2), (width + 2 * WALL, depth + 2 * WALL, WALL), plaster),
-             "Front wall": ((0, -(depth + WALL) / 2, height / 2), (width + 2 * WALL, WALL, height), plaster),
-             "Back wall": ((0, (depth + WALL) / 2, height / 2), (width + 2 * WALL, WALL, height), plaster),
-             "Left wall": ((-(width + WALL) / 2, 0, height / 2), (WALL, depth, height), plaster),
-             "Right wall": (((width + WALL) / 2, 0, height / 2), (WALL, depth, height), plaster)}
-    for name, (centre, size, material) in slabs.items():
-        add_box(name, centre, size, material)
+    add_room(ROOM, WALL, floor, plaster)
     sofa = add_box("Sofa", (-0.5, depth / 2 - 0.55, 0.4), (2.2, 0.9, 0.8), fabric)
     add_modifier(sofa, "BEVEL", width=0.06, segments=3)
     table = add_box("Table", (0.3, 0.2, 0.225), (1.2, 0.7, 0.45), floor)

@@ -55,6 +55,21 @@ def add_box(name, centre, size, material):
     return box
 
 
+def add_room(size, wall, floor, walls, front_wall="Front wall"):
+    """A closed room of `size` (inside width x, depth y, height z, metres) about the origin,
+    its floor on z = 0: floor, ceiling and four walls `wall` thick, each a box; the floor
+    of material `floor`, the rest of `walls`. Returns the boxes by name (the wall at -y is
+    `front_wall`)."""
+    width, depth, height = size
+    slabs = {"Floor": ((0, 0, -wall / 2), (width + 2 * wall, depth + 2 * wall, wall), floor),
+             "Ceiling": ((0, 0, height + wall / 2), (width + 2 * wall, depth + 2 * wall, wall), walls),
+             front_wall: ((0, -(depth + wall) / 2, height / 2), (width + 2 * wall, wall, height), walls),
+             "Back wall": ((0, (depth + wall) / 2, height / 2), (width + 2 * wall, wall, height), walls),
+             "Left wall": ((-(width + wall) / 2, 0, height / 2), (wall, depth, height), walls),
+             "Right wall": (((width + wall) / 2, 0, height / 2), (wall, depth, height), walls)}
+    return {name: add_box(name, centre, extent, material) for name, (centre, extent, material) in slabs.items()}
+
+
 def add_sun_lamp(towards_sun, strength, angle_degrees):
     """A Sun lamp shining from the unit direction `towards_sun` (toward the sun), with its
     strength (W/m²) and angular diameter."""

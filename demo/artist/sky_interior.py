@@ -2,7 +2,7 @@
 cubes, the windows cut from one wall by Boolean modifiers with hidden cutters, no lamps;
 the world is a Sky Texture of Blender's default type with the sun 35° up, in front of
 the windows."""
-from .shading import add_box, add_modifier, camera_at, factory_scene, principled, sky_world
+from .shading import add_box, add_modifier, add_room, camera_at, factory_scene, principled, sky_world
 
 ROOM = (6.0, 5.0, 3.0)  # inside width (x), depth (y), height (z), metres
 WALL = 0.2
@@ -17,13 +17,7 @@ def build(resolution=(1920, 1080)):
     wood = principled("Oak floor", (0.45, 0.3, 0.18), roughness=0.5)
     fabric = principled("Sofa fabric", (0.15, 0.3, 0.45), roughness=1.0)
     width, depth, height = ROOM
-    slabs = {"Floor": ((0, 0, -WALL / 2), (width + 2 * WALL, depth + 2 * WALL, WALL), wood),
-             "Ceiling": ((0, 0, height + WALL / 2), (width + 2 * WALL, depth + 2 * WALL, WALL), plaster),
-             "Window wall": ((0, -(depth + WALL) / 2, height / 2), (width + 2 * WALL, WALL, height), plaster),
-             "Back wall": ((0, (depth + WALL) / 2, height / 2), (width + 2 * WALL, WALL, height), plaster),
-             "Left wall": ((-(width + WALL) / 2, 0, height / 2), (WALL, depth, height), plaster),
-             "Right wall": (((width + WALL) / 2, 0, height / 2), (WALL, depth, height), plaster)}
-    walls = {name: add_box(name, centre, size, material) for name, (centre, size, material) in slabs.items()}
+    walls = add_room(ROOM, WALL, wood, plaster, front_wall="Window wall")
     for index, x in enumerate((-1.4, 1.4)):
         cutter = add_box(f"Window cutter {index + 1}", (x, -(depth + WALL) / 2, 1.6), (1.4, 4 * WALL, 1.6), None)
         cutter.display_type = "WIRE"

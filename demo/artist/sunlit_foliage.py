@@ -4,8 +4,8 @@ the leaves' cut-outs shape the shadow on the floor. (No pane: Cycles lets a sun 
 glass only as a caustic, which a few hundred samples cannot show.)"""
 import math
 
-from .shading import (add_box, add_modifier, add_primitive, add_sun_lamp, camera_at, factory_scene, packed_leaf_image,
-                      packed_tile_image, principled, sky_world, towards_sky_sun)
+from .shading import (add_box, add_modifier, add_primitive, add_room, add_sun_lamp, camera_at, factory_scene,
+                      packed_leaf_image, packed_tile_image, principled, sky_world, towards_sky_sun)
 
 ROOM = (5.0, 4.0, 2.8)  # inside width (x), depth (y), height (z), metres
 WALL = 0.2
@@ -19,13 +19,7 @@ def build(resolution=(1920, 1080)):
     plaster = principled("Plaster", (0.8, 0.78, 0.72), roughness=0.9)
     tiles = principled("Glazed tiles", (0.6, 0.6, 0.6), roughness=0.25, image=packed_tile_image("Tiles"))
     width, depth, height = ROOM
-    slabs = {"Floor": ((0, 0, -WALL / 2), (width + 2 * WALL, depth + 2 * WALL, WALL), tiles),
-             "Ceiling": ((0, 0, height + WALL / 2), (width + 2 * WALL, depth + 2 * WALL, WALL), plaster),
-             "Window wall": ((0, -(depth + WALL) / 2, height / 2), (width + 2 * WALL, WALL, height), plaster),
-             "Back wall": ((0, (depth + WALL) / 2, height / 2), (width + 2 * WALL, WALL, height), plaster),
-             "Left wall": ((-(width + WALL) / 2, 0, height / 2), (WALL, depth, height), plaster),
-             "Right wall": (((width + WALL) / 2, 0, height / 2), (WALL, depth, height), plaster)}
-    walls = {name: add_box(name, centre, size, material) for name, (centre, size, material) in slabs.items()}
+    walls = add_room(ROOM, WALL, tiles, plaster, front_wall="Window wall")
     cutter = add_box("Window cutter", (0.0, -(depth + WALL) / 2, 1.5), (2.4, 4 * WALL, 1.6), None)
     cutter.display_type = "WIRE"
     cutter.hide_render = True

@@ -13,7 +13,7 @@ def test_tiny_bench_writes_table_one(tmp_path):
     out = tmp_path / "bench"
     argv = ["bench", "--scenes", "cornell", "--methods", "cm,dpm,wdpm,tdpm,twdpm", "--frames", "2", "--repeats", "1",
             "--width", "64", "--height", "64", "--rsm-resolution", "64", "--vpls-per-light", "256",
-            "--lpv-resolution", "8", "--out", str(out)]
+            "--lpv-resolution", "8", "--bounces", "1", "--out", str(out)]  # Table 1: one bounce
     assert main(argv) == 0
     report = json.loads((out / "table1.json").read_text())
     (result,) = report["results"]

@@ -87,7 +87,7 @@ class Generations:
         self.release()
         senders, bound = list(first), first_bound
         for bounce in range(1, bounces):
-            points = thinned(receivers(generation_seed(pattern, bounce)), 2 ** (bounce - 1))
+            points = thinned(receivers(generation_seed(pattern, bounce)), 2 ** bounce)
             largest_albedo = points[:, 2, :3].max(axis=0) if len(points) else np.zeros(3)
             bound *= float(largest_albedo.max())
             generation = light_receivers(self.glc, points, senders, occupancy, layers, singularity_bound,

@@ -39,6 +39,14 @@ def material_with(name, build):
     return material
 
 
+def principled_with(name, inputs):
+    """A material whose Principled BSDF's inputs (by name) take these values."""
+    def build(nodes, links, principled):
+        for socket, value in inputs.items():
+            principled.inputs[socket].default_value = value
+    return material_with(name, build)
+
+
 def image_material(image, uv_map=None, name="Textured"):
     def build(nodes, links, principled):
         principled.inputs["Specular IOR Level"].default_value = 0.0  # diffuse alone: what these tests look at
@@ -143,14 +151,9 @@ def test_the_principled_diffuse_part_loses_what_metallic_and_transmission_take()
 
 
 def test_the_principled_glossy_part_is_f0_and_roughness():
-    def build(nodes, links, principled):
-        principled.inputs["Base Color"].default_value = (0.8, 0.6, 0.4, 1.0)
-        principled.inputs["Metallic"].default_value = 0.25
-        principled.inputs["Roughness"].default_value = 0.3
-        principled.inputs["IOR"].default_value = 1.5
-        principled.inputs["Specular IOR Level"].default_value = 0.75
-        principled.inputs["Specular Tint"].default_value = (1.0, 0.5, 0.5, 1.0)
-    scene, _ = floor_scene(lambda: material_with("Glossy", build))
+    scene, _ = floor_scene(lambda: principled_with("Glossy", {
+        "Base Color": (0.8, 0.6, 0.4, 1.0), "Metallic": 0.25, "Roughness": 0.3, "IOR": 1.5, "Specular IOR Level": 0.75,
+        "Specular Tint": (1.0, 0.5, 0.5, 1.0)}))
     extracted = scene_to_render(scene)
     dielectric = 0.04 * 2 * 0.75 * np.array([1.0, 0.5, 0.5])
     np.testing.assert_allclose(extracted.specular[0, :3], 0.75 * dielectric + 0.25 * np.array([0.8, 0.6, 0.4]),

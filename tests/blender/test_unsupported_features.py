@@ -14,7 +14,7 @@ from lpv_preview.addon.engine import ENGINE_ID
 from lpv_preview.addon.render_scene import scene_to_render
 from lpv_preview.gpu.errors import LPVError
 
-from .test_textures import floor_scene, image_material, material_with
+from .test_textures import floor_scene, image_material, material_with, principled_with
 
 SMALL = ["--rsm-resolution", "128", "--vpls-per-light", "256", "--lpv-resolution", "8"]
 
@@ -113,12 +113,8 @@ def test_a_clear_transparent_shader_leaves_nothing_to_render():
 
 
 def test_principled_transmission_and_alpha_are_read_and_subsurface_named():
-    def build(nodes, links, principled):
-        principled.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1.0)
-        principled.inputs["Transmission Weight"].default_value = 0.5
-        principled.inputs["Subsurface Weight"].default_value = 0.2
-        principled.inputs["Alpha"].default_value = 0.5
-    scene, _ = floor_scene(lambda: material_with("Jelly", build))
+    scene, _ = floor_scene(lambda: principled_with("Jelly", {
+        "Base Color": (0.5, 0.5, 0.5, 1.0), "Transmission Weight": 0.5, "Subsurface Weight": 0.2, "Alpha": 0.5}))
     extracted = scene_to_render(scene)
     assert extracted.approximated_materials == [
         "Jelly: transmission (seen and lit through as a thin tinted sheet: no refraction, reflection or caustics); "
@@ -278,12 +274,8 @@ def test_a_transparent_mix_by_an_image_alpha_cuts_the_surface_out():
 
 
 def test_a_coat_is_folded_into_the_glossy_lobe_and_sheen_named():
-    def build(nodes, links, principled):
-        principled.inputs["Roughness"].default_value = 0.6
-        principled.inputs["Coat Weight"].default_value = 1.0
-        principled.inputs["Coat Roughness"].default_value = 0.1
-        principled.inputs["Sheen Weight"].default_value = 0.5
-    scene, _ = floor_scene(lambda: material_with("Car paint", build))
+    scene, _ = floor_scene(lambda: principled_with("Car paint", {
+        "Roughness": 0.6, "Coat Weight": 1.0, "Coat Roughness": 0.1, "Sheen Weight": 0.5}))
     extracted = scene_to_render(scene)
     assert extracted.approximated_materials == [
         "Car paint: coat (folded into the one glossy lobe; its tint and normal left out); sheen (left out)"]

@@ -16,36 +16,23 @@ from lpv_preview.addon.extract import extract_scene  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 
+from ..leak_scenes import camera, empty_scene, light, quad  # noqa: E402
+
 SIZE = 48
 SAMPLES = 32
 BASE = (0.05, 0.05, 0.05)
 
 
 def build_glossy_floor(roughness=0.3, metallic=0.0):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    mesh = bpy.data.meshes.new("floor")
-    mesh.from_pydata([(-4, -4, 0), (4, -4, 0), (4, 4, 0), (-4, 4, 0)], [], [(0, 1, 2, 3)])
+    scene = empty_scene((SIZE, SIZE))
     material = bpy.data.materials.new("glossy")
     principled = material.node_tree.nodes["Principled BSDF"]
     principled.inputs["Base Color"].default_value = (*BASE, 1.0)
     principled.inputs["Roughness"].default_value = roughness
     principled.inputs["Metallic"].default_value = metallic
-    mesh.materials.append(material)
-    scene.collection.objects.link(bpy.data.objects.new("floor", mesh))
-    lamp = bpy.data.lights.new("lamp", "POINT")
-    lamp.energy, lamp.shadow_soft_size = 200.0, 0.0
-    light = bpy.data.objects.new("lamp", lamp)
-    light.location = (0.0, 1.5, 1.5)
-    scene.collection.objects.link(light)
-    camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
-    camera.location = (0.0, -3.0, 2.0)
-    camera.rotation_euler = (np.radians(60), 0.0, 0.0)
-    camera.data.lens = 35
-    scene.collection.objects.link(camera)
-    scene.camera = camera
-    scene.render.resolution_x = scene.render.resolution_y = SIZE
-    scene.render.resolution_percentage = 100
+    quad("floor", 4.0, 0.0, material)
+    light("POINT", (0.0, 1.5, 1.5), energy=200.0)
+    scene.camera = camera("camera", (0.0, -3.0, 2.0), (0.0, 0.0, 2.0 - 3.0 / np.tan(np.radians(60))), lens=35)
     return scene
 
 
@@ -80,8 +67,7 @@ def test_a_glossy_floors_highlight_is_where_cycles_has_it(pipeline, roughness, m
 def build_chrome_sphere(world):
     """A chrome sphere (Metallic 1, Roughness 0.05) filling much of the view, lit by the
     world alone: a grey colour or Blender's forest.exr."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
+    scene = empty_scene((SIZE, SIZE))
     bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=1.0)
     sphere = bpy.context.active_object
     bpy.ops.object.shade_smooth()
@@ -101,13 +87,7 @@ def build_chrome_sphere(world):
         texture.image = bpy.data.images.load(os.path.join(bpy.utils.system_resource("DATAFILES"), "studiolights",
                                                           "world", "forest.exr"))
         links.new(texture.outputs["Color"], background.inputs["Color"])
-    camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
-    camera.location = (0.0, -4.0, 0.0)
-    camera.rotation_euler = (np.radians(90), 0.0, 0.0)
-    scene.collection.objects.link(camera)
-    scene.camera = camera
-    scene.render.resolution_x = scene.render.resolution_y = SIZE
-    scene.render.resolution_percentage = 100
+    scene.camera = camera("camera", (0.0, -4.0, 0.0), (0.0, 0.0, 0.0), lens=50.0)
     scene.render.film_transparent = True
     return scene
 

@@ -43,28 +43,24 @@ def thinned(points, factor):
     return kept
 
 
-def conserve(glc, generation, senders, largest_albedo):
+def conserve(glc, totals, generation, senders, largest_albedo):
     """Scale a generation's flux down, channel by channel, to at most its senders' total
     times their receivers' `largest_albedo` (light cannot grow from bounce to bounce), on
-    the GPU (shaders/flux_total.comp, flux_conserve.comp). Only the faces of a slab
-    thinner than a voxel, whose points the occupancy lights on the same side, carry more
-    (docs/method.md, "Bounces")."""
-    totals = glc.gl.buffer(reserve=2 * 16)
-    try:
-        program = glc.compute("flux_total")
-        totals.bind_to_storage_buffer(1)
-        for slot, sets in ((0, senders), (1, [(generation.buffer, generation.count)])):
-            for number, (buffer, count) in enumerate(sets):
-                buffer.bind_to_storage_buffer(0)
-                set_uniforms(program, row_count=count, slot=slot, accumulate=number > 0)
-                program.run(1)
-                program.ctx.memory_barrier()
-        program = glc.compute("flux_conserve")
-        generation.buffer.bind_to_storage_buffer(0)
-        set_uniforms(program, row_count=generation.count, largest_albedo=tuple(float(a) for a in largest_albedo))
-        dispatch(program, generation.count, local=(64,))
-    finally:
-        totals.release()
+    the GPU (shaders/flux_total.comp, flux_conserve.comp; `totals` a buffer of two vec4s).
+    Only the faces of a slab thinner than a voxel, whose points the occupancy lights on the
+    same side, carry more (docs/method.md, "Bounces")."""
+    program = glc.compute("flux_total")
+    totals.bind_to_storage_buffer(1)
+    for slot, sets in ((0, senders), (1, [(generation.buffer, generation.count)])):
+        for number, (buffer, count) in enumerate(sets):
+            buffer.bind_to_storage_buffer(0)
+            set_uniforms(program, row_count=count, slot=slot, accumulate=number > 0)
+            program.run(1)
+            program.ctx.memory_barrier()
+    program = glc.compute("flux_conserve")
+    generation.buffer.bind_to_storage_buffer(0)
+    set_uniforms(program, row_count=generation.count, largest_albedo=tuple(float(a) for a in largest_albedo))
+    dispatch(program, generation.count, local=(64,))
 
 
 class Generations:
@@ -73,6 +69,7 @@ class Generations:
     def __init__(self, glc):
         self.glc = glc
         self.made = []
+        self.totals = None  # conserve's sums, made on the first build
 
     @property
     def flux_bound(self):
@@ -84,7 +81,9 @@ class Generations:
         gives, marching `occupancy`'s grids `layers`; returns their (buffer, count) sets.
         Nothing is read back: a generation's bound is the one before's times its points'
         largest albedo, which `conserve` holds it to."""
-        self.release()
+        self._drop()
+        if self.totals is None:
+            self.totals = self.glc.gl.buffer(reserve=2 * 16)
         senders, bound = list(first), first_bound
         for bounce in range(1, bounces):
             points = thinned(receivers(generation_seed(pattern, bounce)), 2 ** bounce)
@@ -92,15 +91,21 @@ class Generations:
             bound *= float(largest_albedo.max())
             generation = light_receivers(self.glc, points, senders, occupancy, layers, singularity_bound,
                                          pattern * MAX_BOUNCES + bounce, LATER_SENDERS, flux_bound=bound)
-            conserve(self.glc, generation, senders, largest_albedo)
+            conserve(self.glc, self.totals, generation, senders, largest_albedo)
             self.made.append(generation)
             senders = [(generation.buffer, generation.count)]
         return [(generation.buffer, generation.count) for generation in self.made]
 
     def resources(self):
-        return tuple(generation.buffer for generation in self.made)
+        return tuple(generation.buffer for generation in self.made) + ((self.totals,) if self.totals else ())
 
-    def release(self):
+    def _drop(self):
         for generation in self.made:
             generation.release()
         self.made = []
+
+    def release(self):
+        self._drop()
+        if self.totals is not None:
+            self.totals.release()
+            self.totals = None

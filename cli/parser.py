@@ -21,7 +21,7 @@ def triangles_help():
 def add_demo_command(commands):
     """`demo`: build a built-in scene with bpy and render it."""
     command = commands.add_parser("demo", help="build a built-in scene with bpy and render it")
-    command.add_argument("--scene", default=demo.SCENES[0], choices=demo.SCENES + demo.ARTIST_SCENES)
+    command.add_argument("--scene", default=demo.SCENES[0], choices=demo.ALL_SCENES)
     command.add_argument("--triangles", type=int, help=triangles_help())
     command.add_argument("--out", default="out", help="output folder (default: out)")
     add_setting_flags(command, SCENE_SIZE)
@@ -72,7 +72,7 @@ def add_compare_command(commands):
 def add_export_command(commands):
     """`export`: a demo scene as .npz for machines without Blender."""
     command = commands.add_parser("export", help="save a demo scene as .npz for machines without Blender")
-    command.add_argument("scene", choices=demo.SCENES + demo.ARTIST_SCENES)
+    command.add_argument("scene", choices=demo.ALL_SCENES)
     command.add_argument("--triangles", type=int, help=triangles_help())
     command.add_argument("--out", required=True, help="the .npz file to write")
     command.add_argument("--lights", type=positive_int, help="replace the lights by this many of --light-kind")

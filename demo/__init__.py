@@ -7,9 +7,11 @@ the scenes where Blender is missing (the GPU machine).
 import importlib
 
 from ..gpu.errors import LPVError
-from .artist import ARTIST_SCENES
+from .artist import ARTIST_SCENES, GI_ROOMS
 
 SCENES = ("cornell", "atrium", "city", "particles")
+ALL_SCENES = SCENES + ARTIST_SCENES + GI_ROOMS
+"""Every scene `build` makes: the demo scenes, the artist suite and the full-GI rooms."""
 LAMP_SCENES = ("cornell", "atrium", "city")
 """The demo scenes lit by lamps, whose maps Table 1 compares (the particle room has none)."""
 
@@ -32,12 +34,12 @@ def check_triangles(name, triangles):
 
 def build(name, **params):
     """Reset Blender to an empty file, build the demo scene `name` and return the bpy scene;
-    an artist scene (ARTIST_SCENES) starts from Blender's factory startup file instead."""
-    if name not in SCENES + ARTIST_SCENES:
-        raise LPVError(f"Unknown demo scene '{name}'; choose one of {', '.join(SCENES + ARTIST_SCENES)}.")
+    an artist scene (ARTIST_SCENES, GI_ROOMS) starts from Blender's factory startup file instead."""
+    if name not in ALL_SCENES:
+        raise LPVError(f"Unknown demo scene '{name}'; choose one of {', '.join(ALL_SCENES)}.")
     if "triangles" in params:
         check_triangles(name, params["triangles"])
-    if name in ARTIST_SCENES:
+    if name in ARTIST_SCENES + GI_ROOMS:
         return importlib.import_module(f".artist.{name}", __name__).build(**params)
     import bpy
     bpy.ops.wm.read_factory_settings(use_empty=True)

@@ -14,7 +14,7 @@ from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .indirect import indirect_method
 from .light_grid import CLUSTER_BYTES, LIGHT_GRID_BYTES_PER_CELL, cluster_capacity
-from .occupancy import LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL
+from .occupancy import LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, occupancy_bytes
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .light_maps import SUN_CASCADES
 from .rsm import face_atlas_size, map_face_count
@@ -84,7 +84,8 @@ def emitter_bytes(s, scene, pixels, lamps):
     side = grid_resolution(s.emitter_grid_resolution)
     grid = side ** 3 * (CLUSTER_FLOATS * 4 * 8 // 7 + 3 * 16) + count * (EMITTER_BYTES + POINT_EMITTER_COLUMNS * 4)
     n = s.lpv_resolution
-    shadows = (2 * s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
+    shadows = (2 * s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL
+               + occupancy_bytes(s.grid_levels * s.grid_phases, n, VOXELS_PER_CELL)
                + scene.triangle_count * LARGE_TRIANGLE_BYTES + cluster_capacity(count) * CLUSTER_BYTES) \
         if s.emitter_shadows else 0
     return grid + shadows + 2 * pixels * 16 + bounce

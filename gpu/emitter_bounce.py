@@ -71,7 +71,7 @@ def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity
     receiver_buffer = gl.buffer(receivers.tobytes())
     irradiance = gl.buffer(reserve=count * 32)
     lit = gl.buffer(reserve=count * EMITTER_BYTES)
-    program = glc.compute("emitter_bounce", LEVELS=len(layers), LANES=LANES)
+    program = glc.compute("emitter_bounce", MARCH_LEVELS=len(layers), LANES=LANES)
     set_uniforms(program, **occupancy.march_uniforms(list(layers), first_unit=0), singularity_bound=singularity_bound,
                  receiver_count=count, pattern=pattern)
     receiver_buffer.bind_to_storage_buffer(1)

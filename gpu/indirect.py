@@ -13,7 +13,7 @@ from .emitter_bounce import RECEIVER_BYTES, light_receivers
 from .light_grid import CLUSTER_BYTES, DIRECTIONS, LIGHT_GRID_BYTES_PER_CELL, LightGrid, cluster_capacity, \
     cluster_levels
 from .lpv import GEOMETRY_VOLUME_BYTES_PER_CELL, LPV_BYTES_PER_CELL, LightPropagationVolume
-from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, Occupancy
+from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, Occupancy, occupancy_bytes
 from .settings import INDIRECT_METHODS
 from .vpl import EMITTER_BYTES
 from .vpl_gather import VPLGather, pixel_gather_bytes
@@ -155,7 +155,7 @@ class LPVMethod(IndirectMethod):
     @staticmethod
     def emitter_bounce_bytes(settings):
         n = settings.lpv_resolution  # the bounce's own occupancy
-        return settings.grid_levels * n ** 3 * (VOXELS_PER_CELL ** 3 + 1) + (VOXELS_PER_CELL * n) ** 2
+        return occupancy_bytes(settings.grid_levels, n, VOXELS_PER_CELL)
 
     @staticmethod
     def longest_side(settings):
@@ -169,7 +169,8 @@ class LPVMethod(IndirectMethod):
             with self.glc.timed(stats, "emitter_bounce_ms"):
                 self.bounce_occupancy.voxelise(mesh)
                 self.emitter_vpls = light_receivers(self.glc, receivers(pattern), sources, self.bounce_occupancy,
-                                                    range(len(self.levels)), settings.singularity_bound, pattern)
+                                                    self.bounce_occupancy.march_layers(range(len(self.levels))),
+                                                    settings.singularity_bound, pattern)
             vpl_sets.append(self.emitter_vpls)
             flux_bound += self.emitter_vpls.flux_bound
         with self.glc.timed(stats, "inject_ms"):
@@ -204,7 +205,7 @@ class LPVMethod(IndirectMethod):
         occupancy = self.bounce_occupancy
         if occupancy is None or occupancy.voxelised is None:
             return None
-        return occupancy, tuple(range(len(self.levels)))
+        return occupancy, occupancy.march_layers(range(len(self.levels)))
 
     def _held(self):
         return (self.bounce_occupancy,) if self.bounce_occupancy is not None else ()
@@ -275,7 +276,8 @@ class LightGridMethod(GatheringMethod):
     @classmethod
     def needed_bytes(cls, settings, scene, pixels, mapped):
         s, n = settings, settings.lpv_resolution
-        return (s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL + (VOXELS_PER_CELL * n) ** 2
+        return (s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL
+                + occupancy_bytes(s.grid_levels * s.grid_phases, n, VOXELS_PER_CELL)
                 + scene.triangle_count * LARGE_TRIANGLE_BYTES
                 + cluster_capacity(s.vpls_per_light * mapped) * CLUSTER_BYTES
                 + cls.bounce_bytes(s, scene))
@@ -285,8 +287,8 @@ class LightGridMethod(GatheringMethod):
         s = settings  # an occupancy's grids lie one after the other along z
         return max(DIRECTIONS, VOXELS_PER_CELL * s.grid_levels * s.grid_phases) * s.lpv_resolution
 
-    def _layers(self):
-        return range(0, len(self.grids), len(self.grids) // len(self.levels))  # it holds every phase
+    def _layers(self):  # its occupancy holds every phase
+        return self.volumes[0].occupancy.march_layers(range(0, len(self.grids), len(self.grids) // len(self.levels)))
 
     def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
         emitters, flux_bound = self._gathered_emitters(maps, mesh, settings, stats, pattern, sources, receivers,
@@ -295,7 +297,7 @@ class LightGridMethod(GatheringMethod):
         with self.glc.timed(stats, "inject_ms"):
             volume.cluster(emitters, flux_bound, cluster_levels(self.levels, scene_bounds))
         with self.glc.timed(stats, "gather_ms"):
-            volume.gather(settings.singularity_bound)
+            volume.gather(settings.singularity_bound, self._layers())
 
     def cell_light(self):
         """A light grid's mean irradiance over its six directions."""
@@ -326,7 +328,7 @@ class VPLGatherMethod(GatheringMethod):
         return GATHER_VOXELS_PER_CELL * settings.grid_levels * settings.lpv_resolution
 
     def _layers(self):
-        return range(len(self.levels))
+        return self.volumes[0].occupancy.march_layers(range(len(self.levels)))
 
     def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
         self.emitter_sets, _ = self._gathered_emitters(maps, mesh, settings, stats, pattern, sources, receivers,

@@ -26,8 +26,8 @@ CLUSTER_INTS = 10  # flux rgb, weighted place xyz, weighted normal xyz, weight
 FIXED_POINT_RANGE = 2.0 ** 30
 DIRECTIONS = 6  # +x, -x, +y, -y, +z, -z
 GATHER_LANES = 64  # invocations sharing one cell's emitters (shaders/light_grid_gather.comp)
-LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16 + VOXELS_PER_CELL ** 3 + 1
-"""Six RGBA32F irradiances, the occupancy's one-byte voxels and its coarse byte."""
+LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16
+"""Six RGBA32F irradiances (its occupancy: gpu/occupancy.py occupancy_bytes)."""
 CLUSTER_BYTES = 4 + CLUSTER_INTS * 4 + EMITTER_BYTES + 1  # per hash slot: key, sums, emitter, its block's count
 
 
@@ -106,24 +106,28 @@ class LightGrid:
             set_uniforms(program, **levels)
             dispatch(program, 1 if stage == 1 else self.capacity, local=(64,))
 
-    def gather(self, singularity_bound):
-        """Every grid's cells gather the clustered emitters' light, in batches of emitters
-        whose marches stay under llvmpipe's loop limit (shaders/light_grid_gather.comp),
-        its 1/r² bounded by `singularity_bound` (shaders/emitter.glsl)."""
-        program = self.glc.compute("light_grid_gather", UNSHADOWED=int(bool(self.unshadowed)))
+    def gather(self, singularity_bound, layers):
+        """Every grid's cells gather the clustered emitters' light through the occupancy's
+        levels `layers` (finest first, one per level of the grids), each from its own level
+        on (a finer level holds no cell of a coarser one's to blur), in batches of emitters whose marches stay under
+        llvmpipe's loop limit (shaders/light_grid_gather.comp), its 1/r² bounded by
+        `singularity_bound` (shaders/emitter.glsl)."""
+        layers = list(layers)
+        program = self.glc.compute("light_grid_gather", UNSHADOWED=int(bool(self.unshadowed)), MARCH_LEVELS=len(layers))
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
         self.emitter_count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
-        batch = march_batch(self.occupancy.voxels, lanes=GATHER_LANES)
-        self.occupancy.occupancy.use(location=0)
-        self.occupancy.coarse.use(location=1)
+        batch = march_batch(self.occupancy.voxels, len(layers), GATHER_LANES)
+        set_uniforms(program, batch=batch, singularity_bound=singularity_bound)
+        phases = len(self.grids) // (len(layers) - 1)
         for layer, (grid, irradiance) in enumerate(zip(self.grids, self.irradiance)):
             irradiance.bind_to_image(0, read=True, write=True)
             if self.unshadowed:
                 self.unshadowed[layer].bind_to_image(1, read=True, write=True)
-            set_uniforms(program, occupancy=0, coarse=1, layer=layer, grid_origin=grid.origin,
-                         cell_size=grid.cell_size, grid_size=grid.size, voxels_per_cell=VOXELS_PER_CELL, batch=batch,
-                         singularity_bound=singularity_bound)
+            level = layer // phases  # its own grid's voxels stand for its level: its centres are their centres
+            set_uniforms(program, **self.occupancy.march_uniforms(layers[:level] + [layer] + layers[level + 1:],
+                                                                  first_unit=0),
+                         grid_origin=grid.origin, cell_size=grid.cell_size, grid_size=grid.size, first_level=level)
             for first in range(0, max(self.emitter_count, 1), batch):
                 set_uniforms(program, first_emitter=first)
                 dispatch(program, grid.size ** 3, local=(1,))  # a workgroup per cell

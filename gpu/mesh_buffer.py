@@ -73,6 +73,9 @@ class MeshBuffer:
         self.vertex_count = count * 3
         self.camera_triangles = scene.camera_triangles or (0, count)
         self.light_triangles = scene.light_triangles or (0, count)
+        first, shadowing = self.light_triangles
+        corners = scene.triangles[first:first + shadowing].reshape(-1, 3) if shadowing else np.zeros((1, 3))
+        self.occluder_bounds = corners.min(axis=0).astype(np.float64), corners.max(axis=0).astype(np.float64)
         self.buffer = glc.gl.buffer(interleaved.tobytes())
         self.emission = None  # each triangle's emitted radiance (vec4), for the camera's glow
         if scene.emission is not None:

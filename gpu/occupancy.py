@@ -7,6 +7,7 @@ import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms
+from .grids import fit_grid
 
 VOXELS_PER_CELL = 3
 """Occupancy voxels along a cell's side for the light grid: odd, so a cell centre is a
@@ -19,6 +20,12 @@ the march decides every pixel's visibility, and coarse voxels thicken what it pa
 MARCH_STEP = 0.7  # voxels between a march's samples, as in shaders/occupancy.glsl
 LOOP_LIMIT = 60000  # llvmpipe stops a loop nest after 65,535 iterations in all
 LARGE_TRIANGLE_BYTES = 3 * 4  # room to list every triangle as one the voxelisation rasterises
+
+
+def occupancy_bytes(grids, cells, per_cell):
+    """An Occupancy's GPU bytes over `grids` grids of `cells` a side and the scene's grid
+    beyond them, with its canvas."""
+    return (grids + 1) * cells ** 3 * (per_cell ** 3 + 1) + (per_cell * cells) ** 2
 
 
 def march_batch(voxels, grids=1, lanes=1):
@@ -47,26 +54,38 @@ def axis_projections(grid):
 
 class Occupancy:
     """Every grid's voxels (`per_cell` a cell side) and cells (non-zero where any of
-    their voxels is), one grid after the other along z in one volume each."""
+    their voxels is), one grid after the other along z in one volume each, and last a grid of as many cells over
+    every surface that casts shadows (`outer_layer`): a march leaving the grids still
+    meets the walls beyond them (the one behind a camera inside a room)."""
 
     def __init__(self, glc, grids, per_cell=VOXELS_PER_CELL):
         self.glc = glc
         self.grids = tuple(grids)
         self.per_cell = per_cell
+        self.outer = None  # the grid over the voxelised mesh's occluders
         gl = glc.gl
         n = self.grids[0].size
         self.voxels = n * per_cell
-        self.occupancy = gl.texture3d((self.voxels, self.voxels, self.voxels * len(self.grids)), 1, dtype="u1")
-        self.coarse = gl.texture3d((n, n, n * len(self.grids)), 1, dtype="u1")
+        layers = len(self.grids) + 1
+        self.occupancy = gl.texture3d((self.voxels, self.voxels, self.voxels * layers), 1, dtype="u1")
+        self.coarse = gl.texture3d((n, n, n * layers), 1, dtype="u1")
         for volume in (self.occupancy, self.coarse):
             volume.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self._empty = bytes(self.voxels ** 3 * len(self.grids))
-        self._empty_coarse = bytes(n ** 3 * len(self.grids))
+        self._empty = bytes(self.voxels ** 3 * layers)
+        self._empty_coarse = bytes(n ** 3 * layers)
         self._canvas = gl.renderbuffer((self.voxels, self.voxels), 1, dtype="f1")
         self._framebuffer = gl.framebuffer(color_attachments=[self._canvas])
         self.large = gl.buffer(reserve=3 * 4)  # the large triangles' vertex indices, grown as needed
         self.command = gl.buffer(reserve=5 * 4)
         self.voxelised = None  # the mesh the volumes hold
+
+    @property
+    def outer_layer(self):
+        return len(self.grids)
+
+    def march_layers(self, levels):
+        """The layers a march goes through: the levels' (finest first), then the outer one."""
+        return (*levels, self.outer_layer)
 
     def voxelise(self, mesh):
         """Mark the voxels the lights' triangles pass through, in every grid: the small
@@ -76,6 +95,8 @@ class Occupancy:
         if self.voxelised is mesh:
             return
         self.voxelised = mesh
+        self.outer = fit_grid(mesh.occluder_bounds, self.grids[0].size)
+        grids = (*self.grids, self.outer)
         gl = self.glc.gl
         first, count = mesh.light_triangles
         if self.large.size < 3 * 4 * max(count, 1):
@@ -85,11 +106,11 @@ class Occupancy:
         self.coarse.write(self._empty_coarse)
         self.occupancy.bind_to_image(0, read=False, write=True)
         self.coarse.bind_to_image(1, read=False, write=True)
-        program = self.glc.compute("voxelise_small", GRIDS=len(self.grids))
+        program = self.glc.compute("voxelise_small", GRIDS=len(grids))
         for binding, buffer in enumerate((mesh.buffer, self.command, self.large)):
             buffer.bind_to_storage_buffer(binding)
-        set_uniforms(program, grid_origins=np.array([grid.origin for grid in self.grids]),
-                     voxel_sizes=np.array([grid.cell_size / self.per_cell for grid in self.grids]),
+        set_uniforms(program, grid_origins=np.array([grid.origin for grid in grids]),
+                     voxel_sizes=np.array([grid.cell_size / self.per_cell for grid in grids]),
                      voxels=self.voxels, voxels_per_cell=self.per_cell, first_triangle=first,
                      triangle_count=count, reset=True)
         dispatch(program, 5, local=(64,))
@@ -100,7 +121,7 @@ class Occupancy:
         self._framebuffer.use()
         gl.disable(moderngl.DEPTH_TEST)
         gl.disable(moderngl.CULL_FACE)
-        for layer, grid in enumerate(self.grids):
+        for layer, grid in enumerate(grids):
             set_uniforms(program, grid_origin=grid.origin, voxel_size=grid.cell_size / self.per_cell,
                          voxels_per_cell=self.per_cell, voxels=self.voxels, layer=layer,
                          view_projection=np.eye(4), axis_projections=np.array(axis_projections(grid)))
@@ -114,10 +135,12 @@ class Occupancy:
 
     def march_uniforms(self, layers, first_unit):
         """Bind the volumes from texture unit `first_unit` on; the uniforms of
-        shaders/levels_march.glsl marching the grids `layers` (indices, finest first)."""
+        shaders/levels_march.glsl marching the grids `layers` (indices, finest first; the
+        outer grid's is `outer_layer`)."""
         self.occupancy.use(location=first_unit)
         self.coarse.use(location=first_unit + 1)
-        grids = [self.grids[layer] for layer in layers]
+        every = (*self.grids, self.outer)
+        grids = [every[layer] for layer in layers]
         return {"occupancy": first_unit, "coarse": first_unit + 1,
                 "level_origins": np.array([grid.origin for grid in grids]),
                 "level_voxels": np.array([grid.cell_size / self.per_cell for grid in grids]),

@@ -363,7 +363,7 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
     march = reflections is not None and reflections.occupancy is not None
     defines = {"REFLECTIONS": 1} if reflections is not None else {}
     if march:
-        defines["MARCH_ESCAPE"] = 1
+        defines.update(MARCH_ESCAPE=1, MARCH_LEVELS=len(reflections.layers))
     program = glc.compute("shade_indirect", LEVELS=levels, PHASES=phases,
                           INDIRECT=INDIRECT_METHODS.index(indirect.name), **defines)
     bind_gbuffer(targets)

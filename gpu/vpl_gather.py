@@ -5,7 +5,7 @@ and a filter that heeds depth and normal puts the block back together."""
 
 
 from .context import dispatch, set_uniforms
-from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, Occupancy, march_batch
+from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, Occupancy, march_batch, occupancy_bytes
 
 INTERLEAVE = 4
 """Pixels along each side of an interleaving block: each pixel gathers one VPL in
@@ -20,7 +20,7 @@ def pixel_gather_bytes(s, scene, pixels):
     """A pixel gather's memory for settings `s`: every level's occupancy, its canvas, its
     images and the voxelisation's list of large triangles."""
     n = s.lpv_resolution
-    return (s.grid_levels * n ** 3 * (GATHER_VOXELS_PER_CELL ** 3 + 1) + (GATHER_VOXELS_PER_CELL * n) ** 2
+    return (occupancy_bytes(s.grid_levels, n, GATHER_VOXELS_PER_CELL)
             + pixels * GATHER_BYTES_PER_PIXEL + scene.triangle_count * LARGE_TRIANGLE_BYTES)
 
 
@@ -47,10 +47,11 @@ class VPLGather:
         `filtered`; the pixels' subsets follow `vpl_set`. `uniforms` are the G-buffer's
         (gpu/shade.py gbuffer_uniforms), its textures bound."""
         gathered, filtered = self._images(targets.size)
-        program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE, LEVELS=len(self.levels))
+        layers = self.occupancy.march_layers(range(len(self.levels)))
+        program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE, MARCH_LEVELS=len(layers))
         gathered.bind_to_image(0, read=True, write=True)
-        batch = march_batch(self.occupancy.voxels, len(self.levels), INTERLEAVE ** 2)
-        set_uniforms(program, **uniforms, **self.occupancy.march_uniforms(range(len(self.levels)), first_unit=2),
+        batch = march_batch(self.occupancy.voxels, len(layers), INTERLEAVE ** 2)
+        set_uniforms(program, **uniforms, **self.occupancy.march_uniforms(layers, first_unit=2),
                      batch=batch, singularity_bound=singularity_bound, subset_shift=vpl_set % INTERLEAVE ** 2)
         accumulate = False
         for buffer, count in emitter_sets:

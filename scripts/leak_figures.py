@@ -19,7 +19,6 @@ and full-GI indirect images beside it, for scripts/convergence.py on a machine w
 Blender.
 """
 import argparse
-import math
 import os
 from dataclasses import replace
 
@@ -28,7 +27,7 @@ import numpy as np
 from lpv_preview.addon.cycles_reference import cycles_reference
 from lpv_preview.addon.render_scene import scene_to_render
 from lpv_preview.addon.view_transform import scene_view_transform
-from lpv_preview.gpu.colour import LUMINANCE_WEIGHTS
+from lpv_preview.gpu.colour import middle_grey_exposure
 from lpv_preview.gpu.image_io import write_png
 from lpv_preview.gpu.metrics import figure_text, image_errors
 from lpv_preview.gpu.pipeline import render_once
@@ -40,22 +39,11 @@ BLACK = 1e-6
 """An indirect mean below this is Cycles' zero (its one-bounce image of a lone plane)."""
 
 
-MIDDLE_GREY = 0.18
-
-
-def exposure_for(image):
-    """The exposure in stops that brings the log-average luminance of the lit pixels of
-    `image` to middle grey (0 for an image with none)."""
-    luminance = np.maximum(np.asarray(image, dtype=np.float64), 0.0) @ LUMINANCE_WEIGHTS
-    lit = luminance[luminance > 1e-9]
-    return math.log2(MIDDLE_GREY) - float(np.mean(np.log2(lit))) if lit.size else 0.0
-
-
 def side_by_side(ours, reference, view_transform, exposure_of, path):
     indirect = np.concatenate([ours.passes["indirect"], reference.indirect], axis=1)
     combined = np.concatenate([ours.passes["direct"] + ours.passes["indirect"], reference.combined], axis=1)
     write_png(path, np.concatenate([indirect, combined], axis=0),
-              replace(view_transform, exposure=view_transform.exposure + exposure_for(exposure_of)))
+              replace(view_transform, exposure=view_transform.exposure + middle_grey_exposure(exposure_of)))
 
 
 def main():
@@ -86,7 +74,7 @@ def main():
         reference = cycles_reference(built.scene, "one_bounce", args.samples)
         unblocked = unblocked_scene(built)
         for method in INDIRECT_METHODS:
-            settings = Settings(width=args.width, height=args.height, indirect_method=method)
+            settings = Settings(width=args.width, height=args.height, indirect_method=method, bounces=1)
             ours = render_once(content, settings)
             direct = (ours if unblocked is None else render_once(unblocked, settings)).passes["direct"]
             errors = image_errors(ours.passes["indirect"], reference.indirect)

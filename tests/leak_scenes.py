@@ -229,6 +229,39 @@ def room_under_plane(size=(64, 48)):
     return LeakScene("room_under_plane", scene)
 
 
+def camera_in_box(size=(64, 48)):
+    """A camera inside a closed 2 m box standing on a 10 m floor, a sun outside: Cycles
+    shows the box's inside black. The walls behind the camera lie outside what it sees."""
+    scene = empty_scene(size)
+    quad("Floor", 5.0, 0.0, diffuse("floor", WARM))
+    closed = box("Box", (-1.0, -1.0, 0.0), (1.0, 1.0, 2.0), diffuse("box", GREY))
+    light("SUN", (0.0, 0.0, 5.0), (math.radians(40), 0.0, math.radians(30)), energy=3.0)
+    scene.camera = camera("Inside", (0.5, -0.8, 1.0), (0.0, 1.0, 0.8), lens=18.0)
+    return LeakScene("camera_in_box", scene, (closed,))
+
+
+def lamp_in_box_on_floor(size=(64, 48)):
+    """closed_box seen up close at its foot: the box floats 5 mm over the floor, and
+    nothing of the light inside reaches the floor around it."""
+    scene = empty_scene(size)
+    quad("Floor", 5.0, 0.0, diffuse("floor", WARM))
+    closed = box("Box", (-0.5, -0.5, 0.005), (0.5, 0.5, 1.005), diffuse("box", GREY))
+    light("POINT", (0.0, 0.0, 0.5), energy=100.0)
+    scene.camera = camera("At its foot", (1.2, -1.5, 0.4), (0.4, -0.4, 0.0))
+    return LeakScene("lamp_in_box_on_floor", scene, (closed,))
+
+
+def lamp_on_wall(size=(64, 48)):
+    """A point light 1 cm from the back wall of a closed 4 x 4 x 2.7 m room: the wall
+    next to it is lit hundreds of times more than the rest, which must not carry over
+    into more indirect light than Cycles'."""
+    scene = empty_scene(size)
+    room_shell(2.0, 2.0, 2.7, diffuse("walls", GREY), diffuse("floor", WARM))
+    light("POINT", (0.0, 1.99, 1.5), energy=100.0)
+    scene.camera = camera("Facing the lamp", (0.0, -1.8, 1.4), (0.0, 2.0, 1.2), lens=18.0)
+    return LeakScene("lamp_on_wall", scene)
+
+
 BUILDERS = {
     "closed_box": closed_box,
     "thin_wall": thin_wall,
@@ -237,5 +270,8 @@ BUILDERS = {
     "room_under_plane": room_under_plane,
     "thin_wall_x0.001": lambda size=(64, 48): thin_wall(size, 1e-3),
     "thin_wall_x100000": lambda size=(64, 48): thin_wall(size, 1e5),
+    "camera_in_box": camera_in_box,
+    "lamp_in_box_on_floor": lamp_in_box_on_floor,
+    "lamp_on_wall": lamp_on_wall,
 }
 """Every leak scene by name, each built at an image size."""

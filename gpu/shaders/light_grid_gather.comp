@@ -1,7 +1,9 @@
 #version 450 core
 // The light grid (gpu/light_grid.py): every cell centre sums the light of every emitter that
-// sees it (a march through the occupancy), as the irradiance of six surfaces facing +x, -x,
-// +y, -y, +z and -z (an ambient cube), each into its own block of the volume along z.
+// sees it (a march through the occupancy of every level, each part of the segment in the
+// finest level that holds it: a wall outside the cell's own grid still stands), as the
+// irradiance of six surfaces facing +x, -x, +y, -y, +z and -z (an ambient cube), each into
+// its own block of the volume along z.
 // A workgroup is one cell, its lanes share the emitters and add up their sums at the end:
 // cells alone are too few to fill a GPU. One dispatch adds the emitters [first_emitter,
 // first_emitter + batch) to what the ones before left: llvmpipe ends a loop nest after
@@ -10,7 +12,7 @@
 // takes their ratio).
 #include "common.glsl"
 #include "emitter.glsl"
-#include "occupancy.glsl"
+#include "levels_march.glsl"
 #define LANES 64
 layout(local_size_x = LANES) in;
 layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
@@ -22,13 +24,9 @@ layout(rgba32f, binding = 1) uniform image3D unshadowed;
 #else
 #define SUMS 6
 #endif
-uniform usampler3D occupancy;
-uniform usampler3D coarse;
 uniform vec3 grid_origin;
 uniform float cell_size;
 uniform int grid_size;
-uniform int voxels_per_cell;
-uniform int layer;  // this grid's part of the occupancy
 uniform int first_emitter;
 uniform int batch;
 
@@ -39,8 +37,6 @@ void main() {
     int lane = int(gl_LocalInvocationID.x);
     ivec3 cell = ivec3(index % grid_size, (index / grid_size) % grid_size, index / (grid_size * grid_size));
     vec3 centre = grid_origin + (vec3(cell) + 0.5) * cell_size;
-    float voxel = cell_size / float(voxels_per_cell);
-    vec3 centre_voxels = (centre - grid_origin) / voxel;
     vec3 facing[SUMS];
     for (int k = 0; k < SUMS; ++k) facing[k] = vec3(0.0);
     int last = min(first_emitter + batch, emitter_count);
@@ -49,7 +45,6 @@ void main() {
         vec3 d = centre - e.position.xyz;
         vec3 light = emitter_light(e, d);
         if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
-        vec3 from = (e.position.xyz - grid_origin) / voxel;
         vec3 w = normalize(d);
 #if UNSHADOWED
         for (int axis = 0; axis < 3; ++axis) {
@@ -57,7 +52,9 @@ void main() {
             facing[6 + 2 * axis + 1] += light * max(0.0, w[axis]);
         }
 #endif
-        if (segment_blocked(occupancy, coarse, voxels_per_cell, layer, from + 0.75 * e.normal.xyz, centre_voxels, from, 1.0, true)) continue;
+        if (levels_blocked(e.position.xyz + EMITTER_OFFSET * level_voxels[first_level] * e.normal.xyz, centre,
+                           e.position.xyz))
+            continue;
         for (int axis = 0; axis < 3; ++axis) {
             facing[2 * axis] += light * max(0.0, -w[axis]);
             facing[2 * axis + 1] += light * max(0.0, w[axis]);

@@ -14,7 +14,7 @@ bool part_blocked(usampler3D occupancy, usampler3D coarse, int per_cell, int lay
     ivec3 voxel_layer = ivec3(0, 0, layer * cells * per_cell), cell_layer = ivec3(0, 0, layer * cells);
     vec3 inverse = 1.0 / (d + vec3(1e-30));
     float step = MARCH_STEP / max(length(d), 1e-30);
-    float t = t_from + step;
+    float t = t_from > 0.0 ? t_from + 1e-3 * step : t_from + step;  // a part that starts at a level's side samples it
     ivec3 end = ivec3(floor(b));
     while (t < t_to) {
         vec3 x = a + d * t;

@@ -29,8 +29,7 @@ class EmitterShadows:
             return
         self.light_grid.occupancy.voxelise(mesh)
         self.light_grid.cluster(emitter_sets, flux_bound, cluster_levels(self.grids[::self.phases], scene_bounds))
-        self.light_grid.gather(singularity_bound,
-                               self.light_grid.occupancy.march_layers(range(0, len(self.grids), self.phases)))
+        self.light_grid.gather(singularity_bound, range(0, len(self.grids), self.phases))
         self._built = key
 
     def apply(self, targets, uniforms, irradiance):

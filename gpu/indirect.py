@@ -287,8 +287,11 @@ class LightGridMethod(GatheringMethod):
         s = settings  # an occupancy's grids lie one after the other along z
         return max(DIRECTIONS, VOXELS_PER_CELL * s.grid_levels * s.grid_phases) * s.lpv_resolution
 
-    def _layers(self):  # its occupancy holds every phase
-        return self.volumes[0].occupancy.march_layers(range(0, len(self.grids), len(self.grids) // len(self.levels)))
+    def _level_layers(self):  # its occupancy holds every phase: a level's first
+        return range(0, len(self.grids), len(self.grids) // len(self.levels))
+
+    def _layers(self):
+        return self.volumes[0].occupancy.march_layers(self._level_layers())
 
     def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
         emitters, flux_bound = self._gathered_emitters(maps, mesh, settings, stats, pattern, sources, receivers,
@@ -297,7 +300,7 @@ class LightGridMethod(GatheringMethod):
         with self.glc.timed(stats, "inject_ms"):
             volume.cluster(emitters, flux_bound, cluster_levels(self.levels, scene_bounds))
         with self.glc.timed(stats, "gather_ms"):
-            volume.gather(settings.singularity_bound, self._layers())
+            volume.gather(settings.singularity_bound, self._level_layers())
 
     def cell_light(self):
         """A light grid's mean irradiance over its six directions."""

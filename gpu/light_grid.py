@@ -106,26 +106,27 @@ class LightGrid:
             set_uniforms(program, **levels)
             dispatch(program, 1 if stage == 1 else self.capacity, local=(64,))
 
-    def gather(self, singularity_bound, layers):
+    def gather(self, singularity_bound, levels):
         """Every grid's cells gather the clustered emitters' light through the occupancy's
-        levels `layers` (finest first, one per level of the grids), each from its own level
-        on (a finer level holds no cell of a coarser one's to blur), in batches of emitters whose marches stay under
-        llvmpipe's loop limit (shaders/light_grid_gather.comp), its 1/r² bounded by
-        `singularity_bound` (shaders/emitter.glsl)."""
-        layers = list(layers)
+        levels (`levels`: the layer of each, finest first) and its outer grid, each from its
+        own grid's level on, in batches of emitters whose marches stay under llvmpipe's loop
+        limit (shaders/light_grid_gather.comp), its 1/r² bounded by `singularity_bound`
+        (shaders/emitter.glsl)."""
+        levels = list(levels)
+        phases = len(self.grids) // len(levels)
+        layers = self.occupancy.march_layers(levels)
         program = self.glc.compute("light_grid_gather", UNSHADOWED=int(bool(self.unshadowed)), MARCH_LEVELS=len(layers))
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
         self.emitter_count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
         batch = march_batch(self.occupancy.voxels, len(layers), GATHER_LANES)
         set_uniforms(program, batch=batch, singularity_bound=singularity_bound)
-        phases = len(self.grids) // (len(layers) - 1)
         for layer, (grid, irradiance) in enumerate(zip(self.grids, self.irradiance)):
             irradiance.bind_to_image(0, read=True, write=True)
             if self.unshadowed:
                 self.unshadowed[layer].bind_to_image(1, read=True, write=True)
             level = layer // phases  # its own grid's voxels stand for its level: its centres are their centres
-            set_uniforms(program, **self.occupancy.march_uniforms(layers[:level] + [layer] + layers[level + 1:],
+            set_uniforms(program, **self.occupancy.march_uniforms((*layers[:level], layer, *layers[level + 1:]),
                                                                   first_unit=0),
                          grid_origin=grid.origin, cell_size=grid.cell_size, grid_size=grid.size, first_level=level)
             for first in range(0, max(self.emitter_count, 1), batch):

@@ -54,15 +54,16 @@ def axis_projections(grid):
 
 class Occupancy:
     """Every grid's voxels (`per_cell` a cell side) and cells (non-zero where any of
-    their voxels is), one grid after the other along z in one volume each, and last a grid of as many cells over
-    every surface that casts shadows (`outer_layer`): a march leaving the grids still
-    meets the walls beyond them (the one behind a camera inside a room)."""
+    their voxels is), one grid after the other along z in one volume each, and last, where
+    surfaces that cast shadows reach beyond the grids, a grid of as many cells over them
+    all (`outer`, `outer_layer`): a march leaving the grids still meets the walls beyond
+    them (the one behind a camera inside a room)."""
 
     def __init__(self, glc, grids, per_cell=VOXELS_PER_CELL):
         self.glc = glc
         self.grids = tuple(grids)
         self.per_cell = per_cell
-        self.outer = None  # the grid over the voxelised mesh's occluders
+        self.outer = None  # the grid over the voxelised mesh's occluders, where they reach beyond the grids
         gl = glc.gl
         n = self.grids[0].size
         self.voxels = n * per_cell
@@ -84,8 +85,18 @@ class Occupancy:
         return len(self.grids)
 
     def march_layers(self, levels):
-        """The layers a march goes through: the levels' (finest first), then the outer one."""
-        return (*levels, self.outer_layer)
+        """The layers a march goes through: the levels' (finest first), then the outer one
+        where the voxelised mesh has one."""
+        return (*levels, self.outer_layer) if self.outer is not None else tuple(levels)
+
+    def _outer_grid(self, bounds):
+        """The grid over `bounds` (the mesh's occluders) where they reach beyond the
+        coarsest grids, else None."""
+        coarsest = max(grid.cell_size for grid in self.grids)
+        low, high = (np.asarray(corner, dtype=np.float64) for corner in bounds)
+        beyond = any(np.any(low < grid.origin) or np.any(high > np.asarray(grid.origin) + grid.cell_size * grid.size)
+                     for grid in self.grids if grid.cell_size == coarsest)
+        return fit_grid(bounds, self.grids[0].size) if beyond else None
 
     def voxelise(self, mesh):
         """Mark the voxels the lights' triangles pass through, in every grid: the small
@@ -95,8 +106,8 @@ class Occupancy:
         if self.voxelised is mesh:
             return
         self.voxelised = mesh
-        self.outer = fit_grid(mesh.occluder_bounds, self.grids[0].size)
-        grids = (*self.grids, self.outer)
+        self.outer = self._outer_grid(mesh.occluder_bounds)
+        grids = (*self.grids, self.outer) if self.outer is not None else self.grids
         gl = self.glc.gl
         first, count = mesh.light_triangles
         if self.large.size < 3 * 4 * max(count, 1):

@@ -7,6 +7,7 @@ Pattern k > 0 is the same set moved by a random toroidal shift, so a still image
 averages the VPL sets of patterns 0, 1, 2, ... converges toward every texel's light.
 """
 import math
+from collections import OrderedDict
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -114,6 +115,13 @@ class VPLSet:
         self.buffer.release()
 
 
+LAID_OUT = OrderedDict()
+"""The cells of the layouts made last in this process, as bytes (cell ids, bounds, sample
+points) by layout: a new pipeline (a batch render's next frame, a benchmark's next case)
+uploads them instead of assigning every texel again."""
+LAID_OUT_KEPT = 8
+
+
 class PoissonCells:
     """Which texel belongs to which VPL's cell, for one atlas layout, VPL count and pattern."""
 
@@ -122,8 +130,24 @@ class PoissonCells:
         faces = len(face_origins)
         per_face = [vpl_count // faces + (f < vpl_count % faces) for f in range(faces)]
         self.count = sum(per_face)
+        key = (tuple(atlas_size), tuple(map(tuple, np.asarray(face_origins).tolist())), resolution, vpl_count, in_disk,
+               pattern)
         self.cell_ids = gl.texture(atlas_size, 1, dtype="i4")
         self.cell_ids.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        if key in LAID_OUT:
+            LAID_OUT.move_to_end(key)
+            cell_ids, bounds, samples = LAID_OUT[key]
+            self.cell_ids.write(cell_ids)
+            self.bounds, self.samples = gl.buffer(bounds), gl.buffer(samples)
+            return
+        self._assign(glc, face_origins, resolution, per_face, in_disk, pattern)
+        gl.memory_barrier()
+        LAID_OUT[key] = (self.cell_ids.read(), self.bounds.read(), self.samples.read())
+        while len(LAID_OUT) > LAID_OUT_KEPT:
+            LAID_OUT.popitem(last=False)
+
+    def _assign(self, glc, face_origins, resolution, per_face, in_disk, pattern):
+        gl = glc.gl
         bounds = np.tile(np.array([2 ** 30, 2 ** 30, -1, -1], dtype=np.int32), (self.count, 1))
         self.bounds = gl.buffer(bounds.tobytes())
         samples = []

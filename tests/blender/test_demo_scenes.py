@@ -131,3 +131,16 @@ def test_export_npz_round_trip(tmp_path):
 def test_unknown_scene_is_a_clear_error():
     with pytest.raises(LPVError, match="Unknown demo scene 'nope'"):
         demo.build("nope")
+
+
+@pytest.mark.parametrize("name, lights", [("window_room", {"SUN": 1}), ("sunlit_courtyard", {"SUN": 1}),
+                                          ("furnished_room", {"POINT": 1, "AREA": 1}),
+                                          ("small_lights_room", {"POINT": 60})])
+def test_the_full_gi_rooms_are_lit_as_described(name, lights):
+    scene = demo.extracted(name)
+    kinds = [light.kind for light in scene.lights]
+    assert {kind: kinds.count(kind) for kind in set(kinds)} == lights
+    assert scene.diffuse_bounces == 4  # Blender's default Light Paths, which the benchmark compares at
+    first, count = scene.light_triangles
+    corners = scene.triangles[first:first + count].reshape(-1, 3)
+    assert np.all(np.isfinite(corners)) and count > 0

@@ -39,14 +39,14 @@ class Receivers:
 
     def __init__(self, scene):
         first, total = scene.light_triangles
-        self.albedo = scene.albedo[first:first + total]
+        self.albedo = scene.surface_colours(first, total)
         self.points = None if total == 0 else TrianglePoints(
             scene.triangles[first:first + total].astype(np.float64), lambda doubled: doubled)
 
     def rows(self, count, pattern):
         """(count, 3, 4) float32 emitter rows drawn with the random numbers of `pattern`
         (none when the lights see no surface): position, face normal and the area each
-        stands for, and the triangle's albedo in the flux row."""
+        stands for, and the triangle's mean colour (its texture's too) in the flux row."""
         if self.points is None:
             return np.zeros((0, 3, 4), dtype=np.float32)
         picked, positions = self.points.draw(count, pattern)

@@ -209,6 +209,14 @@ class SurfaceImage:
             self._key = hashlib.sha1(np.ascontiguousarray(self.pixels, dtype=np.float32).tobytes()).hexdigest()[:16]
         return self._key
 
+    def mean_colour(self):
+        """The image's mean linear colour over what its alpha keeps (all of it without
+        alpha): what a surface it covers reflects on the whole."""
+        pixels = np.asarray(self.pixels, dtype=np.float64)
+        weights = np.clip(pixels[..., 3], 0.0, 1.0) if pixels.shape[-1] == 4 else np.ones(pixels.shape[:2])
+        total = weights.sum()
+        return (pixels[..., :3] * weights[..., None]).sum(axis=(0, 1)) / total if total > 0 else np.zeros(3)
+
 
 POINT_EMITTER_COLUMNS = 7  # position xyz, flux rgb, area
 
@@ -306,6 +314,22 @@ class Scene:
     @property
     def triangle_count(self):
         return int(self.triangles.shape[0])
+
+    def surface_colours(self, first=0, count=None):
+        """The mean diffuse colour of triangles first .. first + count: each one's albedo
+        times its corners' mean vertex colour and its image's mean colour (the light a
+        surface bounces on the whole, where a texture varies within a triangle)."""
+        chosen = slice(first, None if count is None else first + count)
+        colours = np.asarray(self.albedo[chosen], dtype=np.float64)
+        if self.vertex_colors is not None:
+            colours = colours * self.vertex_colors[chosen].mean(axis=1)
+        if self.image_layers is not None and self.images:
+            layers = np.asarray(self.image_layers[chosen])
+            textured = layers >= 0
+            means = np.array([image.mean_colour() for image in self.images])
+            colours = colours.copy()
+            colours[textured] *= means[layers[textured]]
+        return colours.astype(np.float32)
 
     def bounds(self):
         """(min, max) corners of the triangles' bounding box (kept once sanitized)."""

@@ -1,15 +1,19 @@
 """Indirect light against Cycles' full GI in rooms: the Cornell box, the full-GI rooms of
-demo/artist (GI_ROOMS) and the artist suite's rooms, as a Markdown table on stdout and
-PNGs in OUT_DIR:
+demo/artist (GI_ROOMS), the artist suite's rooms and the particle room, as a Markdown
+table on stdout and PNGs in OUT_DIR:
 
     .venv/bin/python scripts/full_gi_rooms.py OUT_DIR [--width 160 --samples 512 --sets 16]
                                                       [--scenes a,b] [--export]
 
-Cycles renders each scene's diffuse indirect light (its DiffInd times DiffCol passes) with
-the scene's own Light Paths, as F12 does: the bounces our default follows. Ours is a frame
-of the default settings at that size, once with one VPL set and once converged over
---sets sets. Per scene the table gives the ratio of the indirect means, PSNR and relative
-MSE of each. A PNG per scene shows ours (one set, converged) beside Cycles, the indirect
+Cycles renders each scene's light passes (Diffuse and Glossy Direct, Diffuse Indirect and
+their colours) with the scene's own Light Paths, as F12 does: the bounces our default
+follows. Ours is a frame of the default settings at that size, once with one VPL set and
+once converged over --sets sets. Per scene the table gives the ratio of the direct
+light's means (converged, against Diffuse and Glossy Direct times their colours: the
+lamps', emitters' and world's light on the surfaces, highlights included, as our Direct
+pass holds them) and
+the ratio of the indirect means (against DiffInd times DiffCol), PSNR and relative MSE of
+each frame. A PNG per scene shows ours (one set, converged) beside Cycles, the indirect
 light through the scene's view transform, exposed so that Cycles' log-average is middle
 grey. With --export it writes each scene as OUT_DIR/NAME.npz instead, for the GPU timings
 (scripts/time_full_gi.py).
@@ -32,14 +36,16 @@ from lpv_preview.gpu.pipeline import render_once
 from lpv_preview.gpu.scene_file import save_scene
 from lpv_preview.gpu.settings import Settings
 
-ROOMS = ("cornell", *demo.GI_ROOMS, "sunlit_foliage", "area_room", "sky_interior")
+ROOMS = ("cornell", *demo.GI_ROOMS, "sunlit_foliage", "area_room", "sky_interior", "particles")
 
 
-def cycles_indirect(bpy_scene, samples, size):
-    """Cycles' diffuse indirect light of the scene with its own Light Paths (linear RGB)."""
-    images = render_cycles_passes(bpy_scene, ("DiffInd", "DiffCol"), samples, size, 0,
-                                  pixel_filter_width=REFERENCE_FILTER_WIDTH)
-    return images["DiffInd"] * images["DiffCol"]
+def cycles_light(bpy_scene, samples, size):
+    """Cycles' direct light (diffuse and glossy: our Direct pass holds both) and diffuse
+    indirect light of the scene with its own Light Paths (linear RGB)."""
+    images = render_cycles_passes(bpy_scene, ("DiffDir", "DiffInd", "DiffCol", "GlossDir", "GlossCol"), samples,
+                                  size, 0, pixel_filter_width=REFERENCE_FILTER_WIDTH)
+    return (images["DiffDir"] * images["DiffCol"] + images["GlossDir"] * images["GlossCol"],
+            images["DiffInd"] * images["DiffCol"])
 
 
 def main():
@@ -56,9 +62,9 @@ def main():
     if not args.export:
         print(f"Cycles' diffuse indirect with each scene's Light Paths, {args.samples} samples; ours with the default "
               f"settings, {args.width} pixels across; one VPL set and {args.sets} sets\n")
-        print("| scene | bounces | ours/Cycles mean, one set | PSNR dB | relMSE | ours/Cycles mean, converged "
-              "| PSNR dB | relMSE |")
-        print("|---|---|---|---|---|---|---|---|")
+        print("| scene | bounces | direct, ours/Cycles | indirect ours/Cycles, one set | PSNR dB | relMSE "
+              "| indirect ours/Cycles, converged | PSNR dB | relMSE |")
+        print("|---|---|---|---|---|---|---|---|---|")
     for name in names:
         bpy_scene = demo.build(name)
         render = bpy_scene.render
@@ -69,10 +75,10 @@ def main():
             save_scene(scene, os.path.join(args.out, f"{name}.npz"))
             print(os.path.join(args.out, f"{name}.npz"), flush=True)
             continue
-        reference = cycles_indirect(bpy_scene, args.samples, size)
+        direct, reference = cycles_light(bpy_scene, args.samples, size)
         settings = Settings(width=size[0], height=size[1])
         frames = [render_once(scene, settings.with_changes(converge_sets=sets)) for sets in (1, args.sets)]
-        cells = []
+        cells = [f"{frames[1].passes['direct'].mean() / direct.mean():.3f}"]
         for frame in frames:
             errors = image_errors(frame.passes["indirect"], reference)
             cells += [f"{errors['mean'] / errors['reference_mean']:.3f}", figure_text(errors["psnr"], ".1f"),

@@ -99,3 +99,16 @@ def test_textured_scenes_save_and_load(tmp_path):
     loaded = load_scene(tmp_path / "floor.npz").sanitize()
     assert loaded.geometry_key() == scene.geometry_key()
     assert [image.name for image in loaded.images] == ["halves"]
+
+
+def test_a_surface_bounces_its_texture_mean_colour():
+    """The points later bounces and the emitters' bounce light (gpu/emitter_bounce.py) take
+    each triangle's colour: albedo x mean vertex colour x its image's mean over what the
+    image's alpha keeps: a textured floor bounces the colour it shows, not its albedo's white."""
+    scene = floor_scene()
+    colours = scene.surface_colours()
+    np.testing.assert_allclose(colours[:2], np.tile(np.mean([RED, GREEN], axis=0), (2, 1)), rtol=1e-5)
+    np.testing.assert_allclose(colours[2:], 1.0)  # the untextured white wall
+    pixels = np.zeros((8, 8, 4), np.float32)
+    pixels[:, :2] = (0.2, 0.4, 0.6, 1.0)  # a quarter kept by its alpha; the rest cut out (and black)
+    assert np.allclose(SurfaceImage("leaf", pixels).mean_colour(), (0.2, 0.4, 0.6))

@@ -70,6 +70,17 @@ def add_room(size, wall, floor, walls, front_wall="Front wall"):
     return {name: add_box(name, centre, extent, material) for name, (centre, extent, material) in slabs.items()}
 
 
+def cut_window(wall, name, centre, size, wall_thickness):
+    """Cut a window through the wall box `wall` (its thin side along y) with a Boolean
+    modifier and a hidden cutter box `name` of `size` (x, z) about `centre`, as artists
+    cut one."""
+    cutter = add_box(name, centre, (size[0], 4 * wall_thickness, size[1]), None)
+    cutter.display_type = "WIRE"
+    cutter.hide_render = True
+    add_modifier(wall, "BOOLEAN", operation="DIFFERENCE", object=cutter)
+    return cutter
+
+
 def add_sun_lamp(towards_sun, strength, angle_degrees):
     """A Sun lamp shining from the unit direction `towards_sun` (toward the sun), with its
     strength (W/m²) and angular diameter."""

@@ -2,7 +2,7 @@
 cubes, the windows cut from one wall by Boolean modifiers with hidden cutters, no lamps;
 the world is a Sky Texture of Blender's default type with the sun 35° up, in front of
 the windows."""
-from .shading import add_box, add_modifier, add_room, camera_at, factory_scene, principled, sky_world
+from .shading import add_box, add_modifier, add_room, camera_at, cut_window, factory_scene, principled, sky_world
 
 ROOM = (6.0, 5.0, 3.0)  # inside width (x), depth (y), height (z), metres
 WALL = 0.2
@@ -19,10 +19,7 @@ def build(resolution=(1920, 1080)):
     width, depth, height = ROOM
     walls = add_room(ROOM, WALL, wood, plaster, front_wall="Window wall")
     for index, x in enumerate((-1.4, 1.4)):
-        cutter = add_box(f"Window cutter {index + 1}", (x, -(depth + WALL) / 2, 1.6), (1.4, 4 * WALL, 1.6), None)
-        cutter.display_type = "WIRE"
-        cutter.hide_render = True
-        add_modifier(walls["Window wall"], "BOOLEAN", operation="DIFFERENCE", object=cutter)
+        cut_window(walls["Window wall"], f"Window cutter {index + 1}", (x, -(depth + WALL) / 2, 1.6), (1.4, 1.6), WALL)
     sofa = add_box("Sofa", (0.0, depth / 2 - 0.6, 0.4), (2.2, 0.9, 0.8), fabric)
     add_modifier(sofa, "BEVEL", width=0.06, segments=3)
     table = add_box("Table", (0.6, 0.3, 0.225), (1.2, 0.7, 0.45), wood)

@@ -4,7 +4,7 @@ the leaves' cut-outs shape the shadow on the floor. (No pane: Cycles lets a sun 
 glass only as a caustic, which a few hundred samples cannot show.)"""
 import math
 
-from .shading import (add_box, add_modifier, add_primitive, add_room, add_sun_lamp, camera_at, factory_scene,
+from .shading import (add_modifier, add_primitive, add_room, add_sun_lamp, camera_at, cut_window, factory_scene,
                       packed_leaf_image, packed_tile_image, principled, sky_world, towards_sky_sun)
 
 ROOM = (5.0, 4.0, 2.8)  # inside width (x), depth (y), height (z), metres
@@ -20,10 +20,7 @@ def build(resolution=(1920, 1080)):
     tiles = principled("Glazed tiles", (0.6, 0.6, 0.6), roughness=0.25, image=packed_tile_image("Tiles"))
     width, depth, height = ROOM
     walls = add_room(ROOM, WALL, tiles, plaster, front_wall="Window wall")
-    cutter = add_box("Window cutter", (0.0, -(depth + WALL) / 2, 1.5), (2.4, 4 * WALL, 1.6), None)
-    cutter.display_type = "WIRE"
-    cutter.hide_render = True
-    add_modifier(walls["Window wall"], "BOOLEAN", operation="DIFFERENCE", object=cutter)
+    cut_window(walls["Window wall"], "Window cutter", (0.0, -(depth + WALL) / 2, 1.5), (2.4, 1.6), WALL)
     pot = add_primitive("cylinder", "Pot", principled("Terracotta", (0.6, 0.3, 0.18), roughness=0.8), radius=0.22,
                         depth=0.4, location=(0.3, -0.4, 0.2))
     add_modifier(pot, "BEVEL", width=0.02, segments=2)

@@ -56,9 +56,14 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     """
     camera = extract_camera(depsgraph, resolution)
     geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
-    scene = Scene(**geometry, lights=[], film=film_of(depsgraph.scene_eval),
-                  diffuse_bounces=diffuse_bounces_of(depsgraph.scene_eval))
+    scene = Scene(**geometry, lights=[], **render_settings_of(depsgraph.scene_eval))
     return scene.in_local_frame(lights, camera, world_of(depsgraph.scene_eval)).sanitize()
+
+
+def render_settings_of(scene, viewport=False):
+    """The Scene fields a bpy scene's render settings give: its film (`film_of`) and its
+    Light Paths' diffuse bounces (`diffuse_bounces_of`)."""
+    return {"film": film_of(scene, viewport), "diffuse_bounces": diffuse_bounces_of(scene)}
 
 
 def film_of(scene, viewport=False):

@@ -9,7 +9,7 @@ cached light map and the LPV; the pipeline's content keys decide the rest.
 from dataclasses import dataclass
 
 from ..gpu.scene import Scene
-from .extract import MESH_LIKE_TYPES, diffuse_bounces_of, extract_parts, film_of
+from .extract import MESH_LIKE_TYPES, extract_parts, render_settings_of
 from .world import world_of
 
 CAMERA, LIGHTS, GEOMETRY = "camera", "lights", "geometry"
@@ -102,10 +102,8 @@ class SceneSync:
         world = world_of(depsgraph.scene_eval) if read_lights else self._scene.world  # the world goes with the lights
         if read_geometry:
             lights = lights if read_lights else self._scene.world_lights()
-            film = film_of(depsgraph.scene_eval, viewport=True)
-            self._scene = Scene(**geometry, lights=[], film=film,
-                                diffuse_bounces=diffuse_bounces_of(depsgraph.scene_eval)).in_local_frame(lights, camera,
-                                                                                                         world)
+            settings = render_settings_of(depsgraph.scene_eval, viewport=True)
+            self._scene = Scene(**geometry, lights=[], **settings).in_local_frame(lights, camera, world)
             self._scene = self._scene.sanitize()
         else:
             self._scene = self._scene.in_local_frame(lights, camera, world)

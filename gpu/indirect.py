@@ -169,8 +169,8 @@ class LPVMethod(IndirectMethod):
             with self.glc.timed(stats, "emitter_bounce_ms"):
                 self.bounce_occupancy.voxelise(mesh)
                 self.emitter_vpls = light_receivers(self.glc, receivers(pattern), sources, self.bounce_occupancy,
-                                                    self.bounce_occupancy.march_layers(range(len(self.levels))),
-                                                    settings.singularity_bound, pattern)
+                                                    self.bounce_occupancy.every_grid_layers(), settings.singularity_bound,
+                                                    pattern)
             vpl_sets.append(self.emitter_vpls)
             flux_bound += self.emitter_vpls.flux_bound
         with self.glc.timed(stats, "inject_ms"):
@@ -205,7 +205,7 @@ class LPVMethod(IndirectMethod):
         occupancy = self.bounce_occupancy
         if occupancy is None or occupancy.voxelised is None:
             return None
-        return occupancy, occupancy.march_layers(range(len(self.levels)))
+        return occupancy, occupancy.every_grid_layers()
 
     def _held(self):
         return (self.bounce_occupancy,) if self.bounce_occupancy is not None else ()
@@ -331,7 +331,7 @@ class VPLGatherMethod(GatheringMethod):
         return GATHER_VOXELS_PER_CELL * settings.grid_levels * settings.lpv_resolution
 
     def _layers(self):
-        return self.volumes[0].occupancy.march_layers(range(len(self.levels)))
+        return self.volumes[0].occupancy.every_grid_layers()
 
     def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
         self.emitter_sets, _ = self._gathered_emitters(maps, mesh, settings, stats, pattern, sources, receivers,

@@ -89,6 +89,10 @@ class Occupancy:
         where the voxelised mesh has one."""
         return (*levels, self.outer_layer) if self.outer is not None else tuple(levels)
 
+    def every_grid_layers(self):
+        """The layers a march goes through where each grid is a level (no phases)."""
+        return self.march_layers(range(len(self.grids)))
+
     def _outer_grid(self, bounds):
         """The grid over `bounds` (the mesh's occluders) where they reach beyond the
         coarsest grids, else None."""

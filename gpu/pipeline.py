@@ -369,6 +369,7 @@ class Pipeline:
 
     def _statistics(self, scene, maps, lit, indirect, vpl_count, sets, accumulated_vpls):
         s = self.settings
+        bounces = light_bounces(s, scene)
         warped = [m.warp for m in maps if m.warp is not None]
         stats = {"warp_status": {name: sum(w.counts[name] for w in warped) for name in STATUS_NAMES}} if warped else {}
         stats.update({
@@ -379,7 +380,7 @@ class Pipeline:
             "skipped_emitters": lit.skipped_emitters, "triangles": scene.triangle_count,
             "dropped_triangles": dict(scene.dropped), "images": [image.name for image in scene.images],
             "approximated_materials": list(scene.approximated_materials),
-            "world": scene.world is not None, "bounces": light_bounces(s, scene) if indirect.more_bounces else min(light_bounces(s, scene), 1),
+            "world": scene.world is not None, "bounces": bounces if indirect.more_bounces else min(bounces, 1),
             "world_approximated": list(scene.world.approximated) if scene.world else [],
             "missing_images": list(scene.missing_images), "rsm_resolution": s.rsm_resolution,
             "rsm_faces": int(sum(m.rsm.face_count for m in maps)), **indirect.statistics(s),

@@ -106,7 +106,7 @@ class SurfaceEmission:
         """Its own gather's voxelised occupancy with its levels' layers; None before one."""
         if self._own is None or self._own.occupancy.voxelised is None:
             return None
-        return self._own.occupancy, self._own.occupancy.march_layers(range(len(self._own.levels)))
+        return self._own.occupancy, self._own.occupancy.every_grid_layers()
 
     def add_light(self, gather, mesh, targets, uniforms, camera_position, singularity_bound, pattern, others=()):
         """Gather the irradiance of the emitters (and of the emitter sets `others`: the

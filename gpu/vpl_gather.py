@@ -47,7 +47,7 @@ class VPLGather:
         `filtered`; the pixels' subsets follow `vpl_set`. `uniforms` are the G-buffer's
         (gpu/shade.py gbuffer_uniforms), its textures bound."""
         gathered, filtered = self._images(targets.size)
-        layers = self.occupancy.march_layers(range(len(self.levels)))
+        layers = self.occupancy.every_grid_layers()
         program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE, MARCH_LEVELS=len(layers))
         gathered.bind_to_image(0, read=True, write=True)
         batch = march_batch(self.occupancy.voxels, len(layers), INTERLEAVE ** 2)

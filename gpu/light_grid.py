@@ -61,6 +61,10 @@ class LightGrid:
                 volume.filter = (moderngl.NEAREST, moderngl.NEAREST)
                 volumes.append(volume)
         self.occupancy = Occupancy(glc, self.grids)
+        # the cells a lookup can read, marked per mesh (shaders/light_grid_receiving.comp)
+        self.receiving = gl.texture3d((n, n, n * len(self.grids)), 1, dtype="u1")
+        self._no_cells = bytes(n ** 3 * len(self.grids))
+        self.marked = None  # the mesh `receiving` was marked from
         self.count = gl.buffer(reserve=16)
         self.keys = self.sums = self.emitters = self.blocks = None
         self.capacity = 0
@@ -106,12 +110,26 @@ class LightGrid:
             set_uniforms(program, **levels)
             dispatch(program, 1 if stage == 1 else self.capacity, local=(64,))
 
+    def _mark_receiving(self, mesh):
+        """Mark the cells within reach of the lookups at `mesh`'s surfaces, in every grid."""
+        self.receiving.write(self._no_cells)
+        self.receiving.bind_to_image(0, read=False, write=True)
+        mesh.buffer.bind_to_storage_buffer(0)
+        program = self.glc.compute("light_grid_receiving")
+        for layer, grid in enumerate(self.grids):
+            set_uniforms(program, grid_origin=grid.origin, cell_size=grid.cell_size, grid_size=grid.size, layer=layer,
+                         triangle_count=mesh.triangle_count)
+            dispatch(program, mesh.triangle_count, local=(64,))
+        self.marked = mesh
+
     def gather(self, singularity_bound, levels):
         """Every grid's cells gather the clustered emitters' light through the occupancy's
         levels (`levels`: the layer of each, finest first) and its outer grid, each from its
         own grid's level on, in batches of emitters whose marches stay under llvmpipe's loop
         limit (shaders/light_grid_gather.comp), its 1/r² bounded by `singularity_bound`
         (shaders/emitter.glsl)."""
+        if self.marked is not self.occupancy.voxelised:
+            self._mark_receiving(self.occupancy.voxelised)
         levels = list(levels)
         phases = len(self.grids) // len(levels)
         layers = self.occupancy.march_layers(levels)
@@ -120,7 +138,8 @@ class LightGrid:
         self.count.bind_to_storage_buffer(1)
         self.emitter_count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
         batch = march_batch(self.occupancy.voxels, len(layers), GATHER_LANES)
-        set_uniforms(program, batch=batch, singularity_bound=singularity_bound)
+        self.receiving.use(location=2)  # after the occupancy's two volumes
+        set_uniforms(program, batch=batch, singularity_bound=singularity_bound, receiving=2)
         for layer, (grid, irradiance) in enumerate(zip(self.grids, self.irradiance)):
             irradiance.bind_to_image(0, read=True, write=True)
             if self.unshadowed:
@@ -128,7 +147,8 @@ class LightGrid:
             level = layer // phases  # its own grid's voxels stand for its level: its centres are their centres
             set_uniforms(program, **self.occupancy.march_uniforms((*layers[:level], layer, *layers[level + 1:]),
                                                                   first_unit=0),
-                         grid_origin=grid.origin, cell_size=grid.cell_size, grid_size=grid.size, first_level=level)
+                         grid_origin=grid.origin, cell_size=grid.cell_size, grid_size=grid.size, first_level=level,
+                         layer=layer)
             for first in range(0, max(self.emitter_count, 1), batch):
                 set_uniforms(program, first_emitter=first)
                 dispatch(program, grid.size ** 3, local=(1,))  # a workgroup per cell
@@ -154,10 +174,10 @@ class LightGrid:
 
     def resources(self):
         buffers = [b for b in (self.keys, self.sums, self.emitters, self.blocks) if b is not None]
-        return (*self.irradiance, *self.unshadowed, *self.occupancy.resources(), self.count, *buffers)
+        return (*self.irradiance, *self.unshadowed, *self.occupancy.resources(), self.receiving, self.count, *buffers)
 
     def release(self):
         self.occupancy.release()
         clusters = (b for b in (self.keys, self.sums, self.emitters, self.blocks) if b is not None)
-        for resource in (*self.irradiance, *self.unshadowed, self.count, *clusters):
+        for resource in (*self.irradiance, *self.unshadowed, self.receiving, self.count, *clusters):
             resource.release()

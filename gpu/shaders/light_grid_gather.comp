@@ -29,6 +29,8 @@ uniform float cell_size;
 uniform int grid_size;
 uniform int first_emitter;
 uniform int batch;
+uniform usampler3D receiving;  // the cells a lookup can read (light_grid_receiving.comp): the others are skipped
+uniform int layer;             // this grid's block of it along z
 
 shared vec3 sums[SUMS][LANES];  // +x, -x, +y, -y, +z, -z (then the same unshadowed)
 
@@ -36,6 +38,14 @@ void main() {
     int index = int(gl_WorkGroupID.x);
     int lane = int(gl_LocalInvocationID.x);
     ivec3 cell = ivec3(index % grid_size, (index / grid_size) % grid_size, index / (grid_size * grid_size));
+    if (texelFetch(receiving, cell + ivec3(0, 0, layer * grid_size), 0).r == 0u) {
+        if (lane < 6 && first_emitter == 0) imageStore(irradiance, ivec3(cell.xy, cell.z + lane * grid_size), vec4(0.0));
+#if UNSHADOWED
+        else if (lane < 12 && first_emitter == 0)
+            imageStore(unshadowed, ivec3(cell.xy, cell.z + (lane - 6) * grid_size), vec4(0.0));
+#endif
+        return;
+    }
     vec3 centre = grid_origin + (vec3(cell) + 0.5) * cell_size;
     vec3 facing[SUMS];
     for (int k = 0; k < SUMS; ++k) facing[k] = vec3(0.0);

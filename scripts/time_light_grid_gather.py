@@ -2,17 +2,20 @@
 are meaningless), on demo scenes at the defaults.
 
     .venv/bin/python scripts/time_light_grid_gather.py [default_cube,cornell,area_room,atrium] [--frames 3]
+        [--exports DIR]
 
 prints per scene the emitter clusters, the grids and the median gather over the frames (each
-frame a new VPL set, so the clusters are gathered again).
+frame a new VPL set, so the clusters are gathered again), with its least and most. The
+scenes are built with bpy, or read from DIR/NAME.npz (`python -m lpv_preview export NAME`)
+where there is no Blender, as on the GPU machine.
 """
 import argparse
 import statistics
 import time
 
-from lpv_preview import demo
 from lpv_preview.gpu import light_grid
 from lpv_preview.gpu.pipeline import Pipeline
+from lpv_preview.gpu.scene_file import load_scene
 from lpv_preview.gpu.settings import Settings
 
 SIZE = (64, 36)  # the gather does not depend on the image's size
@@ -22,6 +25,7 @@ def main():
     parser = argparse.ArgumentParser(description="the light grid's gather alone")
     parser.add_argument("scenes", nargs="?", default="default_cube,cornell,area_room,atrium")
     parser.add_argument("--frames", type=int, default=3)
+    parser.add_argument("--exports", help="read the scenes from this folder's NAME.npz files")
     args = parser.parse_args()
     timed = []
     gather = light_grid.LightGrid.gather
@@ -35,7 +39,11 @@ def main():
 
     light_grid.LightGrid.gather = timed_gather
     for name in args.scenes.split(","):
-        scene = demo.extracted(name, resolution=SIZE)
+        if args.exports:
+            scene = load_scene(f"{args.exports}/{name}.npz")
+        else:
+            from lpv_preview import demo
+            scene = demo.extracted(name, resolution=SIZE)
         pipeline = Pipeline(Settings(width=SIZE[0], height=SIZE[1]))
         timed.clear()
         try:

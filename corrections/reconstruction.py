@@ -14,7 +14,12 @@ either (docs/method.md). Where samples are sparse each pixel takes the nearest o
 blended where their regions meet, as the seed's blended Voronoi cells; where they are
 dense, their average over the pixel alone: the resolution follows the samples. A pixel no
 sample reached yet takes its neighbours' correction scaled to its own lighting where it is
-darker.
+darker, fading out with its distance from them.
+
+Few samples make a correction that is mostly noise (a path tracer's first sample a pixel is
+mostly darker than its mean and now and then far brighter): a correction is kept in the
+share its noise leaves of it (positive-part James-Stein), so the preview shows where the
+samples cannot yet tell it wrong.
 """
 from dataclasses import dataclass
 
@@ -37,6 +42,12 @@ RISK_RADIUS = 3
 OUTLIER = 4.0
 """A pixel whose own squared deviation from its window's mean passes this many times the window's
 variance (a firefly) is given its own: its samples then spread over a larger scale."""
+SHARE_LEVELS = 4
+"""The share of a correction kept (_shrinkage) is averaged over the surface nearby by this many
+levels of the reconstruction's filter (steps 1 to 8 pixels)."""
+WIDE_RADIUS = 15
+"""While a pixel's window has too few repeated requests to measure the noise, the spread of
+the pixels' means over (2 r + 1)² pixels stands in where it is larger than over its window."""
 AGREEING_DOF = 2
 """Repeated requests of its own (requests - 1) from which a pixel that stands out of its
 window, but whose requests spread no more than OUTLIER times its window's, is detail they
@@ -83,7 +94,7 @@ def reconstruct(gathered, preview, guide):
     demodulated = preview / scale
     residual = np.where(sampled[..., None], mean - demodulated, 0.0)
     luminance = residual @ LUMINANCE_WEIGHTS
-    variance = _pooled_variance(luminance, samples, gathered.scatter, gathered.dof)
+    variance, measured = _pooled_variance(luminance, samples, gathered.scatter, gathered.dof)
     numerator = residual * samples[..., None]
     # a pixel no sample reached takes the correction of those its scale reaches, scaled down
     # by its preview's lighting (demodulated) over theirs where it is darker: a lamp-lit
@@ -111,6 +122,7 @@ def reconstruct(gathered, preview, guide):
     pixel_variance = variance / np.maximum(samples, 1e-30)
     best_risk = np.full((height, width), np.inf)
     risk_choice, risk = np.zeros((height, width, 3)), np.full((height, width), np.nan)
+    risk_variance = np.zeros((height, width))
     own_weight = 1.0  # the cascade's weight of a pixel's own samples in its estimate
     edges = guide.edges
     for level in range(SCALES + 1):
@@ -141,11 +153,24 @@ def reconstruct(gathered, preview, guide):
         better = allowed & (level_risk < best_risk)
         best_risk = np.where(better, level_risk, best_risk)
         risk_choice[better], risk[better] = estimate[better], np.maximum(level_risk, estimate_variance)[better]
+        risk_variance[better] = estimate_variance[better]
     risk_choice = np.where(np.isfinite(risk)[..., None], risk_choice, chosen)
     known = np.isfinite(chosen_variance)
     # the two rules' estimates averaged: no worse than their mean error, and either's
     # misjudged pixels halved
-    correction = 0.5 * (chosen + risk_choice) * scale
+    blended = 0.5 * (chosen + risk_choice)
+    # the mean's noise, as if the two estimates' were fully correlated (the most it can be)
+    noise = 0.25 * (np.sqrt(np.nan_to_num(chosen_variance)) + np.sqrt(risk_variance)) ** 2
+    # kept whole where repeated requests measured the noise; where one request's spread
+    # judged it, in the share the noise leaves, averaged over the surface nearby: a pixel's
+    # own follows its noise estimate, which a bright sample nearby raises, and would leave
+    # the correction in patches
+    kept_share = np.where(measured, 1.0, _shrinkage(blended @ LUMINANCE_WEIGHTS, noise))
+    if not measured.all():
+        kept_share = _along_surfaces(kept_share, edges)
+    if extrapolated:  # what reaches a pixel without samples fades out toward the cascade's reach
+        kept_share *= np.where(sampled, 1.0, _reach_fade(sampled))
+    correction = blended * kept_share[..., None] * scale
     image = preview + correction
     weight = scale @ LUMINANCE_WEIGHTS
     reference = np.maximum(image @ LUMINANCE_WEIGHTS, 0.0)
@@ -156,6 +181,55 @@ def reconstruct(gathered, preview, guide):
                      _unsampled_error(reference))
     return Reconstruction(image.astype(np.float32), correction.astype(np.float32), samples, error.astype(np.float32),
                           float(np.mean(error)))
+
+
+def _shrinkage(estimate, noise):
+    """The share of a correction `estimate` (of variance `noise`) kept: the positive-part
+    James-Stein factor 1 - Γ² noise / estimate² (Γ = CONFIDENCE, the intervals' own), so a
+    correction within Γ standard deviations of nothing fades out and the preview shows
+    where samples are too few to tell."""
+    square, least = estimate * estimate, CONFIDENCE ** 2 * noise
+    return np.where(square > least, 1.0 - least / np.maximum(square, 1e-30), 0.0)
+
+
+def _along_surfaces(image, edges):
+    """`image` averaged over the surface nearby: SHARE_LEVELS levels of the reconstruction's
+    edge-stopping filter (EdgeWeights `edges`)."""
+    values, ones = image[..., None], np.ones(image.shape, np.float32)
+    for level in range(SHARE_LEVELS):
+        values, total, _ = edges.filter(values, ones, ones, 2 ** level)
+        values = values / total[..., None]
+    return values[..., 0]
+
+
+def _reach_fade(sampled):
+    """Per pixel, 1 - its distance from the nearest sampled pixel over the cascade's reach
+    (2^SCALES - 1 pixels each way), at least 0: what reaches a pixel without samples fades
+    out toward where it no longer reaches, instead of stopping there in a seam."""
+    reach = 2 ** SCALES - 1
+    return np.clip(1.0 - _distance_to(sampled, reach) / reach, 0.0, 1.0)
+
+
+def _distance_to(marked, cap):
+    """Per pixel, the distance (the larger of its rows and columns) to the nearest `marked`
+    pixel, at most `cap`: a chamfer pass down the rows and one up, each row swept both ways
+    at once."""
+    width = marked.shape[1]
+    column = np.arange(width, dtype=np.float64)
+    distance = np.where(marked, 0.0, float(cap))
+    for rows in (range(len(marked)), range(len(marked) - 1, -1, -1)):
+        previous = None
+        for y in rows:
+            row = distance[y]
+            if previous is not None:  # the row before and its diagonal neighbours, a step away
+                beside = previous.copy()
+                beside[1:] = np.minimum(beside[1:], previous[:-1])
+                beside[:-1] = np.minimum(beside[:-1], previous[1:])
+                row = np.minimum(row, beside + 1.0)
+            row = np.minimum(np.minimum.accumulate(row - column) + column,
+                             np.minimum.accumulate((row + column)[::-1])[::-1] - column)
+            distance[y] = previous = row
+    return np.minimum(distance, cap)
 
 
 def _cascade_variance(levels):
@@ -184,6 +258,11 @@ def _box_sum(image, radius):
     return summed[side:, side:] - summed[:-side, side:] - summed[side:, :-side] + summed[:-side, :-side]
 
 
+def _box_mean(image, radius):
+    """Means over (2 radius + 1)² windows, of the pixels inside the image."""
+    return _box_sum(image, radius) / _box_sum(np.ones(image.shape), radius)
+
+
 def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     """A sample's variance at each pixel, pooled over its window: from the spread of the
     requests' means about their pixels' own means where the window holds at least
@@ -192,21 +271,22 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     more than OUTLIER times its spread (a firefly among them), given its own unless its
     AGREEING_DOF or more repeated requests agree (detail); else, while one request a pixel is
     all there is, from the spread of the pixels' means about the window's (the residual's
-    own variation counts too: conservative), a pixel far off it (a firefly) given its own."""
+    own variation counts too: conservative), a pixel far off it (a firefly) given its own.
+    Also where the noise is measured (the first case)."""
     repeated = _box_sum(dof, radius)
     window_spread = np.maximum(_box_sum(scatter, radius), 0.0) / np.maximum(repeated, 1.0)
     own_spread = scatter / np.maximum(dof, 1.0)
     measured = np.maximum(window_spread, own_spread)  # a firefly's requests spread it
-    sampled = (samples > 0).astype(np.float64)
-    weights = _box_sum(samples, radius)
-    first = _box_sum(samples * luminance, radius)
-    second = _box_sum(samples * luminance * luminance, radius)
-    count = _box_sum(sampled, radius)
-    spread = second - first * first / np.maximum(weights, 1e-30)
-    pooled = np.where(count > 1, np.maximum(spread, 0.0) / np.maximum(count - 1, 1.0), np.nan)
+    pooled, window_mean = _spatial_spread(luminance, samples, radius)
+    # a window of a few pixels may hold none of the rare bright samples that a path
+    # tracer's first sample a pixel scatters (their median lies far below their mean): the
+    # spread over a wide window stands in where it is larger
+    measured_noise = repeated >= NOISE_DOF
+    if not measured_noise.all():
+        pooled = np.fmax(pooled, _spatial_spread(luminance, samples, WIDE_RADIUS)[0])
     fallback = np.nanmax(pooled) if np.any(np.isfinite(pooled)) else 1.0
     pooled = np.where(np.isfinite(pooled), pooled, fallback)
-    own = samples * (luminance - first / np.maximum(weights, 1e-30)) ** 2
+    own = samples * (luminance - window_mean) ** 2
     spatial = np.where(own > OUTLIER * pooled, own, pooled)
     # a firefly in one of a pixel's few requests hardly spreads their means (the larger
     # request holds it and the mean): the pixel is judged against its window's then too,
@@ -214,8 +294,21 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     # more than noise does
     firefly = (dof < NOISE_DOF) & (own > OUTLIER * np.maximum(pooled, measured))
     firefly &= (dof < AGREEING_DOF) | (own_spread > OUTLIER * window_spread)
-    return np.where(repeated >= NOISE_DOF, np.where(firefly, own, measured), spatial)
+    return np.where(measured_noise, np.where(firefly, own, measured), spatial), measured_noise
 
+
+
+def _spatial_spread(luminance, samples, radius):
+    """A sample's variance from the spread of the pixels' means about their window's
+    ((2 radius + 1)² pixels; NaN where it holds fewer than two sampled pixels), and the
+    window's mean."""
+    weights = _box_sum(samples, radius)
+    first = _box_sum(samples * luminance, radius)
+    second = _box_sum(samples * luminance * luminance, radius)
+    count = _box_sum((samples > 0).astype(np.float64), radius)
+    spread = second - first * first / np.maximum(weights, 1e-30)
+    pooled = np.where(count > 1, np.maximum(spread, 0.0) / np.maximum(count - 1, 1.0), np.nan)
+    return pooled, first / np.maximum(weights, 1e-30)
 
 
 CASCADE_VARIANCE = _cascade_variance(SCALES)

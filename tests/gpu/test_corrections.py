@@ -12,7 +12,7 @@ from lpv_preview.corrections.guide import Guide
 from lpv_preview.corrections.layers import LAYER_AGING, MAX_LAYERS, Corrections, Gathered, Layer
 from lpv_preview.corrections.reconstruction import reconstruct
 from lpv_preview.gpu.errors import LPVError
-from lpv_preview.gpu.metrics import relative_mse
+from lpv_preview.gpu.metrics import RELATIVE_EPSILON, relative_mse
 from lpv_preview.gpu.scene import Camera
 
 SIZE = (64, 48)
@@ -299,3 +299,55 @@ def test_the_queue_stops_when_every_tile_has_its_samples_or_no_error_left():
     queue = RequestQueue((64, 64))
     queue.update(low, *[np.full((64, 64), float(DONE_SAMPLES))] * 2)  # its own, and nothing left to see
     assert queue.next() is None
+
+
+def first_samples(truth, rng, hit=0.1):
+    """One sample a pixel as a path tracer's first often is: black, or 1 / `hit` times the
+    light (its mean is the light; most pixels show less)."""
+    return truth * rng.binomial(1, hit, truth.shape[:2])[..., None] / hit
+
+
+def block_errors(image, truth, block=16):
+    """The relative MSE of each block × block block."""
+    height, width = truth.shape[:2]
+    squared = ((image - truth) ** 2 / (truth ** 2 + RELATIVE_EPSILON)).mean(-1)
+    rows, columns = height // block, width // block
+    return squared[:rows * block, :columns * block].reshape(rows, block, columns, block).mean((1, 3))
+
+
+@pytest.mark.parametrize("hit", [0.5, 0.2, 0.05])
+def test_one_sample_a_pixel_makes_no_part_of_the_frame_worse_than_its_preview(hit):
+    """A first request of one sample a pixel, most of them black and a few bright: no block
+    of the corrected frame errs more than the preview's (the preview shows where the
+    correction is within its noise), and a preview that is right stays right."""
+    size = (128, 96)
+    camera = Camera.look_at((0.0, -3.0, 1.5), (0.0, 2.0, 0.5), fov_y=math.radians(50), aspect=size[0] / size[1])
+    guide = corner_guide(camera, size)
+    truth = truth_of(guide)
+    for seed in range(3):
+        samples = gathered(guide, [first_samples(truth, np.random.default_rng(seed), hit)], 1)
+        dark = truth * 0.8
+        corrected = reconstruct(samples, dark, guide).image
+        assert np.all(block_errors(corrected, truth) <= 1.1 * block_errors(dark, truth)), (hit, seed)
+        assert relative_mse(corrected, truth) < relative_mse(dark, truth)
+        right = reconstruct(samples, truth, guide).image
+        assert relative_mse(right, truth) < 1e-3, (hit, seed)
+
+
+def test_a_correction_beyond_the_samples_fades_out_without_a_seam():
+    """Samples of a band of rows at the top of a wall seen straight on, whose preview misses
+    20 % of the light everywhere: below the band the correction fades out row by row, with
+    no step where the band ends or where the filter's reach ends (127 rows below it)."""
+    size = (96, 224)
+    camera = Camera.look_at((0.0, -3.0, 6.0), (0.0, 4.0, 6.0), fov_y=math.radians(70), aspect=size[0] / size[1])
+    guide = corner_guide(camera, size)
+    assert np.all(guide.normal[..., 1] < -0.5)  # the wall alone
+    truth = truth_of(guide)
+    preview = truth * 0.8
+    band = 32
+    images = noisy_requests(truth, 16, np.random.default_rng(3), sigma=0.3)
+    result = reconstruct(gathered(guide, images, 16, region=(0, 0, size[0], band)), preview, guide)
+    rows = np.median((result.correction / (truth - preview)).mean(-1), axis=1)
+    assert rows[band - 4:band].min() > 0.8  # the band is corrected
+    assert np.abs(np.diff(rows[band - 1:])).max() < 0.05
+    assert rows[band + 127:].max() < 0.01  # beyond the reach: the preview

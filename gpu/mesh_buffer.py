@@ -8,6 +8,16 @@ from .surface_images import SurfaceImages
 # instance) of split_at_rim, in this order.
 FRONT, CROSSING = 0, 1
 RIM_COMMAND_BYTES = 2 * 5 * 4
+CLUSTER_TRIANGLES = 256
+"""Consecutive triangles a view culls together (shaders/frustum_cull.comp): few enough that a
+cube face draws little more than its sixth of a scene, many enough that a million
+triangles are 4,096 draws."""
+CULL_SLOTS = 8
+"""Views culled in turn into a range's command buffer before its first slot is written
+again: a cube map's six faces and the camera's passes never write what a draw still reads."""
+CULL_COMMAND_BYTES = 5 * 4
+"""A cluster's DrawArraysIndirect command, padded to five uints: moderngl's render_indirect
+reads commands 20 bytes apart (DrawElementsIndirect's size) for arrays too."""
 
 
 VERTEX_LAYOUT = ("3f 3f 4f 4f 4f 4f 1f", "in_position", "in_normal", "in_albedo", "in_surface", "in_transmission",
@@ -84,6 +94,8 @@ class MeshBuffer:
             self.emission = glc.gl.buffer(emission.tobytes())
         self._arrays = {}
         self.rim_lists = {}
+        self._cluster_boxes = {}  # (first, count) -> (boxes, draw commands, clusters)
+        self._cull_slot = {}  # (first, count) -> the slot of its commands the last view wrote
 
     def vertex_array(self, program, indices=None):
         if (program, indices) not in self._arrays:
@@ -93,11 +105,42 @@ class MeshBuffer:
         self.images.bind(program)
         return self._arrays[program, indices]
 
-    def draw(self, program, mode, triangles):
-        """Draw the (first, count) range `triangles` with `program`."""
+    def draw(self, program, mode, triangles, view_projection=None):
+        """Draw the (first, count) range `triangles` with `program`; with `view_projection`
+        (4 × 4), only its clusters whose boxes may lie in that view's frustum, in order."""
         first, count = triangles
-        if count:
+        if not count:
+            return
+        if view_projection is None:
             self.vertex_array(program).render(mode, vertices=3 * count, first=3 * first)
+            return
+        boxes, commands, clusters = self._clusters(triangles)
+        slot = self._cull_slot[triangles] = (self._cull_slot.get(triangles, -1) + 1) % CULL_SLOTS
+        cull = self.glc.compute("frustum_cull", CLUSTER_TRIANGLES=CLUSTER_TRIANGLES)
+        boxes.bind_to_storage_buffer(6)
+        commands.bind_to_storage_buffer(7)
+        set_uniforms(cull, view_projection=view_projection, first_triangle=first, triangle_count=count,
+                     first_command=slot * clusters)
+        dispatch(cull, clusters, local=(64,))
+        self.vertex_array(program).render_indirect(commands, mode, count=clusters, first=slot * clusters)
+
+    def _clusters(self, triangles):
+        """The boxes of the range's clusters of CLUSTER_TRIANGLES (shaders/cluster_bounds.comp),
+        made once, with the range's draw commands (CULL_SLOTS views' worth) and the cluster
+        count."""
+        if triangles not in self._cluster_boxes:
+            first, count = triangles
+            clusters = -(-count // CLUSTER_TRIANGLES)
+            gl = self.glc.gl
+            boxes = gl.buffer(reserve=clusters * 32)
+            commands = gl.buffer(reserve=clusters * CULL_COMMAND_BYTES * CULL_SLOTS)
+            program = self.glc.compute("cluster_bounds", CLUSTER_TRIANGLES=CLUSTER_TRIANGLES)
+            self.buffer.bind_to_storage_buffer(6)
+            boxes.bind_to_storage_buffer(7)
+            set_uniforms(program, first_triangle=first, triangle_count=count)
+            dispatch(program, clusters, local=(64,))
+            self._cluster_boxes[triangles] = (boxes, commands, clusters)
+        return self._cluster_boxes[triangles]
 
     def split_at_rim(self, hemisphere_view, hemisphere):
         """Sort the triangles by a paraboloid hemisphere's rim plane on the GPU
@@ -125,10 +168,11 @@ class MeshBuffer:
         return lists, commands
 
     def resources(self):
-        """The vertex buffer, the images and each hemisphere's rim-split lists and draw
-        commands."""
+        """The vertex buffer, the images, each hemisphere's rim-split lists and draw
+        commands, and the culled ranges' cluster boxes and draw commands."""
         return (self.buffer, *self.images.resources(), *((self.emission,) if self.emission is not None else ()),
-                *(buffer for buffers in self.rim_lists.values() for buffer in buffers))
+                *(buffer for buffers in self.rim_lists.values() for buffer in buffers),
+                *(buffer for boxes, commands, _ in self._cluster_boxes.values() for buffer in (boxes, commands)))
 
     def release(self):
         for array in self._arrays.values():

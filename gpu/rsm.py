@@ -242,7 +242,7 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
                 draw = lambda: [mesh.vertex_array(program, lists).render_indirect(  # noqa: E731
                     commands, mode, count=1, first=command) for program, command in zip(programs, (FRONT, CROSSING))]
             else:
-                draw = lambda: mesh.draw(programs[0], mode, mesh.light_triangles)  # noqa: E731
+                draw = lambda: mesh.draw(programs[0], mode, mesh.light_triangles, matrix)  # noqa: E731
             if tinting:
                 multiply_blend(gl, draw)
             else:

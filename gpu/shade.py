@@ -170,7 +170,7 @@ def render_gbuffer(glc, mesh, camera, targets, pattern=0):
     uniforms = {"view_projection": camera.projection @ camera.view,
                 "camera_position": tuple(float(v) for v in camera.position), "cut_out_pattern": pattern}
     set_uniforms(program, **uniforms)
-    mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles)
+    mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles, uniforms["view_projection"])
     if mesh.transmits:
         tint_seen_through(glc, mesh, targets, uniforms)
     targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
@@ -186,7 +186,8 @@ def tint_seen_through(glc, mesh, targets, uniforms):
     framebuffer.clear(1.0, 1.0, 1.0, 1.0)
     program = glc.program("raster", "passing_tint", TINT_ATTACHMENT=0)
     set_uniforms(program, **uniforms)
-    multiply_blend(gl, lambda: mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles))
+    multiply_blend(gl, lambda: mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles,
+                                         uniforms["view_projection"]))
     program = glc.compute("gbuffer_tint")
     targets.surface.bind_to_image(0, read=True, write=True)
     tint.use(location=0)
@@ -221,9 +222,8 @@ def render_glow(glc, mesh, camera, targets, point_emitters=None):
         program = glc.program("raster", "glow")
         gl.depth_func = "<="
         mesh.emission.bind_to_storage_buffer(0)
-        first, _ = mesh.camera_triangles
-        set_uniforms(program, view_projection=view_projection, first_triangle=first)
-        mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles)
+        set_uniforms(program, view_projection=view_projection)
+        mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles, view_projection)
         gl.depth_func = "<"
     if point_emitters is not None:
         buffer, count = point_emitters

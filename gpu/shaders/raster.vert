@@ -15,6 +15,8 @@ out vec4 surface_coord;
 out vec4 surface_transmission;
 out vec4 surface_specular;
 out float surface_metallic;
+flat out int surface_triangle;  // the triangle's number in the vertex buffer (a culled draw's
+                                 // gl_PrimitiveID restarts at each cluster)
 
 void main() {
     world_position = in_position;
@@ -24,5 +26,6 @@ void main() {
     surface_transmission = in_transmission;
     surface_specular = in_specular;
     surface_metallic = in_metallic;
+    surface_triangle = gl_VertexID / 3;
     gl_Position = view_projection * vec4(in_position, 1.0);
 }

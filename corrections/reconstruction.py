@@ -258,11 +258,6 @@ def _box_sum(image, radius):
     return summed[side:, side:] - summed[:-side, side:] - summed[side:, :-side] + summed[:-side, :-side]
 
 
-def _box_mean(image, radius):
-    """Means over (2 radius + 1)² windows, of the pixels inside the image."""
-    return _box_sum(image, radius) / _box_sum(np.ones(image.shape), radius)
-
-
 def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     """A sample's variance at each pixel, pooled over its window: from the spread of the
     requests' means about their pixels' own means where the window holds at least
@@ -271,8 +266,8 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     more than OUTLIER times its spread (a firefly among them), given its own unless its
     AGREEING_DOF or more repeated requests agree (detail); else, while one request a pixel is
     all there is, from the spread of the pixels' means about the window's (the residual's
-    own variation counts too: conservative), a pixel far off it (a firefly) given its own.
-    Also where the noise is measured (the first case)."""
+    own variation counts too: conservative), a pixel far off it (a firefly) given its own;
+    and where the noise is measured (the first case)."""
     repeated = _box_sum(dof, radius)
     window_spread = np.maximum(_box_sum(scatter, radius), 0.0) / np.maximum(repeated, 1.0)
     own_spread = scatter / np.maximum(dof, 1.0)
@@ -295,7 +290,6 @@ def _pooled_variance(luminance, samples, scatter, dof, radius=2):
     firefly = (dof < NOISE_DOF) & (own > OUTLIER * np.maximum(pooled, measured))
     firefly &= (dof < AGREEING_DOF) | (own_spread > OUTLIER * window_spread)
     return np.where(measured_noise, np.where(firefly, own, measured), spatial), measured_noise
-
 
 
 def _spatial_spread(luminance, samples, radius):

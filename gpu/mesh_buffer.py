@@ -95,7 +95,8 @@ class MeshBuffer:
         self._arrays = {}
         self.rim_lists = {}
         self._cluster_boxes = {}  # (first, count) -> (boxes, draw commands, clusters)
-        self._cull_slot = {}  # (first, count) -> the slot of its commands the last view wrote
+        self._cull_slot = {}  # (first, count) -> the slot of its commands the last view culled wrote
+        self._culled = {}  # (first, count) -> {a view's matrix (bytes): the slot holding its commands}
 
     def vertex_array(self, program, indices=None):
         if (program, indices) not in self._arrays:
@@ -115,13 +116,20 @@ class MeshBuffer:
             self.vertex_array(program).render(mode, vertices=3 * count, first=3 * first)
             return
         boxes, commands, clusters = self._clusters(triangles)
-        slot = self._cull_slot[triangles] = (self._cull_slot.get(triangles, -1) + 1) % CULL_SLOTS
-        cull = self.glc.compute("frustum_cull", CLUSTER_TRIANGLES=CLUSTER_TRIANGLES)
-        boxes.bind_to_storage_buffer(6)
-        commands.bind_to_storage_buffer(7)
-        set_uniforms(cull, view_projection=view_projection, first_triangle=first, triangle_count=count,
-                     first_command=slot * clusters)
-        dispatch(cull, clusters, local=(64,))
+        views = self._culled.setdefault(triangles, {})
+        view = np.asarray(view_projection, np.float32).tobytes()
+        slot = views.get(view)
+        if slot is None:  # a view not culled lately (a second pass of one view draws its commands again)
+            slot = self._cull_slot[triangles] = (self._cull_slot.get(triangles, -1) + 1) % CULL_SLOTS
+            for overwritten in [key for key, used in views.items() if used == slot]:
+                del views[overwritten]
+            views[view] = slot
+            cull = self.glc.compute("frustum_cull", CLUSTER_TRIANGLES=CLUSTER_TRIANGLES)
+            boxes.bind_to_storage_buffer(6)
+            commands.bind_to_storage_buffer(7)
+            set_uniforms(cull, view_projection=view_projection, first_triangle=first, triangle_count=count,
+                         first_command=slot * clusters)
+            dispatch(cull, clusters, local=(64,))
         self.vertex_array(program).render_indirect(commands, mode, count=clusters, first=slot * clusters)
 
     def _clusters(self, triangles):

@@ -4,6 +4,7 @@
 #include "vertex_layout.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 6) readonly buffer Vertices { float vertices[]; };  // vertex_layout.glsl
+#include "vertex_position.glsl"
 layout(std430, binding = 7) writeonly buffer Boxes { vec4 boxes[]; };  // low, high per cluster
 uniform int first_triangle;
 uniform int triangle_count;
@@ -15,9 +16,8 @@ void main() {
     int end = min(start + CLUSTER_TRIANGLES, triangle_count);
     vec3 low = vec3(3.4e38), high = vec3(-3.4e38);
     for (int v = (first_triangle + start) * 3; v < (first_triangle + end) * 3; ++v) {
-        vec3 p = vec3(vertices[v * VERTEX_FLOATS], vertices[v * VERTEX_FLOATS + 1], vertices[v * VERTEX_FLOATS + 2]);
-        low = min(low, p);
-        high = max(high, p);
+        low = min(low, vertex_position(v));
+        high = max(high, vertex_position(v));
     }
     boxes[2 * cluster] = vec4(low, 0.0);
     boxes[2 * cluster + 1] = vec4(high, 0.0);

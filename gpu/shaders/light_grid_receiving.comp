@@ -8,7 +8,8 @@
 // loop limit.
 #include "vertex_layout.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };
+layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // vertex_layout.glsl
+#include "vertex_position.glsl"
 layout(r8ui, binding = 0) uniform writeonly uimage3D receiving;
 uniform vec3 grid_origin;
 uniform float cell_size;
@@ -18,8 +19,7 @@ uniform int triangle_count;
 const float LOOKUP_REACH = 1.5;
 
 vec3 corner_cells(int triangle, int k) {
-    int v = (triangle * 3 + k) * VERTEX_FLOATS;
-    return (vec3(vertices[v], vertices[v + 1], vertices[v + 2]) - grid_origin) / cell_size - 0.5;  // centres at integers
+    return (vertex_position(triangle * 3 + k) - grid_origin) / cell_size - 0.5;  // centres at integers
 }
 
 void main() {

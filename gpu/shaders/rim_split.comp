@@ -9,6 +9,7 @@
 #include "vertex_layout.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // vertex_layout.glsl
+#include "vertex_position.glsl"
 layout(std430, binding = 1) buffer Commands { uint commands[]; };  // front, then crossing: 5 uints each
 layout(std430, binding = 2) writeonly buffer Lists { uint lists[]; };
 uniform mat4 hemisphere_view;
@@ -28,9 +29,7 @@ void main() {
     int triangle = first_triangle + int(i);
     int in_front = 0;
     for (int k = 0; k < 3; ++k) {
-        int v = (triangle * 3 + k) * VERTEX_FLOATS;
-        vec3 p = vec3(vertices[v], vertices[v + 1], vertices[v + 2]);
-        if ((hemisphere_view * vec4(p, 1.0)).z >= 0.0) in_front += 1;
+        if ((hemisphere_view * vec4(vertex_position(triangle * 3 + k), 1.0)).z >= 0.0) in_front += 1;
     }
     if (in_front == 0) return;
     bool front = in_front == 3;

@@ -10,6 +10,7 @@
 #include "vertex_layout.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // vertex_layout.glsl
+#include "vertex_position.glsl"
 layout(std430, binding = 1) buffer Command { uint command[]; };  // count, instances, first index, base vertex, base instance
 layout(std430, binding = 2) writeonly buffer Large { uint large[]; };
 uniform vec3 grid_origins[GRIDS];
@@ -19,10 +20,6 @@ uniform int triangle_count;
 uniform bool reset;
 const int MOST_STEPS = 16;
 
-vec3 corner(int triangle, int k) {
-    int v = (triangle * 3 + k) * VERTEX_FLOATS;
-    return vec3(vertices[v], vertices[v + 1], vertices[v + 2]);
-}
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -37,7 +34,7 @@ void main() {
     int first = triangle * 3 * VERTEX_FLOATS;
     if (vertices[first + VERTEX_ALPHA_LAYER] < -0.5 &&
         vertices[first + VERTEX_ALPHA] * (1.0 - vertices[first + VERTEX_TRANSMISSION]) < 0.5) return;
-    vec3 a = corner(triangle, 0), b = corner(triangle, 1), c = corner(triangle, 2);
+    vec3 a = vertex_position(triangle * 3), b = vertex_position(triangle * 3 + 1), c = vertex_position(triangle * 3 + 2);
     float longest = max(distance(a, b), max(distance(b, c), distance(c, a)));
     float finest = voxel_sizes[0];
     for (int g = 1; g < GRIDS; ++g) finest = min(finest, voxel_sizes[g]);

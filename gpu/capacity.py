@@ -77,8 +77,6 @@ def emitter_bytes(s, scene, pixels, lamps):
     bounce, for the scene's point emitters and `lamps` point lights beyond the budget."""
     count = scene.point_emitter_count + lamps
     bounce = s.emitter_bounce_samples * RECEIVER_BYTES if count or scene.emission is not None else 0
-    if bounce:
-        bounce += indirect_method(s).emitter_bounce_bytes(s)
     if not count:
         return bounce
     side = grid_resolution(s.emitter_grid_resolution)
@@ -111,16 +109,18 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     maps += suns * SUN_CASCADES * s.sun_cascade_resolution ** 2 * map_texel
     indirect = indirect_method(s).needed_bytes(s, scene, pixels, len(mapped))
     indirect += emitter_bytes(s, scene, pixels, len(scene.lights) - len(mapped))
-    if scene.emission is not None:  # emitters and their gather, the glow and the triangles' radiances
-        indirect += 2 * s.emission_samples * EMITTER_BYTES + pixel_gather_bytes(s, scene, pixels)
+    world_lights = scene.world is not None and scene.world.lights_anything and s.world_samples > 0
+    if not indirect_method(s).gathers_per_pixel and (scene.point_emitter_count or scene.emission is not None
+                                                      or world_lights or len(scene.lights) > len(mapped)):
+        indirect += pixel_gather_bytes(s, scene, pixels)  # the method's pixel gather: the emitters' light and bounce
+    if scene.emission is not None:  # emitters, the glow and the triangles' radiances
+        indirect += 2 * s.emission_samples * EMITTER_BYTES
         indirect += pixels * 16 + scene.triangle_count * 16
-    if scene.world is not None:  # its background and lighting maps, its emitters and their gather
+    if scene.world is not None:  # its background and lighting maps, its emitters
         world = scene.world
         indirect += (world.background.size + world.lighting.size * 4 // 3) // 3 * WORLD_MAP_BYTES_PER_TEXEL
-        if world.lights_anything and s.world_samples > 0:
+        if world_lights:
             indirect += s.world_samples * EMITTER_BYTES
-            if scene.emission is None:
-                indirect += pixel_gather_bytes(s, scene, pixels)
     if scene.specular is not None:
         camera += pixels * REFLECTION_BYTES_PER_PIXEL
     mesh = scene.triangle_count * (3 * VERTEX_BYTES + 2 * RIM_LIST_BYTES_PER_TRIANGLE * (s.method != "cm"))

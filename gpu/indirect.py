@@ -13,7 +13,7 @@ from .emitter_bounce import RECEIVER_BYTES, light_receivers
 from .light_grid import CLUSTER_BYTES, DIRECTIONS, LIGHT_GRID_BYTES_PER_CELL, LightGrid, cluster_capacity, \
     cluster_levels
 from .lpv import GEOMETRY_VOLUME_BYTES_PER_CELL, LPV_BYTES_PER_CELL, LightPropagationVolume
-from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, Occupancy, occupancy_bytes
+from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, occupancy_bytes
 from .settings import INDIRECT_METHODS
 from .vpl import EMITTER_BYTES
 from .vpl_gather import VPLGather, pixel_gather_bytes
@@ -41,6 +41,7 @@ class IndirectMethod:
         self.generations = Generations(glc)
         self.emitter_vpls = None  # the emitters' bounce (gpu/emitter_bounce.py)
         self.volumes = self._volumes()
+        self._pixel_gather = None  # made when a frame has emitters (pixel_gather)
 
     def _volumes(self):
         """Its volumes over the grids, made once."""
@@ -56,11 +57,6 @@ class IndirectMethod:
         """GPU bytes its volumes need for `scene` at `pixels` pixels with `mapped` lights
         that have maps, before anything is allocated (gpu/capacity.py)."""
         raise NotImplementedError
-
-    @staticmethod
-    def emitter_bounce_bytes(settings):
-        """GPU bytes the emitters' bounce needs beyond its receivers."""
-        return 0
 
     @staticmethod
     def longest_side(settings):
@@ -86,13 +82,30 @@ class IndirectMethod:
         """Gather every pixel's light (gathers_per_pixel); `uniforms` are the G-buffer's,
         its textures bound."""
 
-    def emission_gather(self, emission, levels):
-        """The pixel gather emissive surfaces' direct light goes through (gpu/
-        surface_emitters.py): their own, unless the method has one."""
-        return emission.own_gather(levels)
+    def pixel_gather(self):
+        """The pixel gather (gpu/vpl_gather.py) that adds the emitters' direct light (the
+        emissive surfaces' and the world's: gpu/surface_emitters.py) and whose occupancy,
+        six voxels a cell, the emitters' bounce marches: a light through a window passes a
+        frame thickened by half a voxel on each side, so the light grid's three voxels a
+        cell would narrow it twice as much (docs/method.md, "The world")."""
+        if self._pixel_gather is None:
+            self._pixel_gather = VPLGather(self.glc, self.levels)
+        return self._pixel_gather
+
+    def _bounce_emitters(self, mesh, settings, stats, pattern, sources, receivers):
+        """The emitters' bounce: `sources`' light on the points `receivers` gives, marched
+        through the pixel gather's occupancy; adds it to the flux bound it returns."""
+        occupancy = self.pixel_gather().occupancy
+        with self.glc.timed(stats, "emitter_bounce_ms"):
+            occupancy.voxelise(mesh)
+            self.emitter_vpls = light_receivers(self.glc, receivers(pattern), sources, occupancy,
+                                                occupancy.every_grid_layers(), settings.singularity_bound, pattern)
+        return self.emitter_vpls.flux_bound
 
     def forget(self):
         """Build everything again next time, the occupancy too."""
+        if self._pixel_gather is not None:
+            self._pixel_gather.occupancy.forget()
 
     def lookup_uniforms(self, first_unit):
         """Bind the volumes for the lookup from texture unit `first_unit` on; the uniforms
@@ -102,7 +115,10 @@ class IndirectMethod:
     def march_occupancy(self):
         """The voxelised occupancy a reflected ray is marched through, with its levels'
         layers (finest first); None where the method holds none."""
-        return None
+        gather = self._pixel_gather
+        if gather is None or gather.occupancy.voxelised is None:
+            return None
+        return gather.occupancy, gather.occupancy.every_grid_layers()
 
     def cell_light(self):
         """The light in each cell of the first grid, (x, y, z, rgb) float32, for the slice
@@ -116,7 +132,7 @@ class IndirectMethod:
                 "propagation_iterations": settings.propagation_iterations}
 
     def _held(self):
-        return ()
+        return (self._pixel_gather,) if self._pixel_gather is not None else ()
 
     def resources(self):
         return (*(resource for volume in self.volumes for resource in volume.resources()),
@@ -139,10 +155,6 @@ class LPVMethod(IndirectMethod):
     name = "lpv"
     stages = ("inject_ms", "propagate_ms")
 
-    def __init__(self, glc, grids, phases):
-        self.bounce_occupancy = None  # what the emitters' bounce marches through
-        super().__init__(glc, grids, phases)
-
     def _volumes(self):
         return [LightPropagationVolume(self.glc, grid) for grid in self.grids]
 
@@ -153,26 +165,14 @@ class LPVMethod(IndirectMethod):
             n ** 3 * LPV_BYTES_PER_CELL + (n + 1) ** 3 * GEOMETRY_VOLUME_BYTES_PER_CELL)
 
     @staticmethod
-    def emitter_bounce_bytes(settings):
-        n = settings.lpv_resolution  # the bounce's own occupancy
-        return occupancy_bytes(settings.grid_levels, n, VOXELS_PER_CELL)
-
-    @staticmethod
     def longest_side(settings):
         return settings.lpv_resolution + 1  # the geometry volume
 
     def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
         vpl_sets = [vpls for m in maps for vpls in (m.vpls, m.far_vpls) if vpls is not None]
         if sources:
-            if self.bounce_occupancy is None:
-                self.bounce_occupancy = Occupancy(self.glc, self.levels)
-            with self.glc.timed(stats, "emitter_bounce_ms"):
-                self.bounce_occupancy.voxelise(mesh)
-                self.emitter_vpls = light_receivers(self.glc, receivers(pattern), sources, self.bounce_occupancy,
-                                                    self.bounce_occupancy.every_grid_layers(), settings.singularity_bound,
-                                                    pattern)
+            flux_bound += self._bounce_emitters(mesh, settings, stats, pattern, sources, receivers)
             vpl_sets.append(self.emitter_vpls)
-            flux_bound += self.emitter_vpls.flux_bound
         with self.glc.timed(stats, "inject_ms"):
             for lpv in self.volumes:
                 lpv.inject(vpl_sets, flux_bound)
@@ -181,10 +181,6 @@ class LPVMethod(IndirectMethod):
         with self.glc.timed(stats, "propagate_ms"):
             for lpv in self.volumes:
                 lpv.propagate(settings.propagation_iterations, settings.occlusion)
-
-    def forget(self):
-        if self.bounce_occupancy is not None:
-            self.bounce_occupancy.forget()
 
     def lookup_uniforms(self, first_unit):
         uniforms = {}
@@ -200,15 +196,6 @@ class LPVMethod(IndirectMethod):
         to zero)."""
         sums = [LightPropagationVolume.read(v)[..., 0] for v in self.volumes[0].sums]
         return (np.stack(sums, axis=-1) * 2 * math.sqrt(math.pi)).transpose(2, 1, 0, 3)
-
-    def march_occupancy(self):
-        occupancy = self.bounce_occupancy
-        if occupancy is None or occupancy.voxelised is None:
-            return None
-        return occupancy, occupancy.every_grid_layers()
-
-    def _held(self):
-        return (self.bounce_occupancy,) if self.bounce_occupancy is not None else ()
 
 
 class GatheringMethod(IndirectMethod):
@@ -240,11 +227,8 @@ class GatheringMethod(IndirectMethod):
             occupancy.voxelise(mesh)
         emitters = [emitter for m in maps for emitter in m.emitter_sets()]
         if sources:
-            with self.glc.timed(stats, "emitter_bounce_ms"):
-                self.emitter_vpls = light_receivers(self.glc, receivers(pattern), sources, occupancy, self._layers(),
-                                                    settings.singularity_bound, pattern)
+            flux_bound += self._bounce_emitters(mesh, settings, stats, pattern, sources, receivers)
             emitters = emitters + [(self.emitter_vpls.buffer, self.emitter_vpls.count)]
-            flux_bound += self.emitter_vpls.flux_bound
         if settings.bounces > 1 and emitters:
             with self.glc.timed(stats, "bounce_ms"):
                 emitters = emitters + self.generations.build(emitters, flux_bound, settings.bounces, receivers,
@@ -256,6 +240,7 @@ class GatheringMethod(IndirectMethod):
         return emitters, flux_bound
 
     def forget(self):
+        super().forget()
         self.volumes[0].occupancy.forget()
 
     def march_occupancy(self):
@@ -340,8 +325,11 @@ class VPLGatherMethod(GatheringMethod):
     def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern):
         self.volumes[0].gather(targets, uniforms, camera_position, self.emitter_sets, singularity_bound, pattern)
 
-    def emission_gather(self, emission, levels):
+    def pixel_gather(self):
         return self.volumes[0]  # its own occupancy and images: its gather comes later in the frame
+
+    def _held(self):
+        return ()
 
 
 INDIRECT_METHOD_CLASSES = {method.name: method for method in (LPVMethod, LightGridMethod, VPLGatherMethod)}

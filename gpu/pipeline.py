@@ -44,7 +44,7 @@ STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G
           "emitter_shadow_ms": "emitter shadows", "inject_ms": "inject", "bounce_ms": "bounces",
           "emitter_bounce_ms": "emitter bounce", "propagate_ms": "propagate", "gather_ms": "gather",
           "direct_ms": "direct", "emitter_light_ms": "emitter light", "emission_ms": "emission",
-          "pixel_gather_ms": "pixel gather", "indirect_ms": "indirect"}
+          "world_ms": "world", "pixel_gather_ms": "pixel gather", "indirect_ms": "indirect"}
 """A frame's timed stages (its stats keys) in the order they run, with their names: the
 indirect stage's inject and propagate (LPV), inject, bounces and gather (light grid) or
 inject and bounces (VPL gathering, whose pixel gather follows the G-buffer)."""
@@ -84,7 +84,7 @@ class Pipeline:
         self._mesh = KeyedCache(releases=True)       # geometry key -> MeshBuffer
         self._lights = {}                             # light cache key -> LightMaps
         self._indirect = KeyedCache(releases=True)   # what the content depends on -> IndirectMethod
-        self._emission = None      # SurfaceEmission of the emissive surfaces, over the last frame's levels
+        self._emission = None      # SurfaceEmission of the emissive surfaces
         self._world = None         # WorldLight: the world's emitters and background map
         self._emitter_grid = KeyedCache(releases=True)     # resolution -> EmitterGrid of the point emitters
         self._emitter_shadows = KeyedCache(releases=True)  # grids -> EmitterShadows of the point emitters
@@ -206,7 +206,7 @@ class Pipeline:
         indirect = self._indirect_light(scene, maps, keys, grids, sources, sources_key, stats)
         drawn = len(lit.emitters) - lit.lights_as_emitters  # the scene's point emitters, not the lamps
         glowing = scene.emission is not None or drawn > 0
-        self._direct_light(shot, targets, maps, lit, levels, indirect, drawn, stats)
+        self._direct_light(shot, targets, maps, lit, indirect, drawn, stats)
         self._composite(shot, targets, indirect, sets, display_into is not None, glowing, stats)
         self._accumulated = (view, sets, accumulated_vpls)
         self._shown_keys = tuple(keys)
@@ -278,7 +278,7 @@ class Pipeline:
             self._indirect.put(key, indirect)
         return self._indirect.value
 
-    def _direct_light(self, scene, targets, maps, lit, levels, indirect, drawn, stats):
+    def _direct_light(self, scene, targets, maps, lit, indirect, drawn, stats):
         """The direct image: the lights' with maps, the point emitters' (the `drawn` ones of
         the scene glowing too) and the emissive surfaces' with their glow."""
         s = self.settings
@@ -296,21 +296,21 @@ class Pipeline:
         if scene.emission is not None or drawn > 0:
             with self.glc.timed(stats, "emission_ms"):
                 if scene.emission is not None:
-                    self._emitted_light(scene, targets, levels, indirect)
+                    self._emitted_light(scene, targets, indirect)
                 render_glow(self.glc, self._mesh.value, scene.camera, targets,
                             (self._emitter_grid.value.emitters, drawn) if drawn else None)
         elif self._world_lights(scene):
             with self.glc.timed(stats, "world_ms"):
-                self._emitted_light(scene, targets, levels, indirect)
+                self._emitted_light(scene, targets, indirect)
 
     def _world_lights(self, scene):
         return scene.world is not None and scene.world.lights_anything and self.settings.world_samples > 0
 
-    def _emitted_light(self, scene, targets, levels, indirect):
+    def _emitted_light(self, scene, targets, indirect):
         """Add the direct light of the scene's emissive surfaces and its world into the
-        direct image, gathered through the pixel gather the indirect method names."""
+        direct image, gathered through the indirect method's pixel gather."""
         s = self.settings
-        gather = indirect.emission_gather(self._emission, levels)
+        gather = indirect.pixel_gather()
         bind_gbuffer(targets)
         world = [(self._world.emitters, self._world.count)] if self._world_lights(scene) else []
         self._emission.add_light(gather, self._mesh.value, targets, gbuffer_uniforms(scene.camera),
@@ -347,8 +347,7 @@ class Pipeline:
         if scene.specular is None:
             return None
         world = self._world_light().reflection_texture(scene.world) if scene.world is not None else None
-        march = indirect.march_occupancy() or (self._emission.march_occupancy() if self._emission else None)
-        occupancy, layers = march or (None, ())
+        occupancy, layers = indirect.march_occupancy() or (None, ())
         low, high = scene.bounds()
         return ReflectionInputs(world, occupancy, layers, float(np.linalg.norm(high - low)), self.vpl_pattern)
 

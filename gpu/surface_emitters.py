@@ -9,7 +9,6 @@ import numpy as np
 
 from .colour import LUMINANCE_WEIGHTS
 from .shade import add_irradiance
-from .vpl_gather import VPLGather
 
 
 class TrianglePoints:
@@ -70,9 +69,8 @@ def sample_surface_emitters(triangles, emission, count, pattern):
 
 
 class SurfaceEmission:
-    """The emitters of a scene's emissive surfaces, and for indirect methods other than
-    VPL gathering a pixel gather of its own to add their light, and the world's, to the
-    direct image."""
+    """The emitters of a scene's emissive surfaces, sampled once per geometry, and what
+    adds their light, and the world's, to the direct image through a pixel gather."""
 
     def __init__(self, glc):
         self.glc = glc
@@ -80,7 +78,6 @@ class SurfaceEmission:
         self.count = 0
         self._key = None
         self._surfaces = None  # (geometry key, EmissiveSurfaces)
-        self._own = None  # VPLGather over the last levels asked for
 
     def sample(self, scene, count, pattern):
         """Sample the emitters, once per scene geometry, count and pattern."""
@@ -93,21 +90,6 @@ class SurfaceEmission:
                 self.emitters.release()
             self.emitters, self.count, self._key = self.glc.gl.buffer(rows.tobytes()), len(rows), key
 
-    def own_gather(self, levels):
-        """A pixel gather of its own over `levels`, made again when they change."""
-        if self._own is not None and self._own.levels != tuple(levels):
-            self._own.release()
-            self._own = None
-        if self._own is None:
-            self._own = VPLGather(self.glc, levels)
-        return self._own
-
-    def march_occupancy(self):
-        """Its own gather's voxelised occupancy with its levels' layers; None before one."""
-        if self._own is None or self._own.occupancy.voxelised is None:
-            return None
-        return self._own.occupancy, self._own.occupancy.every_grid_layers()
-
     def add_light(self, gather, mesh, targets, uniforms, camera_position, singularity_bound, pattern, others=()):
         """Gather the irradiance of the emitters (and of the emitter sets `others`: the
         world's) at every pixel with `gather` (a VPLGather; its occupancy voxelised once
@@ -119,12 +101,9 @@ class SurfaceEmission:
         add_irradiance(self.glc, targets, uniforms, gather.filtered)
 
     def resources(self):
-        held = self._own.resources() if self._own is not None else ()
-        return (*held, *((self.emitters,) if self.emitters is not None else ()))
+        return (self.emitters,) if self.emitters is not None else ()
 
     def release(self):
-        if self._own is not None:
-            self._own.release()
         if self.emitters is not None:
             self.emitters.release()
-        self.emitters, self._own, self._key, self._surfaces = None, None, None, None
+        self.emitters, self._key, self._surfaces = None, None, None

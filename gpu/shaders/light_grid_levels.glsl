@@ -1,6 +1,8 @@
 // The light of LEVELS nested grid levels (gpu/grids.py) at a surface, each level PHASES
 // grids offset by a fraction of a cell whose answers are averaged: a pixel takes the
-// finest level that holds it, blended into the next over the last cells of its box.
+// finest level that holds it, blended into the next over the last cells of its box. A
+// grid that does not answer (grid_irradiance's fourth component 0) leaves its phase out
+// of the average, and a level of none its share to the next.
 // Needs grid_origins, cell_sizes, grid_size and a lookup's grid_irradiance(grid, p, n).
 
 // How much a level answers at q: all of it from two cells inside its box, none within one.
@@ -16,9 +18,10 @@ vec3 levels_irradiance(vec3 p, vec3 n) {
     for (int level = 0; level < LEVELS && remaining > 0.0; ++level) {
         float share = level == LEVELS - 1 ? 1.0 : level_share(level * PHASES, p);
         if (share <= 0.0) continue;
-        vec3 level_light = vec3(0.0);
+        vec4 level_light = vec4(0.0);
         for (int phase = 0; phase < PHASES; ++phase) level_light += grid_irradiance(level * PHASES + phase, p, n);
-        irradiance += remaining * share * level_light / float(PHASES);
+        if (level_light.a <= 0.0) continue;
+        irradiance += remaining * share * level_light.rgb / level_light.a;
         remaining *= 1.0 - share;
     }
     return irradiance;

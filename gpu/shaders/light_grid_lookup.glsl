@@ -2,13 +2,19 @@
 // centres around p + n cell/2, each weighted by its trilinear weight if it lies in front of
 // the surface, and by whether the surface sees it through the occupancy (no light
 // through a wall thinner than a cell, none from the inside of a closed box); a centre on a
-// surface is left out.
+// surface is left out. A march that counts no voxel near p as passable keeps a wall that
+// meets the surface at an inner edge from letting through the cells beyond it; where it
+// finds every centre hidden (the surface's own voxels around a convex edge), the voxels
+// within EDGE_RADIUS of p are passed. The fourth component is 1 where any centre
+// counts, else 0: such a grid abstains (light_grid_levels.glsl) instead of answering black.
 #include "occupancy.glsl"
 uniform sampler3D light_grid[GRIDS];
 #include "occupancy_volumes.glsl"
-const float SURFACE_RADIUS = 1.5;  // voxels around the surface point where the march sees no occluder
+const float EDGE_RADIUS = 1.5;  // voxels around the surface point a second march passes
 
-vec3 grid_irradiance(int grid, vec3 p, vec3 n) {
+// The weighted sum of the visible centres' irradiance and the sum of their weights, the
+// march passing the voxels within `radius` of p.
+vec4 visible_centres(int grid, vec3 p, vec3 n, float radius) {
     float cell = cell_sizes[grid];
     vec3 origin = grid_origins[grid];
     vec3 q = p + 0.5 * cell * n;
@@ -20,8 +26,7 @@ vec3 grid_irradiance(int grid, vec3 p, vec3 n) {
     vec3 surface_voxels = (p - origin) / voxel;
     vec3 n2 = n * n;
     ivec3 side = ivec3(n.x < 0.0 ? 1 : 0, n.y < 0.0 ? 1 : 0, n.z < 0.0 ? 1 : 0);  // +axis block or -axis
-    vec3 sum = vec3(0.0);
-    float total = 0.0;
+    vec4 sum = vec4(0.0);
     for (int corner = 0; corner < 8; ++corner) {
         ivec3 step = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
         ivec3 c = clamp(base + step, ivec3(0), ivec3(grid_size - 1));
@@ -30,13 +35,18 @@ vec3 grid_irradiance(int grid, vec3 p, vec3 n) {
         vec3 to = (vec3(c) + 0.5) * cell + origin - p;
         float weight = dot(to, n) > 0.0 ? w3.x * w3.y * w3.z : 0.0;
         if (weight <= 0.0 || segment_blocked(occupancy, coarse, voxels_per_cell, grid, q_voxels, centre_voxels, surface_voxels,
-                                                SURFACE_RADIUS, false))
+                                                radius, false))
             continue;
         vec3 e = n2.x * texelFetch(light_grid[grid], ivec3(c.xy, c.z + side.x * grid_size), 0).rgb
                + n2.y * texelFetch(light_grid[grid], ivec3(c.xy, c.z + (2 + side.y) * grid_size), 0).rgb
                + n2.z * texelFetch(light_grid[grid], ivec3(c.xy, c.z + (4 + side.z) * grid_size), 0).rgb;
-        sum += weight * e;
-        total += weight;
+        sum += weight * vec4(e, 1.0);
     }
-    return total > 1e-8 ? sum / total : vec3(0.0);
+    return sum;
+}
+
+vec4 grid_irradiance(int grid, vec3 p, vec3 n) {
+    vec4 sum = visible_centres(grid, p, n, 0.0);
+    if (sum.a <= 1e-8) sum = visible_centres(grid, p, n, EDGE_RADIUS);
+    return sum.a > 1e-8 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0);
 }

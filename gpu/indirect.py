@@ -87,7 +87,7 @@ class IndirectMethod:
         emissive surfaces' and the world's: gpu/surface_emitters.py) and whose occupancy,
         six voxels a cell, the emitters' bounce marches: a light through a window passes a
         frame thickened by half a voxel on each side, so the light grid's three voxels a
-        cell would narrow it twice as much (docs/method.md, "The world")."""
+        cell would narrow it twice as much (docs/method.md, "The emitters' bounce")."""
         if self._pixel_gather is None:
             self._pixel_gather = VPLGather(self.glc, self.levels)
         return self._pixel_gather
@@ -327,9 +327,6 @@ class VPLGatherMethod(GatheringMethod):
 
     def pixel_gather(self):
         return self.volumes[0]  # its own occupancy and images: its gather comes later in the frame
-
-    def _held(self):
-        return ()
 
 
 INDIRECT_METHOD_CLASSES = {method.name: method for method in (LPVMethod, LightGridMethod, VPLGatherMethod)}

@@ -16,26 +16,32 @@ def light_bounds(positions, intensity, box, min_distance):
     """Each emitter's bound on the irradiance it gives the box `box` (low, high): its
     intensity over the squared distance to the box, at least `min_distance`."""
     low, high = (np.asarray(corner, dtype=np.float32) for corner in box)
-    gap = np.maximum(np.maximum(low - positions, positions - high), 0.0)
-    return intensity / np.maximum(np.einsum("ij,ij->i", gap, gap), np.float32(min_distance ** 2))
+    squared = np.zeros(len(positions), dtype=np.float32)
+    for axis in range(3):
+        along = positions[:, axis]
+        gap = np.maximum(low[axis] - along, along - high[axis])
+        np.maximum(gap, 0.0, out=gap)
+        squared += gap * gap
+    return intensity / np.maximum(squared, np.float32(min_distance ** 2))
 
 
 def skip_weak(bound, cutoff):
     """A mask of the emitters to keep, given their `light_bounds`: those dropped, the
     weakest, give together at most `cutoff` of the sum of the bounds. The threshold comes
-    from a histogram of the bounds weighted by themselves, not a sort: a million emitters
-    take a pass, and a little less than `cutoff` may be dropped."""
+    from a histogram of the bounds in logarithmic bins weighted by themselves, not a sort:
+    a million emitters take a pass, and a little less than `cutoff` may be dropped."""
     total = float(bound.sum(dtype=np.float64))
-    keep = np.ones(len(bound), dtype=bool)
     if cutoff <= 0 or not total > 0:
-        return keep
-    positive = bound[bound > 0].astype(np.float64)
-    edges = np.geomspace(positive.min(), positive.max() * (1 + 1e-9), SKIP_BINS + 1)
-    weights, _ = np.histogram(positive, bins=edges, weights=positive)
-    below = np.concatenate([[0.0], np.cumsum(weights)])  # the zeros are dropped first: they add nothing
-    threshold = edges[np.searchsorted(below, cutoff * total, side="right") - 1]
-    keep &= bound >= threshold
-    return keep
+        return np.ones(len(bound), dtype=bool)
+    positive = bound > 0
+    least, most = float(bound[positive].min()), float(bound.max())
+    scale = SKIP_BINS / max(np.log(most * (1 + 1e-9) / least), 1e-30)
+    with np.errstate(divide="ignore"):  # the zeros fall below every bin: they add nothing and go first
+        bins = np.floor(np.log(np.maximum(bound, np.float32(least)) / np.float32(least)) * np.float32(scale))
+    bins = np.where(positive, np.clip(bins, 0, SKIP_BINS - 1), -1).astype(np.int32)
+    weights = np.bincount(bins[positive], weights=bound[positive], minlength=SKIP_BINS)
+    below = np.concatenate([[0.0], np.cumsum(weights)])
+    return bins >= np.searchsorted(below, cutoff * total, side="right") - 1
 
 
 def seen_box(levels, bounds):
@@ -78,11 +84,12 @@ def frame_lights(scene, settings, box, min_distance):
     emitters = scene.point_emitters if scene.point_emitters is not None else \
         np.zeros((0, POINT_EMITTER_COLUMNS), np.float32)
     luminance = LUMINANCE_WEIGHTS.astype(np.float32)
-    intensity = np.concatenate([np.array([light.peak_intensity @ luminance for light in lights], np.float32),
-                                emitters[:, 3:6] @ luminance / np.float32(4 * np.pi)])
-    positions = np.concatenate([np.array([light.position for light in lights], np.float32).reshape(-1, 3),
-                                emitters[:, :3]])
-    strength = light_bounds(positions, intensity, box, min_distance)
+    lamp_strength = light_bounds(np.array([light.position for light in lights], np.float32).reshape(-1, 3),
+                                 np.array([light.peak_intensity @ luminance for light in lights], np.float32),
+                                 box, min_distance)
+    columns = np.ascontiguousarray(emitters.T)  # one copy: the rows' seven floats make every column strided
+    intensity = sum(columns[3 + channel] * (luminance[channel] / np.float32(4 * np.pi)) for channel in range(3))
+    strength = np.concatenate([lamp_strength, light_bounds(columns[:3].T, intensity, box, min_distance)])
     for index, light in enumerate(lights):
         if light.kind == "SUN":
             strength[index] = np.inf
@@ -94,15 +101,18 @@ def frame_lights(scene, settings, box, min_distance):
     mapped = [lights[i] for i in kept_lights if i not in as_emitters]
     extra = [lights[i] for i in sorted(as_emitters)]
     kept_emitters = keep[len(lights):]
-    rows, placed = emitters, positions[len(lights):]
-    if not kept_emitters.all():
-        rows, placed = emitters[kept_emitters], placed[kept_emitters]
+    rows = emitters if kept_emitters.all() else emitters[kept_emitters]
+    flux = columns[3:6].sum(axis=1, dtype=np.float64, where=kept_emitters)
+    low = columns[:3].min(axis=1, where=kept_emitters, initial=np.inf)
+    high = columns[:3].max(axis=1, where=kept_emitters, initial=-np.inf)
     if extra:
         lamps = np.array([[*light.position, *light.rgb_power, np.pi * light.radius ** 2] for light in extra],
                          dtype=np.float32)
-        rows, placed = np.concatenate([rows, lamps]), np.concatenate([placed, lamps[:, :3]])
+        rows = np.concatenate([rows, lamps])
+        flux = flux + lamps[:, 3:6].sum(axis=0, dtype=np.float64)
+        low, high = np.minimum(low, lamps[:, :3].min(axis=0)), np.maximum(high, lamps[:, :3].max(axis=0))
     key = (scene.point_emitters_key(), np.packbits(kept_emitters).tobytes(), tuple(light.key() for light in extra))
-    flux_bound = float(rows[:, 3:6].sum(axis=0, dtype=np.float64).max()) if len(rows) else 0.0
-    emitter_box = (placed.min(axis=0), placed.max(axis=0)) if len(placed) else None
+    flux_bound = float(flux.max()) if len(rows) else 0.0
+    emitter_box = (low, high) if len(rows) else None
     return FrameLights(mapped, rows, key, flux_bound, len(lights) - len(kept_lights), int((~kept_emitters).sum()),
                        len(extra), emitter_box)

@@ -223,20 +223,26 @@ POINT_EMITTER_COLUMNS = 7  # position xyz, flux rgb, area
 
 def _sane_point_emitters(emitters, dropped):
     """The point emitters as float32 rows with finite positions, flux above zero in some
-    channel and no negative value (None when none is left); `dropped["emitters"]` counts
-    the rest."""
+    channel and no negative value (None when none is left; the rows given, not a copy,
+    when all are); `dropped["emitters"]` counts the rest."""
     if emitters is None:
         return None
     rows = np.asarray(emitters)
     if rows.ndim != 2 or rows.shape[1] != POINT_EMITTER_COLUMNS or not np.issubdtype(rows.dtype, np.number):
         raise LPVError(f"The point emitters are an array of shape {rows.shape}; give one row of "
                        f"{POINT_EMITTER_COLUMNS} numbers per emitter: position xyz, flux rgb, area.")
-    rows = rows.astype(np.float32)
+    rows = np.asarray(rows, dtype=np.float32)
+    good = np.ones(len(rows), dtype=bool)
     with np.errstate(invalid="ignore"):
-        good = np.isfinite(rows).all(axis=1) & (rows[:, 3:].min(axis=1) >= 0) & (rows[:, 3:6].max(axis=1) > 0)
+        for column in range(POINT_EMITTER_COLUMNS):  # a column at a time: a row's seven floats are strided
+            values = rows[:, column]
+            good &= np.isfinite(values) if column < 3 else np.isfinite(values) & (values >= 0)
+        good &= (rows[:, 3] > 0) | (rows[:, 4] > 0) | (rows[:, 5] > 0)
     if not good.all():
         dropped["emitters"] = dropped.get("emitters", 0) + int((~good).sum())
-    return np.ascontiguousarray(rows[good], dtype=np.float32) if good.any() else None
+    if good.all():
+        return np.ascontiguousarray(rows)
+    return np.ascontiguousarray(rows[good]) if good.any() else None
 
 
 @dataclass

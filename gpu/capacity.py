@@ -17,6 +17,7 @@ from .light_grid import CLUSTER_BYTES, LIGHT_GRID_BYTES_PER_CELL, cluster_capaci
 from .occupancy import LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, occupancy_bytes
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .light_maps import SUN_CASCADES
+from .mesh_buffer import VERTEX_FLOATS
 from .rsm import face_atlas_size, map_face_count
 from .scene import POINT_EMITTER_COLUMNS
 from .surface_images import BYTES_PER_TEXEL, layer_size
@@ -47,7 +48,7 @@ SHARED_BYTES_PER_TEXEL = 4 + 4
 cell ids; the warped methods keep a spare set of maps there too (the warp's source)."""
 VPL_CELL_BYTES = 16 + 8               # per atlas layout: a Poisson cell's bounds and sample point
 
-VERTEX_BYTES = 23 * 4                 # position, normal, albedo, surface coordinate, transmission, specular
+VERTEX_BYTES = VERTEX_FLOATS * 4      # position, normal, albedo, surface coordinate, transmission, specular
                                       # (mesh_buffer.py)
 RIM_LIST_BYTES_PER_TRIANGLE = 2 * 3 * 4
 """Per paraboloid hemisphere: room for two lists of vertex indices (uint32) of the

@@ -20,6 +20,7 @@ CULL_COMMAND_BYTES = 5 * 4
 reads commands 20 bytes apart (DrawElementsIndirect's size) for arrays too."""
 
 
+VERTEX_FLOATS = 23
 VERTEX_LAYOUT = ("3f 3f 4f 4f 4f 4f 1f", "in_position", "in_normal", "in_albedo", "in_surface", "in_transmission",
                  "in_specular", "in_metallic")
 """A vertex's floats and attributes (shaders/vertex_layout.glsl says where the compute
@@ -56,24 +57,23 @@ class MeshBuffer:
 
     def __init__(self, glc, scene):
         count = scene.triangle_count
-        surface = np.zeros((count, 3, 4), dtype=np.float32)
-        surface[..., 2:] = -1.0
-        if scene.uvs is not None:
-            surface[..., :2] = scene.uvs
-        if scene.image_layers is not None:
-            surface[..., 2] = scene.image_layers[:, None]
-        if scene.alpha_layers is not None:
-            surface[..., 3] = scene.alpha_layers[:, None]
-        transmission = np.zeros((count, 3, 4), dtype=np.float32)
-        transmission[..., :3] = 1.0
+        # every vertex's floats written in place: the buffer is uploaded from this array, no copy of it is made
+        interleaved = np.empty((count, 3, VERTEX_FLOATS), dtype=np.float32)
+        interleaved[..., 0:3] = scene.triangles
+        interleaved[..., 3:6] = scene.normals
+        interleaved[..., 6:10] = vertex_albedo(scene)
+        surface = interleaved[..., 10:14]
+        surface[..., :2] = scene.uvs if scene.uvs is not None else 0.0
+        surface[..., 2] = scene.image_layers[:, None] if scene.image_layers is not None else -1.0
+        surface[..., 3] = scene.alpha_layers[:, None] if scene.alpha_layers is not None else -1.0
         if scene.transmission is not None:
-            transmission[:] = scene.transmission[:, None, :]
-        specular = np.zeros((count, 3, 5), dtype=np.float32)
-        specular[..., 3] = 1.0
+            interleaved[..., 14:18] = scene.transmission[:, None, :]
+        else:
+            interleaved[..., 14:17], interleaved[..., 17] = 1.0, 0.0
         if scene.specular is not None:
-            specular[:] = scene.specular[:, None, :]
-        interleaved = np.concatenate([scene.triangles, scene.normals, vertex_albedo(scene), surface, transmission,
-                                      specular], axis=2).astype(np.float32)
+            interleaved[..., 18:23] = scene.specular[:, None, :]
+        else:
+            interleaved[..., 18:21], interleaved[..., 21], interleaved[..., 22] = 0.0, 1.0, 0.0
         self.see_through = scene.see_through
         self.hashed = scene.hashed
         self.transmits = scene.transmission is not None
@@ -85,8 +85,9 @@ class MeshBuffer:
         self.light_triangles = scene.light_triangles or (0, count)
         first, shadowing = self.light_triangles
         corners = scene.triangles[first:first + shadowing].reshape(-1, 3) if shadowing else np.zeros((1, 3))
-        self.occluder_bounds = corners.min(axis=0).astype(np.float64), corners.max(axis=0).astype(np.float64)
-        self.buffer = glc.gl.buffer(interleaved.tobytes())
+        self.occluder_bounds = tuple(np.array([reduce(corners[:, axis]) for axis in range(3)], dtype=np.float64)
+                                     for reduce in (np.min, np.max))  # an axis at a time: corners are strided
+        self.buffer = glc.gl.buffer(interleaved)
         self.emission = None  # each triangle's emitted radiance (vec4), for the camera's glow
         if scene.emission is not None:
             emission = np.zeros((count, 4), dtype=np.float32)

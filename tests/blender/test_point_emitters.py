@@ -2,11 +2,13 @@
 point emitters, the emitter grid against the brute-force loop, point lights beyond the
 light-map budget, skipping what the view does not need, the emitters' bounce. Real GL
 through llvmpipe, real bpy."""
+import dataclasses
+
 import numpy as np
 import pytest
 
 from lpv_preview.bench.synthetic import lamps_over_floor, particle_room
-from lpv_preview.gpu.frame_lights import light_bounds, skip_weak
+from lpv_preview.gpu.frame_lights import frame_lights, light_bounds, skip_weak
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.metrics import psnr
 from lpv_preview.gpu.pipeline import Pipeline
@@ -87,6 +89,21 @@ def test_skip_weak_bounds_what_it_drops():
     assert 0 < (~keep).sum() < 5000
     assert bound[~keep].sum() <= 0.01 * bound.sum()
     assert bound[~keep].max() <= bound[keep].min()
+
+
+def test_a_frames_emitters_are_the_kept_ones_with_their_flux_and_box():
+    """The skipped emitters leave the frame's emitters, its flux bound and its box."""
+    scene = particle_room(2000)
+    far = np.array([[500.0 + i, -400.0, 300.0, 1e-6, 1e-6, 1e-6, 1e-4] for i in range(50)], np.float32)
+    scene = dataclasses.replace(scene, point_emitters=np.concatenate([scene.point_emitters, far]))
+    scene.sanitize()
+    low, high = scene.bounds()
+    lit = frame_lights(scene, Settings(), (low, high), 0.1)
+    assert lit.skipped_emitters >= len(far) and len(lit.emitters) == len(scene.point_emitters) - lit.skipped_emitters
+    assert lit.emitters[:, 0].max() < 500.0
+    np.testing.assert_allclose(lit.emitter_box[0], lit.emitters[:, :3].min(axis=0))
+    np.testing.assert_allclose(lit.emitter_box[1], lit.emitters[:, :3].max(axis=0))
+    assert lit.flux_bound == pytest.approx(lit.emitters[:, 3:6].sum(axis=0, dtype=np.float64).max(), rel=1e-6)
 
 
 def test_point_emitters_are_checked_and_saved(tmp_path, particles):

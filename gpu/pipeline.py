@@ -246,6 +246,7 @@ class Pipeline:
         only when the view changed (the G-buffer read back), the last frame's kept while
         they still fit (gpu/grids.py keep_or_move)."""
         s = self.settings
+        sun = any(light.kind == "SUN" for light in scene.lights)  # only a sun's maps follow the view
 
         def place():
             with self.glc.timed(stats, "place_ms"):
@@ -253,9 +254,9 @@ class Pipeline:
                 boxes = level_boxes(points, scene.bounds(), s.grid_levels)
                 return tuple(fit_grid(box, s.lpv_resolution, s.grid_shift + phase / s.grid_phases)
                              for box in boxes for phase in range(s.grid_phases)), \
-                    cascade_boxes(points, scene.camera.position, scene.bounds())
+                    cascade_boxes(points, scene.camera.position, scene.bounds()) if sun else ()
         placed, self._cascade_boxes = self._placement.get((scene.camera.key(), self._mesh.key, s.lpv_resolution, s.grid_levels,
-                                      s.grid_phases, s.grid_shift, s.width, s.height), place)
+                                      s.grid_phases, s.grid_shift, s.width, s.height, sun), place)
         previous = self._indirect.value.grids if self._indirect.value is not None else None
         return keep_or_move(previous, placed)
 

@@ -84,3 +84,21 @@ def test_auto_picks_per_light():
         assert methods[index] in ("wdpm", "twdpm")
         assert maps[index].rsm.face_count == (2 if index == 0 else 1)
     assert all(np.all(np.isfinite(image)) for image in frame.passes.values())
+
+
+def test_a_sun_added_to_a_still_view_gets_its_cascade():
+    """The grids' placement works a sun's cascade out only where the scene has a sun, and
+    is placed again when one is added with the camera where it was."""
+    from lpv_preview.gpu.scene import Light
+    scene = room_scene(4)
+    pipeline = Pipeline(Settings(width=32, height=32, rsm_resolution=64, vpls_per_light=128))
+    try:
+        pipeline.render(scene)
+        assert pipeline._cascade_boxes == ()
+        scene.lights = [*scene.lights, Light("SUN", (0, 0, 0), (0.3, 0.2, -1), (0, 1, 0), (1, 1, 1), 2.0)]
+        frame = pipeline.render(scene)
+        maps, _ = pipeline.light_maps(scene)
+    finally:
+        pipeline.release()
+    assert pipeline._cascade_boxes and maps[-1].view_maps
+    assert np.all(np.isfinite(frame.passes["direct"]))

@@ -23,6 +23,7 @@ from .scene import POINT_EMITTER_COLUMNS
 from .surface_images import BYTES_PER_TEXEL, layer_size
 from .vpl import EMITTER_BYTES
 from .vpl_gather import pixel_gather_bytes
+from .world_light import world_lights
 
 GIB = 2 ** 30
 
@@ -110,9 +111,9 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     maps += suns * SUN_CASCADES * s.sun_cascade_resolution ** 2 * map_texel
     indirect = indirect_method(s).needed_bytes(s, scene, pixels, len(mapped))
     indirect += emitter_bytes(s, scene, pixels, len(scene.lights) - len(mapped))
-    world_lights = scene.world is not None and scene.world.lights_anything and s.world_samples > 0
+    lit_by_world = world_lights(scene, s)
     if not indirect_method(s).gathers_per_pixel and (scene.point_emitter_count or scene.emission is not None
-                                                      or world_lights or len(scene.lights) > len(mapped)):
+                                                      or lit_by_world or len(scene.lights) > len(mapped)):
         indirect += pixel_gather_bytes(s, scene, pixels)  # the method's pixel gather: the emitters' light and bounce
     if scene.emission is not None:  # emitters, the glow and the triangles' radiances
         indirect += 2 * s.emission_samples * EMITTER_BYTES
@@ -120,7 +121,7 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     if scene.world is not None:  # its background and lighting maps, its emitters
         world = scene.world
         indirect += (world.background.size + world.lighting.size * 4 // 3) // 3 * WORLD_MAP_BYTES_PER_TEXEL
-        if world_lights:
+        if lit_by_world:
             indirect += s.world_samples * EMITTER_BYTES
     if scene.specular is not None:
         camera += pixels * REFLECTION_BYTES_PER_PIXEL

@@ -20,11 +20,11 @@ CULL_COMMAND_BYTES = 5 * 4
 reads commands 20 bytes apart (DrawElementsIndirect's size) for arrays too."""
 
 
-VERTEX_FLOATS = 23
 VERTEX_LAYOUT = ("3f 3f 4f 4f 4f 4f 1f", "in_position", "in_normal", "in_albedo", "in_surface", "in_transmission",
                  "in_specular", "in_metallic")
 """A vertex's floats and attributes (shaders/vertex_layout.glsl says where the compute
 passes find them)."""
+VERTEX_FLOATS = sum(int(attribute[:-1]) for attribute in VERTEX_LAYOUT[0].split())
 
 
 def vertex_albedo(scene):

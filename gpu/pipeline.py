@@ -36,7 +36,7 @@ from .soft_shadows import shadow_uniforms
 from .surface_emitters import SurfaceEmission
 from .vpl import VPLSampler
 from .warp import STATUS_NAMES
-from .world_light import WorldLight
+from .world_light import WorldLight, world_lights
 
 
 STAGES = {"rsm_ms": "RSM", "warp_ms": "warp", "vpl_ms": "VPLs", "gbuffer_ms": "G-buffer", "place_ms": "place grids",
@@ -300,12 +300,9 @@ class Pipeline:
                     self._emitted_light(scene, targets, indirect)
                 render_glow(self.glc, self._mesh.value, scene.camera, targets,
                             (self._emitter_grid.value.emitters, drawn) if drawn else None)
-        elif self._world_lights(scene):
+        elif world_lights(scene, self.settings):
             with self.glc.timed(stats, "world_ms"):
                 self._emitted_light(scene, targets, indirect)
-
-    def _world_lights(self, scene):
-        return scene.world is not None and scene.world.lights_anything and self.settings.world_samples > 0
 
     def _emitted_light(self, scene, targets, indirect):
         """Add the direct light of the scene's emissive surfaces and its world into the
@@ -313,7 +310,7 @@ class Pipeline:
         s = self.settings
         gather = indirect.pixel_gather()
         bind_gbuffer(targets)
-        world = [(self._world.emitters, self._world.count)] if self._world_lights(scene) else []
+        world = [(self._world.emitters, self._world.count)] if world_lights(scene, self.settings) else []
         self._emission.add_light(gather, self._mesh.value, targets, gbuffer_uniforms(scene.camera),
                                  scene.camera.position, s.singularity_bound, self.vpl_pattern, world)
 
@@ -460,13 +457,13 @@ class Pipeline:
                                   (lit.key, self._mesh.key, s.singularity_bound))
             sources.append((grid.emitters, grid.count))
             key += lit.key
-        if (scene.emission is not None or self._world_lights(scene)) and self._emission is None:
+        if (scene.emission is not None or world_lights(scene, self.settings)) and self._emission is None:
             self._emission = SurfaceEmission(self.glc)
         if scene.emission is not None:
             self._emission.sample(scene, s.emission_samples, self.vpl_pattern)
             sources.append((self._emission.emitters, self._emission.count))
             key += (scene.geometry_key(), s.emission_samples)
-        if self._world_lights(scene):
+        if world_lights(scene, self.settings):
             self._world_light().sample(scene, s.world_samples, self.vpl_pattern)
             sources.append((self._world.emitters, self._world.count))
             key += (scene.world.key(), s.world_samples)

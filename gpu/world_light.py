@@ -8,6 +8,12 @@ import numpy as np
 from .keyed_cache import KeyedCache
 
 
+
+def world_lights(scene, settings):
+    """Whether the scene's world lights it: a world with any light and World Samples above 0."""
+    return scene.world is not None and scene.world.lights_anything and settings.world_samples > 0
+
+
 class WorldLight:
     """A scene world's emitters, made again when the world, the count or the pattern
     change, and its textures, made again when the world does."""

@@ -63,16 +63,22 @@ def box(name, low, high, material):
     return mesh_object(name, corners, faces, materials=(material,))
 
 
-def room_shell(half_x, half_y, height, walls, floor, thickness=0.1):
+def room_shell(half_x, half_y, height, walls, floor, thickness=0.1, front_window=None):
     """A closed room's floor, ceiling and four walls, each a closed box `thickness` thick,
-    around [-half_x, half_x] x [-half_y, half_y] x [0, height]."""
+    around [-half_x, half_x] x [-half_y, half_y] x [0, height]; with `front_window` ((x, z)
+    low and high corners) the front wall (at -half_y) has that opening through it."""
     x, y, t = half_x, half_y, thickness
     box("Floor", (-x - t, -y - t, -t), (x + t, y + t, 0.0), floor)
     box("Ceiling", (-x - t, -y - t, height), (x + t, y + t, height + t), walls)
     box("Left wall", (-x - t, -y, 0.0), (-x, y, height), walls)
     box("Right wall", (x, -y, 0.0), (x + t, y, height), walls)
     box("Back wall", (-x - t, y, 0.0), (x + t, y + t, height), walls)
-    box("Front wall", (-x - t, -y - t, 0.0), (x + t, -y, height), walls)
+    if front_window is None:
+        box("Front wall", (-x - t, -y - t, 0.0), (x + t, -y, height), walls)
+    else:
+        (low_x, low_z), (high_x, high_z) = front_window
+        wall_with_opening("Front wall", (-x - t, -y - t, 0.0), (x + t, -y, height), (low_x, -y - t, low_z),
+                          (high_x, -y, high_z), walls)
 
 
 def wall_with_opening(name, low, high, opening_low, opening_high, material):

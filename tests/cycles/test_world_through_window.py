@@ -11,7 +11,7 @@ from lpv_preview.addon.render_scene import scene_to_render  # noqa: E402
 from lpv_preview.gpu.pipeline import render_once  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 
-from ..leak_scenes import box, camera, diffuse, empty_scene, wall_with_opening  # noqa: E402
+from ..leak_scenes import camera, diffuse, empty_scene, room_shell  # noqa: E402
 
 SIZE = (64, 48)
 
@@ -21,13 +21,7 @@ def room_lit_through_a_window():
     1.2 x 1 m window in its front wall; the camera by the window looks at the back wall."""
     scene = empty_scene(SIZE)
     walls, floor = diffuse("walls", (0.8, 0.8, 0.8)), diffuse("floor", (0.6, 0.5, 0.4))
-    x, y, h, t = 2.0, 1.5, 2.5, 0.1
-    box("Floor", (-x - t, -y - t, -t), (x + t, y + t, 0.0), floor)
-    box("Ceiling", (-x - t, -y - t, h), (x + t, y + t, h + t), walls)
-    box("Left wall", (-x - t, -y, 0.0), (-x, y, h), walls)
-    box("Right wall", (x, -y, 0.0), (x + t, y, h), walls)
-    box("Back wall", (-x - t, y, 0.0), (x + t, y + t, h), walls)
-    wall_with_opening("Front wall", (-x - t, -y - t, 0.0), (x + t, -y, h), (-0.6, -y - t, 0.9), (0.6, -y, 1.9), walls)
+    room_shell(2.0, 1.5, 2.5, walls, floor, front_window=((-0.6, 0.9), (0.6, 1.9)))
     world = bpy.data.worlds.new("Sky")
     background = world.node_tree.nodes["Background"]
     background.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)

@@ -142,7 +142,7 @@ class MeshBuffer:
             clusters = -(-count // CLUSTER_TRIANGLES)
             gl = self.glc.gl
             boxes = gl.buffer(reserve=clusters * 32)
-            commands = gl.buffer(reserve=clusters * CULL_COMMAND_BYTES * CULL_SLOTS)
+            commands = gl.buffer(bytes(clusters * CULL_COMMAND_BYTES * CULL_SLOTS))  # no draw before a cull
             program = self.glc.compute("cluster_bounds", CLUSTER_TRIANGLES=CLUSTER_TRIANGLES)
             self.buffer.bind_to_storage_buffer(6)
             boxes.bind_to_storage_buffer(7)

@@ -20,6 +20,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from .errors import LPVError
+from .specular_albedo import glsl_table
 
 SHADER_DIR = Path(__file__).parent / "shaders"
 NO_GPU_VARIABLE = "LPV_PREVIEW_NO_GPU"
@@ -227,13 +228,17 @@ def load_shader(filename, defines=None):
 
 
 def preprocess(source, defines=None):
-    """Expand `#include "x.glsl"` (from shaders/, recursively, each file once) and insert
+    """Expand `#include "x.glsl"` (from shaders/ or GENERATED_INCLUDES, recursively, each once) and insert
     `#define`s after `#version`."""
     text = _expand_includes(source, set())
     if defines:
         head, _, rest = text.partition("\n")
         text = head + "\n" + "".join(f"#define {k} {v}\n" for k, v in defines.items()) + rest
     return text
+
+
+GENERATED_INCLUDES = {"specular_albedo_table.glsl": glsl_table}
+"""Includes made by the host, not read from shaders/."""
 
 
 def _expand_includes(source, included):
@@ -243,7 +248,8 @@ def _expand_includes(source, included):
             name = line.split('"')[1]
             if name not in included:
                 included.add(name)
-                lines.append(_expand_includes((SHADER_DIR / name).read_text(), included))
+                text = GENERATED_INCLUDES[name]() if name in GENERATED_INCLUDES else (SHADER_DIR / name).read_text()
+                lines.append(_expand_includes(text, included))
         else:
             lines.append(line)
     return "\n".join(lines)

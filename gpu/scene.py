@@ -12,6 +12,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .errors import LPVError
+from .specular_albedo import bounce_colours
 
 LIGHT_KINDS = ("POINT", "SPOT", "AREA", "SUN")
 AREA_SHAPES = ("SQUARE", "RECTANGLE", "DISK", "ELLIPSE")
@@ -129,6 +130,14 @@ class Camera:
     @property
     def position(self):
         return np.linalg.inv(self.view)[:3, 3]
+
+    @property
+    def eye(self):
+        """The homogeneous point every ray of the camera comes from: its position (w 1), or
+        for an orthographic camera the direction toward it (w 0)."""
+        if float(self.projection[3, 3]) == 1.0:
+            return np.append(self.view[2, :3] / np.linalg.norm(self.view[2, :3]), 0.0)
+        return np.append(self.position, 1.0)
 
     def pixel_angle(self, height):
         """A pixel's width per unit distance in front of the camera, in an image `height`
@@ -322,9 +331,10 @@ class Scene:
         return int(self.triangles.shape[0])
 
     def surface_colours(self, first=0, count=None):
-        """The mean diffuse colour of triangles first .. first + count: each one's albedo
+        """The colour triangles first .. first + count bounce light with: each one's albedo
         times its corners' mean vertex colour and its image's mean colour (the light a
-        surface bounces on the whole, where a texture varies within a triangle)."""
+        surface bounces on the whole, where a texture varies within a triangle), under its
+        glossy layer, which darkens it and sends on light of its own (gpu/specular_albedo.py)."""
         chosen = slice(first, None if count is None else first + count)
         colours = np.asarray(self.albedo[chosen], dtype=np.float64)
         if self.vertex_colors is not None:
@@ -335,6 +345,10 @@ class Scene:
             means = np.array([image.mean_colour() for image in self.images])
             colours = colours.copy()
             colours[textured] *= means[layers[textured]]
+        if self.specular is not None:
+            specular = np.asarray(self.specular[chosen], dtype=np.float64)
+            metallic = specular[:, 4] if specular.shape[1] > 4 else np.zeros(len(specular))
+            colours = bounce_colours(colours, specular[:, :3], metallic, specular[:, 3])
         return colours.astype(np.float32)
 
     def bounds(self):

@@ -168,7 +168,7 @@ def render_gbuffer(glc, mesh, camera, targets, pattern=0):
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
     uniforms = {"view_projection": camera.projection @ camera.view,
-                "camera_position": tuple(float(v) for v in camera.position), "cut_out_pattern": pattern}
+                "camera_eye": tuple(float(v) for v in camera.eye), "cut_out_pattern": pattern}
     set_uniforms(program, **uniforms)
     mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles, uniforms["view_projection"])
     if mesh.transmits:

@@ -9,6 +9,8 @@ in vec3 in_normal;
 in vec4 in_albedo;
 in vec4 in_surface;
 in vec4 in_transmission;
+in vec4 in_specular;
+in float in_metallic;
 uniform mat4 hemisphere_view;  // world to hemisphere space (+z the hemisphere's axis)
 uniform float near;
 uniform float far;
@@ -17,6 +19,8 @@ out vec3 world_normal;
 out vec4 surface_albedo;
 out vec4 surface_coord;
 out vec4 surface_transmission;
+out vec4 surface_specular;
+out float surface_metallic;
 
 void main() {
     vec3 p = (hemisphere_view * vec4(in_position, 1.0)).xyz;
@@ -26,4 +30,6 @@ void main() {
     surface_albedo = in_albedo;
     surface_coord = in_surface;
     surface_transmission = in_transmission;
+    surface_specular = in_specular;
+    surface_metallic = in_metallic;
 }

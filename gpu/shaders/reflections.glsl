@@ -161,8 +161,9 @@ void add_surroundings(inout Reflection reflection, ivec2 pixel, vec3 p, vec3 n, 
 }
 
 // The reflection at `pixel` (surface point `p`, normal `n`, its G-buffer's glossy texel
-// `gloss`: gbuffer_specular), its lookups still to make; all of it times the DFG term.
-Reflection trace_reflection(ivec2 pixel, vec3 p, vec3 n, vec4 gloss) {
+// `gloss` and `metallic`: gbuffer_specular), its lookups still to make; all of it times
+// the layer's albedo (the DFG term).
+Reflection trace_reflection(ivec2 pixel, vec3 p, vec3 n, vec4 gloss, float metallic) {
     Reflection reflection;
     reflection.light = vec3(0.0);
     reflection.own = vec3(0.0);
@@ -187,7 +188,7 @@ Reflection trace_reflection(ivec2 pixel, vec3 p, vec3 n, vec4 gloss) {
     }
     float rest = 1.0 - screen * fade;
     if (rest > 0.0) add_surroundings(reflection, pixel, p, n, r, d, alpha, rest);
-    vec3 dfg = environment_dfg(gloss.rgb, gloss.a, max(dot(n, v), 1e-4));
+    vec3 dfg = specular_albedo(gloss.rgb, metallic, gloss.a, max(dot(n, v), 1e-4));
     reflection.light *= dfg;
     reflection.weight *= dfg;
     reflection.own *= dfg;

@@ -1,11 +1,13 @@
 #version 450 core
-// Reflective shadow map texel: position, light-facing normal, reflected flux (METHOD §2).
+// Reflective shadow map texel: position, light-facing normal, reflected flux (METHOD §2):
+// the diffuse and what the glossy layer over it sends on (specular.glsl bounce_colour).
 // With CUT_OUT a texel the surface does not cover (surface.glsl) lets the light pass. With
 // TINT_MAP the fourth attachment starts at 1: transmitting surfaces in front multiply it
 // (passing_tint.frag).
 #include "common.glsl"
 #include "light.glsl"
 #include "paraboloid.glsl"
+#include "specular.glsl"
 #include "surface.glsl"
 #define PROJECTION_CUBE 0
 #define PROJECTION_PARABOLOID 1
@@ -15,6 +17,8 @@ in vec3 world_normal;
 in vec4 surface_albedo;
 in vec4 surface_coord;
 in vec4 surface_transmission;
+in vec4 surface_specular;  // F0 rgb, roughness
+in float surface_metallic;
 uniform vec2 face_origin;        // this face's lower-left texel in the atlas
 uniform float resolution;        // texels along one side of a face
 uniform float ortho_texel_area;  // sun: the area one texel covers across the beam
@@ -52,7 +56,9 @@ void main() {
     }
     out_position = vec4(world_position, max(dist, 1e-30));
     out_normal = vec4(n, area);
-    out_flux = vec4(surface_colour(surface_albedo, surface_coord) * power, 1.0);
+    vec3 colour = bounce_colour(surface_colour(surface_albedo, surface_coord), surface_specular.rgb, surface_metallic,
+                                surface_specular.a, abs(dot(n, w)));
+    out_flux = vec4(colour * power, 1.0);
 #ifdef TINT_MAP
     out_tint = vec4(1.0);
 #endif

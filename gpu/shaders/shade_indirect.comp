@@ -88,7 +88,7 @@ void main() {
     float metallic;
     vec4 gloss = surface ? gbuffer_specular(pixel, metallic) : vec4(0.0);
     if (any(greaterThan(gloss.rgb, vec3(0.0)))) {
-        Reflection reflection = trace_reflection(pixel, p, n, gloss);
+        Reflection reflection = trace_reflection(pixel, p, n, gloss, metallic);
         reflected = reflection.light;
         own_reflected = reflection.own;
         if (reflection.seen) {

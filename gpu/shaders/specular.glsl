@@ -50,14 +50,51 @@ vec3 ggx_brdf(vec3 n, vec3 v, vec3 l, vec3 f0, float metallic, float alpha) {
     return distribution * visibility * principled_fresnel(f0, metallic, max(dot(v, h), 0.0));
 }
 
-// The split sum's DFG term: the share of uniform incoming light a glossy surface of F0
-// `f0` and Blender's `roughness` reflects toward a viewer at cos `nv` (Karis' analytic fit
-// of the GGX / Schlick integral, "Physically Based Shading on Mobile", 2014).
-vec3 environment_dfg(vec3 f0, float roughness, float nv) {
-    const vec4 c0 = vec4(-1.0, -0.0275, -0.572, 0.022);
-    const vec4 c1 = vec4(1.0, 0.0425, 1.04, -0.04);
-    vec4 r = roughness * c0 + c1;
-    float a004 = min(r.x * r.x, exp2(-9.28 * nv)) * r.x + r.y;
-    vec2 ab = vec2(-1.04, 1.04) * a004 + r.zw;
-    return f0 * ab.x + ab.y;
+#include "specular_albedo_table.glsl"
+
+// The table of gpu/specular_albedo.py read bilinearly: the lobe's albedo with a Fresnel of
+// 1, and the parts Schlick's and a dielectric's rise toward grazing weigh it by.
+vec3 specular_albedo_terms(float roughness, float nv) {
+    vec2 at = clamp(vec2(roughness, nv), 0.0, 1.0) * float(SPECULAR_ALBEDO_STEPS - 1);
+    ivec2 low = min(ivec2(at), ivec2(SPECULAR_ALBEDO_STEPS - 2));
+    vec2 f = at - vec2(low);
+    int i = low.x * SPECULAR_ALBEDO_STEPS + low.y;
+    vec3 top = mix(SPECULAR_ALBEDO_TABLE[i], SPECULAR_ALBEDO_TABLE[i + 1], f.y);
+    vec3 bottom = mix(SPECULAR_ALBEDO_TABLE[i + SPECULAR_ALBEDO_STEPS], SPECULAR_ALBEDO_TABLE[i + SPECULAR_ALBEDO_STEPS + 1], f.y);
+    return mix(top, bottom, f.x);
+}
+
+// The share of uniform incoming light a glossy layer of F0 `f0`, metallic share and
+// Blender's `roughness` reflects toward a viewer at cos `nv` (the split sum's DFG term),
+// what the single-scattering lobe loses given back as Cycles' multiple-scattering GGX
+// does (gpu/specular_albedo.py). A layer of F0 0 (Specular IOR Level 0) reflects nothing.
+vec3 specular_albedo(vec3 f0, float metallic, float roughness, float nv) {
+    vec3 terms = specular_albedo_terms(roughness, nv);
+    float rise = mix(terms.z, terms.y, metallic);
+    float f90 = clamp(50.0 * max(f0.r, max(f0.g, f0.b)), 0.0, 1.0);
+    vec3 single = f0 * (terms.x - rise) + rise * f90;
+    float lost = 1.0 - terms.x;
+    vec3 average = f0 + (1.0 - f0) / 21.0;
+    return single + single * average * lost / (1.0 - average * lost);
+}
+
+// The share of the light below the glossy layer that it keeps from a viewer at cos `nv`:
+// Cycles darkens the diffuse under the layer by the layer's albedo toward the viewer, its
+// largest channel (closure_layering_weight).
+float diffuse_under_layer(vec3 f0, float metallic, float roughness, float nv) {
+    vec3 layer = specular_albedo(f0, metallic, roughness, nv);
+    return 1.0 - clamp(max(layer.r, max(layer.g, layer.b)), 0.0, 1.0);
+}
+
+const int MEAN_LAYER_STEPS = 8;  // gpu/specular_albedo.py MEAN_STEPS
+
+// What a surface of diffuse colour `albedo` under a glossy layer sends on of the light
+// arriving at cos `nl`, counted as diffuse light: the diffuse seen from every direction
+// (the layer's cosine-weighted mean, midpoints in cos²) and what the layer reflects of
+// that light (docs/method.md, "Specular light").
+vec3 bounce_colour(vec3 albedo, vec3 f0, float metallic, float roughness, float nl) {
+    float kept = 0.0;
+    for (int i = 0; i < MEAN_LAYER_STEPS; ++i)
+        kept += diffuse_under_layer(f0, metallic, roughness, sqrt((float(i) + 0.5) / float(MEAN_LAYER_STEPS)));
+    return albedo * kept / float(MEAN_LAYER_STEPS) + specular_albedo(f0, metallic, roughness, nl);
 }

@@ -8,11 +8,15 @@ in vec3 world_normal_v[];
 in vec4 surface_albedo_v[];
 in vec4 surface_coord_v[];
 in vec4 surface_transmission_v[];
+in vec4 surface_specular_v[];
+in float surface_metallic_v[];
 out vec3 world_position_c[];
 out vec3 world_normal_c[];
 out vec4 surface_albedo_c[];
 out vec4 surface_coord_c[];
 out vec4 surface_transmission_c[];
+out vec4 surface_specular_c[];
+out float surface_metallic_c[];
 uniform mat4 hemisphere_view;
 uniform float tessellation_unit;
 const float MAX_LEVEL = 64.0;  // GL's guaranteed GL_MAX_TESS_GEN_LEVEL
@@ -23,6 +27,8 @@ void main() {
     surface_albedo_c[gl_InvocationID] = surface_albedo_v[gl_InvocationID];
     surface_coord_c[gl_InvocationID] = surface_coord_v[gl_InvocationID];
     surface_transmission_c[gl_InvocationID] = surface_transmission_v[gl_InvocationID];
+    surface_specular_c[gl_InvocationID] = surface_specular_v[gl_InvocationID];
+    surface_metallic_c[gl_InvocationID] = surface_metallic_v[gl_InvocationID];
     if (gl_InvocationID != 0) return;
     vec3 h[3];
     vec2 p[3];

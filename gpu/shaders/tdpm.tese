@@ -7,11 +7,15 @@ in vec3 world_normal_c[];
 in vec4 surface_albedo_c[];
 in vec4 surface_coord_c[];
 in vec4 surface_transmission_c[];
+in vec4 surface_specular_c[];
+in float surface_metallic_c[];
 out vec3 world_position_v;
 out vec3 world_normal_v;
 out vec4 surface_albedo_v;
 out vec4 surface_coord_v;
 out vec4 surface_transmission_v;
+out vec4 surface_specular_v;
+out float surface_metallic_v;
 
 void main() {
     vec3 w = gl_TessCoord;
@@ -20,4 +24,6 @@ void main() {
     surface_albedo_v = w.x * surface_albedo_c[0] + w.y * surface_albedo_c[1] + w.z * surface_albedo_c[2];
     surface_coord_v = w.x * surface_coord_c[0] + w.y * surface_coord_c[1] + w.z * surface_coord_c[2];
     surface_transmission_v = w.x * surface_transmission_c[0] + w.y * surface_transmission_c[1] + w.z * surface_transmission_c[2];
+    surface_specular_v = w.x * surface_specular_c[0] + w.y * surface_specular_c[1] + w.z * surface_specular_c[2];
+    surface_metallic_v = w.x * surface_metallic_c[0] + w.y * surface_metallic_c[1] + w.z * surface_metallic_c[2];
 }

@@ -21,7 +21,7 @@ def test_the_light_grid_keeps_the_light_of_the_vpl_gather(glc, name):
     built = demo.build(name)
     size = (WIDTH, round(WIDTH * built.render.resolution_y / built.render.resolution_x))
     scene = scene_to_render(built, size)
-    means = {method: render_once(scene, Settings(width=size[0], height=size[1], bounces=1, converge_sets=4,
+    means = {method: render_once(scene, Settings(width=size[0], height=size[1], bounces=1, converge_sets=2,
                                                  indirect_method=method), glc).passes["indirect"].mean()
              for method in ("light_grid", "vpl_gather")}
     ratio = means["light_grid"] / means["vpl_gather"]

@@ -1,7 +1,7 @@
 """The glossy reflection of the direct light (docs/method.md, "Specular light"): a floor
 under a point light seen at a slant, its direct image against a numpy GGX of the same
-pixels (the light's irradiance taken from the floor's diffuse image, so the test needs
-no light units)."""
+pixels over the diffuse the layer keeps toward the eye (the light's irradiance taken from
+the floor's diffuse image, so the test needs no light units)."""
 import math
 
 import numpy as np
@@ -11,6 +11,7 @@ from lpv_preview.gpu.mesh_buffer import VERTEX_LAYOUT
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.scene import Camera, Light, Scene
 from lpv_preview.gpu.settings import Settings
+from lpv_preview.gpu.specular_albedo import bounce_colours, specular_albedo
 
 SIZE = 48
 ALBEDO = 0.5
@@ -66,6 +67,13 @@ def ggx(points, f0, roughness, metallic):
     return d * vis * fresnel
 
 
+def diffuse_kept(points, f0, roughness, metallic):
+    """The share of the diffuse the glossy layer keeps toward the eye at each point."""
+    nv = (EYE - points)[..., 2] / np.linalg.norm(EYE - points, axis=-1)
+    layer = specular_albedo(np.full(nv.shape + (3,), f0), np.full(nv.shape, metallic), np.full(nv.shape, roughness), nv)
+    return 1.0 - layer.max(axis=-1)
+
+
 @pytest.fixture(scope="module")
 def pipeline():
     p = Pipeline(Settings(width=SIZE, height=SIZE, rsm_resolution=128))
@@ -82,7 +90,9 @@ def test_a_glossy_floor_matches_ggx(pipeline, f0, roughness, metallic):
     diffuse = pipeline.render(floor_scene()).passes["direct"]
     glossy = pipeline.render(floor_scene((f0, f0, f0, roughness, metallic))).passes["direct"]
     irradiance = diffuse[..., 0] * math.pi / ALBEDO
-    expected = irradiance * (ALBEDO / math.pi + ggx(floor_points(floor_scene().camera), f0, roughness, metallic))
+    points = floor_points(floor_scene().camera)
+    expected = irradiance * (ALBEDO * diffuse_kept(points, f0, roughness, metallic) / math.pi
+                             + ggx(points, f0, roughness, metallic))
     lit = irradiance > 0.05 * irradiance.max()
     assert np.abs(glossy[..., 0] - expected)[lit].mean() / expected[lit].mean() < 0.03
     peak = np.unravel_index(np.argmax(np.where(lit, expected, 0)), expected.shape)
@@ -94,3 +104,27 @@ def test_no_f0_no_change(pipeline):
     diffuse = pipeline.render(floor_scene()).passes["direct"]
     black = pipeline.render(floor_scene((0.0, 0.0, 0.0, 0.2, 1.0))).passes["direct"]
     np.testing.assert_allclose(black, diffuse, atol=1e-6)
+
+
+def test_the_glossy_layer_sends_on_the_light_it_takes_from_the_diffuse():
+    """A white surface under a grey layer bounces all the light it gets, whatever the
+    layer; with no layer (F0 0) the diffuse colour is unchanged; a black dielectric bounces
+    only what its layer reflects, a few percent; a rough gold metal about its colour."""
+    roughness, dielectric = np.array([0.0, 0.3, 0.5, 1.0]), np.zeros(4)
+    f0 = np.full((4, 3), 0.04)
+    np.testing.assert_allclose(bounce_colours(np.ones((4, 3)), f0, dielectric, roughness), 1.0, atol=1e-9)
+    albedo = np.tile([0.8, 0.5, 0.2], (4, 1))
+    np.testing.assert_allclose(bounce_colours(albedo, np.zeros((4, 3)), dielectric, roughness), albedo, atol=1e-9)
+    black = bounce_colours(np.zeros((4, 3)), f0, dielectric, roughness)
+    assert np.all((black > 0.02) & (black < 0.15))
+    gold = np.array([[1.0, 0.78, 0.34]])
+    metal = bounce_colours(np.zeros((1, 3)), gold, np.ones(1), np.array([0.5]))
+    assert np.all((metal > 0.9 * gold) & (metal <= 1.0))
+
+
+def test_a_white_metal_reflects_all_light_at_every_roughness_and_angle():
+    """Cycles' multiple-scattering GGX keeps the energy the single-scattering lobe of the
+    table loses (a rough lobe's light bounced among its microfacets)."""
+    roughness, nv = np.meshgrid(np.linspace(0, 1, 11), np.linspace(0.05, 1, 11))
+    white = specular_albedo(np.ones(roughness.shape + (3,)), np.ones(roughness.shape), roughness, nv)
+    np.testing.assert_allclose(white, 1.0, atol=1e-9)

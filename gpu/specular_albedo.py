@@ -1,0 +1,104 @@
+"""How much light the Principled BSDF's glossy layer reflects, over all directions: the
+table its shaders read (shaders/specular.glsl specular_albedo, through the generated
+include `specular_albedo_table.glsl`) and the same sums on the host for the colour a
+surface bounces light with (Scene.surface_colours).
+
+The table holds, per Blender roughness and cosine toward the viewer, the single-scattering
+GGX lobe's albedo (shaders/specular.glsl ggx_brdf: height-correlated Smith) with a Fresnel
+of 1, and the shares of it that the Fresnel's rise toward grazing adds: Schlick's (a
+metal's) and a dielectric's of IOR 1.5 (Principled's default). Light the single-scattering
+lobe loses comes back as Cycles' multiple-scattering GGX returns it (Fdez-Agüera 2019).
+"""
+import functools
+
+import numpy as np
+
+STEPS = 16
+"""Table rows (roughness 0..1) and columns (cosine 0..1), sampled at both ends."""
+SAMPLES = 64
+"""Half-vector samples along each of the two axes of the lobe a table entry sums."""
+TABLE_IOR = 1.5
+MEAN_STEPS = 8
+"""Midpoints in cos² of the cosine-weighted mean over directions (specular.glsl MEAN_LAYER_STEPS)."""
+
+
+def _dielectric_fresnel(c, eta):
+    g = np.sqrt(eta * eta - 1.0 + c * c)
+    a, b = (g - c) / (g + c), (c * (g + c) - 1.0) / (c * (g - c) + 1.0)
+    return 0.5 * a * a * (1.0 + b * b)
+
+
+@functools.cache
+def albedo_table():
+    """(STEPS, STEPS, 3) float64: per roughness (rows) and cosine (columns) the lobe's
+    albedo with a Fresnel of 1, and the parts of it Schlick's rise and the dielectric's
+    rise (from F0 toward 1, as shaders/specular.glsl principled_fresnel) weigh it by."""
+    u = (np.arange(SAMPLES) + 0.5) / SAMPLES
+    u1, u2 = np.meshgrid(u, u, indexing="ij")
+    u1, u2 = u1.ravel(), u2.ravel()
+    f0 = ((TABLE_IOR - 1.0) / (TABLE_IOR + 1.0)) ** 2
+    table = np.zeros((STEPS, STEPS, 3))
+    for row, roughness in enumerate(np.linspace(0.0, 1.0, STEPS)):
+        a2 = max(roughness * roughness, 1e-3) ** 2
+        cos_h = np.sqrt((1.0 - u1) / (1.0 + (a2 - 1.0) * u1))  # GGX half vectors, pdf D cos_h
+        sin_h = np.sqrt(1.0 - cos_h * cos_h)
+        h = np.stack([sin_h * np.cos(2 * np.pi * u2), sin_h * np.sin(2 * np.pi * u2), cos_h], axis=-1)
+        for column, nv in enumerate(np.maximum(np.linspace(0.0, 1.0, STEPS), 1e-3)):
+            v = np.array([np.sqrt(1.0 - nv * nv), 0.0, nv])
+            vh = h @ v
+            nl = 2.0 * vh * cos_h - nv
+            kept = (nl > 0.0) & (vh > 0.0)
+            nl, vh, c_h = nl[kept], vh[kept], cos_h[kept]
+            visibility = 0.5 / (nl * np.sqrt(nv * nv * (1 - a2) + a2) + nv * np.sqrt(nl * nl * (1 - a2) + a2))
+            weight = visibility * nl * 4.0 * vh / c_h / len(u1)
+            rise = (_dielectric_fresnel(vh, TABLE_IOR) - f0) / (1.0 - f0)
+            table[row, column] = weight.sum(), (weight * (1.0 - vh) ** 5).sum(), (weight * rise).sum()
+    return table
+
+
+def glsl_table():
+    """The table as GLSL (shaders/specular.glsl includes it as specular_albedo_table.glsl)."""
+    entries = ",\n    ".join(f"vec3({a:.6f}, {s:.6f}, {d:.6f})" for a, s, d in albedo_table().reshape(-1, 3))
+    return (f"const int SPECULAR_ALBEDO_STEPS = {STEPS};\n"
+            f"const vec3 SPECULAR_ALBEDO_TABLE[{STEPS * STEPS}] = vec3[](\n    {entries});\n")
+
+
+def _table_terms(roughness, nv):
+    """The table read bilinearly at each (roughness, cosine), as specular.glsl does."""
+    table = albedo_table()
+    x = np.clip(np.asarray(roughness, np.float64), 0.0, 1.0) * (STEPS - 1)
+    y = np.clip(np.asarray(nv, np.float64), 0.0, 1.0) * (STEPS - 1)
+    x0, y0 = np.minimum(x.astype(int), STEPS - 2), np.minimum(y.astype(int), STEPS - 2)
+    fx, fy = (x - x0)[..., None], (y - y0)[..., None]
+    top = table[x0, y0] * (1 - fy) + table[x0, y0 + 1] * fy
+    bottom = table[x0 + 1, y0] * (1 - fy) + table[x0 + 1, y0 + 1] * fy
+    return top * (1 - fx) + bottom * fx
+
+
+def specular_albedo(f0, metallic, roughness, nv):
+    """The share of uniform light a glossy layer of F0 `f0` (..., 3), metallic share,
+    Blender roughness reflects toward cos `nv` (shaders/specular.glsl specular_albedo): a
+    layer of F0 0 reflects nothing."""
+    f0 = np.asarray(f0, np.float64)
+    terms = _table_terms(roughness, nv)
+    white = terms[..., 0:1]
+    rise = terms[..., 2:3] + (terms[..., 1:2] - terms[..., 2:3]) * np.asarray(metallic, np.float64)[..., None]
+    f90 = np.clip(50.0 * f0.max(axis=-1, keepdims=True), 0.0, 1.0)
+    single = f0 * (white - rise) + rise * f90
+    lost = 1.0 - white
+    average = f0 + (1.0 - f0) / 21.0
+    return single + single * average * lost / (1.0 - average * lost)
+
+
+def bounce_colours(albedo, f0, metallic, roughness):
+    """What surfaces of diffuse colour `albedo` (T, 3) under glossy layers (F0 (T, 3),
+    metallic (T,), roughness (T,)) send on of light arriving from every direction, counted
+    as diffuse: the diffuse the layer keeps and what it reflects, each a cosine-weighted
+    mean over directions (shaders/specular.glsl bounce_colour)."""
+    kept = np.zeros(len(albedo))
+    reflected = np.zeros((len(albedo), 3))
+    for step in range(MEAN_STEPS):
+        layer = specular_albedo(f0, metallic, roughness, np.full(len(albedo), np.sqrt((step + 0.5) / MEAN_STEPS)))
+        kept += 1.0 - np.clip(layer.max(axis=1), 0.0, 1.0)
+        reflected += layer
+    return np.asarray(albedo, np.float64) * (kept / MEAN_STEPS)[:, None] + reflected / MEAN_STEPS

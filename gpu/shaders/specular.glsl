@@ -64,18 +64,23 @@ vec3 specular_albedo_terms(float roughness, float nv) {
     return mix(top, bottom, f.x);
 }
 
-// The share of uniform incoming light a glossy layer of F0 `f0`, metallic share and
-// Blender's `roughness` reflects toward a viewer at cos `nv` (the split sum's DFG term),
-// what the single-scattering lobe loses given back as Cycles' multiple-scattering GGX
-// does (gpu/specular_albedo.py). A layer of F0 0 (Specular IOR Level 0) reflects nothing.
-vec3 specular_albedo(vec3 f0, float metallic, float roughness, float nv) {
-    vec3 terms = specular_albedo_terms(roughness, nv);
+// A layer's albedo from the lobe's terms: F0 `f0` rising toward grazing as a metal's
+// (Schlick) or a dielectric's by the metallic share, what the single-scattering lobe loses
+// given back as Cycles' multiple-scattering GGX does (gpu/specular_albedo.py). A layer
+// of F0 0 (Specular IOR Level 0) reflects nothing.
+vec3 layer_albedo(vec3 f0, float metallic, vec3 terms) {
     float rise = mix(terms.z, terms.y, metallic);
     float f90 = clamp(50.0 * max(f0.r, max(f0.g, f0.b)), 0.0, 1.0);
     vec3 single = f0 * (terms.x - rise) + rise * f90;
     float lost = 1.0 - terms.x;
     vec3 average = f0 + (1.0 - f0) / 21.0;
     return single + single * average * lost / (1.0 - average * lost);
+}
+
+// The share of uniform incoming light a glossy layer of F0 `f0`, metallic share and
+// Blender's `roughness` reflects toward a viewer at cos `nv` (the split sum's DFG term).
+vec3 specular_albedo(vec3 f0, float metallic, float roughness, float nv) {
+    return layer_albedo(f0, metallic, specular_albedo_terms(roughness, nv));
 }
 
 // The share of the light below the glossy layer that it keeps from a viewer at cos `nv`:
@@ -86,15 +91,14 @@ float diffuse_under_layer(vec3 f0, float metallic, float roughness, float nv) {
     return 1.0 - clamp(max(layer.r, max(layer.g, layer.b)), 0.0, 1.0);
 }
 
-const int MEAN_LAYER_STEPS = 8;  // gpu/specular_albedo.py MEAN_STEPS
-
 // What a surface of diffuse colour `albedo` under a glossy layer sends on of the light
-// arriving at cos `nl`, counted as diffuse light: the diffuse seen from every direction
-// (the layer's cosine-weighted mean, midpoints in cos²) and what the layer reflects of
-// that light (docs/method.md, "Specular light").
+// arriving at cos `nl`, counted as diffuse light: the diffuse it keeps seen from every
+// direction (the layer's albedo meaned over them, gpu/specular_albedo.py) and what the
+// layer reflects of that light (docs/method.md, "Specular light").
 vec3 bounce_colour(vec3 albedo, vec3 f0, float metallic, float roughness, float nl) {
-    float kept = 0.0;
-    for (int i = 0; i < MEAN_LAYER_STEPS; ++i)
-        kept += diffuse_under_layer(f0, metallic, roughness, sqrt((float(i) + 0.5) / float(MEAN_LAYER_STEPS)));
-    return albedo * kept / float(MEAN_LAYER_STEPS) + specular_albedo(f0, metallic, roughness, nl);
+    float row = clamp(roughness, 0.0, 1.0) * float(SPECULAR_ALBEDO_STEPS - 1);
+    int low = min(int(row), SPECULAR_ALBEDO_STEPS - 2);
+    vec3 mean = layer_albedo(f0, metallic, mix(SPECULAR_ALBEDO_MEAN[low], SPECULAR_ALBEDO_MEAN[low + 1], row - float(low)));
+    float kept = 1.0 - clamp(max(mean.r, max(mean.g, mean.b)), 0.0, 1.0);
+    return albedo * kept + specular_albedo(f0, metallic, roughness, nl);
 }

@@ -164,7 +164,7 @@ def render_gbuffer(glc, mesh, camera, targets, pattern=0):
     program = glc.program("raster", "gbuffer", **cut_out_defines(mesh))
     targets.framebuffer.use()
     targets.framebuffer.viewport = (0, 0, *targets.size)
-    targets.framebuffer.clear(depth=1.0)
+    clear_depth_only(targets.framebuffer)
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
     uniforms = {"view_projection": camera.projection @ camera.view,
@@ -174,6 +174,16 @@ def render_gbuffer(glc, mesh, camera, targets, pattern=0):
     if mesh.transmits:
         tint_seen_through(glc, mesh, targets, uniforms)
     targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+
+
+def clear_depth_only(framebuffer):
+    """Clear the depth alone: every reader of the surface texels asks the depth first, so
+    a pixel no surface covers is never read (a colour clear of the G-buffer's two images
+    costs as much as the whole draw of a small scene)."""
+    masks = framebuffer.color_mask
+    framebuffer.color_mask = tuple((False,) * 4 for _ in masks)
+    framebuffer.clear(depth=1.0)
+    framebuffer.color_mask = masks
 
 
 def tint_seen_through(glc, mesh, targets, uniforms):

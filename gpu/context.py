@@ -20,7 +20,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from .errors import LPVError
-from .specular_albedo import glsl_table
+from .specular_albedo import texture_rows
 
 SHADER_DIR = Path(__file__).parent / "shaders"
 NO_GPU_VARIABLE = "LPV_PREVIEW_NO_GPU"
@@ -107,6 +107,7 @@ class GLContext:
         self.is_software = any(name in self.renderer.lower() for name in ("llvmpipe", "softpipe", "swrast"))
         self._programs = {}
         self._free = {}  # (kind, size, components, dtype) -> released textures to reuse
+        self._specular_albedo = None  # the glossy layer's table, made on first use
 
     @classmethod
     @contextmanager
@@ -119,6 +120,17 @@ class GLContext:
             context = getattr(cls._threads, "context", None)
             if context is not None:
                 context.gl.__enter__()
+
+    def use_specular_albedo(self, program, unit):
+        """Bind the glossy layer's table (gpu/specular_albedo.py) to texture `unit` for
+        `program`'s `specular_albedo_table`; made on first use."""
+        if self._specular_albedo is None:
+            rows = texture_rows()
+            texture = self.gl.texture((rows.shape[1], rows.shape[0]), 3, rows.tobytes(), dtype="f4")
+            texture.repeat_x = texture.repeat_y = False
+            self._specular_albedo = texture
+        self._specular_albedo.use(location=unit)
+        set_uniforms(program, specular_albedo_table=unit)
 
     def texture(self, size, components, dtype="f4"):
         """A 2D texture with nearest filtering, reused from `recycle` when one of the same
@@ -228,17 +240,13 @@ def load_shader(filename, defines=None):
 
 
 def preprocess(source, defines=None):
-    """Expand `#include "x.glsl"` (from shaders/ or GENERATED_INCLUDES, recursively, each once) and insert
+    """Expand `#include "x.glsl"` (from shaders/, recursively, each file once) and insert
     `#define`s after `#version`."""
     text = _expand_includes(source, set())
     if defines:
         head, _, rest = text.partition("\n")
         text = head + "\n" + "".join(f"#define {k} {v}\n" for k, v in defines.items()) + rest
     return text
-
-
-GENERATED_INCLUDES = {"specular_albedo_table.glsl": glsl_table}
-"""Includes made by the host, not read from shaders/."""
 
 
 def _expand_includes(source, included):
@@ -248,8 +256,7 @@ def _expand_includes(source, included):
             name = line.split('"')[1]
             if name not in included:
                 included.add(name)
-                text = GENERATED_INCLUDES[name]() if name in GENERATED_INCLUDES else (SHADER_DIR / name).read_text()
-                lines.append(_expand_includes(text, included))
+                lines.append(_expand_includes((SHADER_DIR / name).read_text(), included))
         else:
             lines.append(line)
     return "\n".join(lines)

@@ -18,6 +18,7 @@ from .context import set_uniforms
 from .mesh_buffer import CROSSING, FRONT
 from .scene import look_at_view, perspective
 from .shade import cut_out_defines, multiply_blend
+from .specular_albedo import RASTER_UNIT
 
 LIGHT_KIND_INDEX = {"POINT": 0, "SPOT": 1, "AREA": 2, "SUN": 3}
 PROJECTION_CUBE, PROJECTION_PARABOLOID, PROJECTION_ORTHO = 0, 1, 2
@@ -237,6 +238,7 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
                              face_origin=tuple(float(v) for v in face_origin), resolution=float(resolution),
                              projection_kind=kind, ortho_texel_area=ortho_texel ** 2,
                              tessellation_unit=float(tessellation_unit or 0.0), cut_out_pattern=pattern, **uniforms)
+                glc.use_specular_albedo(program, RASTER_UNIT)
             if kind == PROJECTION_PARABOLOID:
                 lists, commands = rims[face]
                 draw = lambda: [mesh.vertex_array(program, lists).render_indirect(  # noqa: E731

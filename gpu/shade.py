@@ -8,6 +8,7 @@ from .context import dispatch, set_uniforms
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .settings import INDIRECT_METHODS
+from .specular_albedo import RASTER_UNIT
 
 
 class FrameTargets:
@@ -170,6 +171,7 @@ def render_gbuffer(glc, mesh, camera, targets, pattern=0):
     uniforms = {"view_projection": camera.projection @ camera.view,
                 "camera_eye": tuple(float(v) for v in camera.eye), "cut_out_pattern": pattern}
     set_uniforms(program, **uniforms)
+    glc.use_specular_albedo(program, RASTER_UNIT)
     mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles, uniforms["view_projection"])
     if mesh.transmits:
         tint_seen_through(glc, mesh, targets, uniforms)
@@ -401,7 +403,8 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
         targets.specular.use(location=world_unit + 1)
         if reflections.world is not None:
             reflections.world.use(location=world_unit + 2)
-        march_uniforms = (reflections.occupancy.march_uniforms(list(reflections.layers), first_unit=world_unit + 3)
+        glc.use_specular_albedo(program, world_unit + 3)
+        march_uniforms = (reflections.occupancy.march_uniforms(list(reflections.layers), first_unit=world_unit + 4)
                           if march else {})
         set_uniforms(program, **march_uniforms, g_specular=world_unit + 1, world_reflection=world_unit + 2,
                      reflect_world=reflections.world is not None,

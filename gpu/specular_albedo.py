@@ -1,6 +1,6 @@
 """How much light the Principled BSDF's glossy layer reflects, over all directions: the
-table its shaders read (shaders/specular.glsl specular_albedo, through the generated
-include `specular_albedo_table.glsl`) and the same sums on the host for the colour a
+table its shaders read (shaders/specular.glsl specular_albedo, a texture the context
+makes once: GLContext.use_specular_albedo) and the same sums on the host for the colour a
 surface bounces light with (Scene.surface_colours).
 
 The table holds, per Blender roughness and cosine toward the viewer, the single-scattering
@@ -17,6 +17,8 @@ import numpy as np
 
 STEPS = 16
 """Table rows (roughness 0..1) and columns (cosine 0..1), sampled at both ends."""
+RASTER_UNIT = 8
+"""The texture unit the raster passes (G-buffer, RSMs) read the table from (surface images: 7)."""
 SAMPLES = 32
 """Half-vector samples along each of the two axes of the lobe a table entry sums."""
 TABLE_IOR = 1.5
@@ -62,20 +64,17 @@ def albedo_tables():
     return table, means
 
 
-def glsl_table():
-    """The tables as GLSL (shaders/specular.glsl includes them as specular_albedo_table.glsl)."""
+def texture_rows():
+    """The tables as one float32 image (STEPS rows of roughness, STEPS + 1 columns, RGB):
+    the lobe's terms at each cosine, then their mean over directions in the last column
+    (shaders/specular.glsl reads it with bilinear filtering)."""
     table, means = albedo_tables()
-
-    def entries(rows):
-        return ",\n    ".join(f"vec3({a:.6f}, {s:.6f}, {d:.6f})" for a, s, d in rows.reshape(-1, 3))
-    return (f"const int SPECULAR_ALBEDO_STEPS = {STEPS};\n"
-            f"const vec3 SPECULAR_ALBEDO_TABLE[{STEPS * STEPS}] = vec3[](\n    {entries(table)});\n"
-            f"const vec3 SPECULAR_ALBEDO_MEAN[{STEPS}] = vec3[](\n    {entries(means)});\n")
+    return np.concatenate([table, means[:, None, :]], axis=1).astype(np.float32)
 
 
 def _read(roughness, nv=None):
     """The table read bilinearly at each (roughness, cosine), or its mean over directions
-    linearly at each roughness (nv None), as specular.glsl does."""
+    linearly at each roughness (nv None), as specular.glsl's texture reads do."""
     table, means = albedo_tables()
     x = np.clip(np.asarray(roughness, np.float64), 0.0, 1.0) * (STEPS - 1)
     x0 = np.minimum(x.astype(int), STEPS - 2)

@@ -50,18 +50,21 @@ vec3 ggx_brdf(vec3 n, vec3 v, vec3 l, vec3 f0, float metallic, float alpha) {
     return distribution * visibility * principled_fresnel(f0, metallic, max(dot(v, h), 0.0));
 }
 
-#include "specular_albedo_table.glsl"
+uniform sampler2D specular_albedo_table;  // gpu/specular_albedo.py texture_rows (linear filtering)
 
-// The table of gpu/specular_albedo.py read bilinearly: the lobe's albedo with a Fresnel of
-// 1, and the parts Schlick's and a dielectric's rise toward grazing weigh it by.
+// The table read bilinearly: the lobe's albedo with a Fresnel of 1, and the parts
+// Schlick's and a dielectric's rise toward grazing weigh it by.
 vec3 specular_albedo_terms(float roughness, float nv) {
-    vec2 at = clamp(vec2(roughness, nv), 0.0, 1.0) * float(SPECULAR_ALBEDO_STEPS - 1);
-    ivec2 low = min(ivec2(at), ivec2(SPECULAR_ALBEDO_STEPS - 2));
-    vec2 f = at - vec2(low);
-    int i = low.x * SPECULAR_ALBEDO_STEPS + low.y;
-    vec3 top = mix(SPECULAR_ALBEDO_TABLE[i], SPECULAR_ALBEDO_TABLE[i + 1], f.y);
-    vec3 bottom = mix(SPECULAR_ALBEDO_TABLE[i + SPECULAR_ALBEDO_STEPS], SPECULAR_ALBEDO_TABLE[i + SPECULAR_ALBEDO_STEPS + 1], f.y);
-    return mix(top, bottom, f.x);
+    vec2 size = vec2(textureSize(specular_albedo_table, 0));
+    vec2 texel = clamp(vec2(nv, roughness), 0.0, 1.0) * (vec2(size.x - 1.0, size.y) - 1.0) + 0.5;
+    return texture(specular_albedo_table, texel / size).rgb;
+}
+
+// The lobe's terms meaned over directions (the table's last column), for light from all
+// around.
+vec3 mean_specular_albedo_terms(float roughness) {
+    vec2 size = vec2(textureSize(specular_albedo_table, 0));
+    return texture(specular_albedo_table, vec2(size.x - 0.5, clamp(roughness, 0.0, 1.0) * (size.y - 1.0) + 0.5) / size).rgb;
 }
 
 // A layer's albedo from the lobe's terms: F0 `f0` rising toward grazing as a metal's
@@ -93,12 +96,10 @@ float diffuse_under_layer(vec3 f0, float metallic, float roughness, float nv) {
 
 // What a surface of diffuse colour `albedo` under a glossy layer sends on of the light
 // arriving at cos `nl`, counted as diffuse light: the diffuse it keeps seen from every
-// direction (the layer's albedo meaned over them, gpu/specular_albedo.py) and what the
+// direction (the layer's albedo meaned over them) and what the
 // layer reflects of that light (docs/method.md, "Specular light").
 vec3 bounce_colour(vec3 albedo, vec3 f0, float metallic, float roughness, float nl) {
-    float row = clamp(roughness, 0.0, 1.0) * float(SPECULAR_ALBEDO_STEPS - 1);
-    int low = min(int(row), SPECULAR_ALBEDO_STEPS - 2);
-    vec3 mean = layer_albedo(f0, metallic, mix(SPECULAR_ALBEDO_MEAN[low], SPECULAR_ALBEDO_MEAN[low + 1], row - float(low)));
+    vec3 mean = layer_albedo(f0, metallic, mean_specular_albedo_terms(roughness));
     float kept = 1.0 - clamp(max(mean.r, max(mean.g, mean.b)), 0.0, 1.0);
     return albedo * kept + specular_albedo(f0, metallic, roughness, nl);
 }

@@ -50,8 +50,9 @@ class MeshBuffer:
     no image), transmission (tint, share) and glossy reflection (F0 rgb, roughness; F0
     black: none) and metallic share, twenty-three floats (VERTEX_LAYOUT).
     `see_through` says whether any triangle is cut out or transmits (the raster passes
-    test alpha), `hashed` whether that differs from one VPL pattern to the next, and
-    `transmits` whether light passing some triangle is tinted.
+    test alpha), `hashed` whether that differs from one VPL pattern to the next,
+    `transmits` whether light passing some triangle is tinted, and `glossy` whether some
+    triangle has a glossy layer (the light maps bounce its light then).
     The camera draws its `camera_triangles` and the lights' maps its `light_triangles`
     ((first, count) ranges of a sanitized Scene's ordering)."""
 
@@ -75,6 +76,7 @@ class MeshBuffer:
         else:
             interleaved[..., 18:21], interleaved[..., 21], interleaved[..., 22] = 0.0, 1.0, 0.0
         self.see_through = scene.see_through
+        self.glossy = scene.specular is not None
         self.hashed = scene.hashed
         self.transmits = scene.transmission is not None
         self.glc = glc

@@ -218,7 +218,8 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
                                                                          **defines)]
         return [glc.program("raster", fragment, **defines)]
     tinted = {"TINT_MAP": 1} if tint is not None else {}
-    passes = [(face_programs("rsm", **cut_out_defines(mesh), **tinted), False)]
+    glossy = {"GLOSSY_LAYER": 1} if mesh.glossy else {}
+    passes = [(face_programs("rsm", **cut_out_defines(mesh), **tinted, **glossy), False)]
     if mesh.transmits:
         passes.append((face_programs("passing_tint", TINT_ATTACHMENT=2, **tinted), True))
     uniforms = light_uniforms(light, origin)

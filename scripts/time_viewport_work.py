@@ -7,7 +7,8 @@ stages' medians beside it.
         [--presets defaults,fast,balanced,accurate] [--emitters 1048576]
 
 NAME is DIR/NAME.npz (`python -m lpv_preview export NAME`) or `room1200k`, a closed room of
-1,228,800 triangles around a point light (bench/synthetic.py room_scene), made here. Every
+1,228,800 triangles around a point light (bench/synthetic.py room_scene), made here, or
+`room1200k_glossy`, the same with the Principled BSDF's default glossy layer everywhere. Every
 frame is one `Pipeline.render` of one VPL set at 1920×1080 with the combined image read
 into a float buffer, as a viewport redraw does (`display_into`), after a frame of the
 same scene that warms it up (for half a second):
@@ -35,7 +36,14 @@ from lpv_preview.gpu.settings import preset_settings
 
 SIZE = (1920, 1080)
 TURN_DEGREES = 0.25
-SYNTHETIC = {"room1200k": lambda: room_scene(320)}
+SYNTHETIC = {"room1200k": lambda: room_scene(320), "room1200k_glossy": lambda: glossy(room_scene(320))}
+
+
+def glossy(scene):
+    """`scene` with the Principled BSDF's default glossy layer on every surface (F0 0.04,
+    roughness 0.5), as an artist's scene has it."""
+    return dataclasses.replace(scene, specular=np.tile(np.float32([0.04, 0.04, 0.04, 0.5, 0.0]),
+                                                       (len(scene.triangles), 1)))
 
 
 def edited_frames(scene, edit, frames):

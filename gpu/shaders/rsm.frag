@@ -1,6 +1,7 @@
 #version 450 core
 // Reflective shadow map texel: position, light-facing normal, reflected flux (METHOD §2):
-// the diffuse and what the glossy layer over it sends on (specular.glsl bounce_colour).
+// the diffuse and, with GLOSSY_LAYER (a scene with some F0), what the glossy layer over
+// it sends on (specular.glsl bounce_colour).
 // With CUT_OUT a texel the surface does not cover (surface.glsl) lets the light pass. With
 // TINT_MAP the fourth attachment starts at 1: transmitting surfaces in front multiply it
 // (passing_tint.frag).
@@ -17,8 +18,10 @@ in vec3 world_normal;
 in vec4 surface_albedo;
 in vec4 surface_coord;
 in vec4 surface_transmission;
+#ifdef GLOSSY_LAYER
 in vec4 surface_specular;  // F0 rgb, roughness
 in float surface_metallic;
+#endif
 uniform vec2 face_origin;        // this face's lower-left texel in the atlas
 uniform float resolution;        // texels along one side of a face
 uniform float ortho_texel_area;  // sun: the area one texel covers across the beam
@@ -56,8 +59,10 @@ void main() {
     }
     out_position = vec4(world_position, max(dist, 1e-30));
     out_normal = vec4(n, area);
-    vec3 colour = bounce_colour(surface_colour(surface_albedo, surface_coord), surface_specular.rgb, surface_metallic,
-                                surface_specular.a, abs(dot(n, w)));
+    vec3 colour = surface_colour(surface_albedo, surface_coord);
+#ifdef GLOSSY_LAYER
+    colour = bounce_colour(colour, surface_specular.rgb, surface_metallic, surface_specular.a, abs(dot(n, w)));
+#endif
     out_flux = vec4(colour * power, 1.0);
 #ifdef TINT_MAP
     out_tint = vec4(1.0);

@@ -26,7 +26,7 @@ CONVERGED_FLIP_SHARE = 0.5
 WORLD_MS = 2.0
 """The world's cost per 1080p frame on the GPU at most this."""
 
-RENDERS = {"ours_one_frame": "ours, one frame", "ours_converged": f"ours, {CONVERGE_SETS} VPL sets",
+RENDERS = {"ours_one_frame": "ours, one frame", "ours_converged": "ours, converged",
            "eevee": "EEVEE (F12)", "cycles_denoised": "Cycles 1 spp + OIDN"}
 """The renders each scene compares with Cycles' Combined, and their labels."""
 
@@ -117,7 +117,8 @@ def artist_markdown(report):
     how the figures were made."""
     width, height = report["resolution"]
     lines = [f"Against Cycles' Combined at {report['cycles_samples']} samples (the scene's own settings otherwise), "
-             f"{width}×{height}; ours on {report['renderer']}, {report['machine']}.", ""]
+             f"{width}×{height}; ours on {report['renderer']}, {report['machine']}, converged over "
+             f"{report['converge_sets']} VPL sets.", ""]
     gpu = report.get("gpu_times")
     for scene in report["scenes"]:
         lines += [f"### {scene['name']}", "",

@@ -143,6 +143,7 @@ def bench_artist(args, log):
     size = (width, args.height or max(1, round(width * ARTIST_SIZE[1] / ARTIST_SIZE[0])))
     samples = args.samples or ARTIST_SAMPLES
     settings = settings_from(args, *size)
+    sets = args.converge_sets or artist.CONVERGE_SETS  # the converged frame's; one frame is one set
     gpu = artist.read_gpu_times(args.gpu_times) if args.gpu_times else None
     scenes = []
     for name in names:
@@ -152,7 +153,7 @@ def bench_artist(args, log):
         renders = {}
         try:
             content = scene_to_render(bpy_scene, size)
-            for key, changes in (("ours_one_frame", {}), ("ours_converged", {"converge_sets": artist.CONVERGE_SETS})):
+            for key, changes in (("ours_one_frame", {"converge_sets": 1}), ("ours_converged", {"converge_sets": sets})):
                 started = time.perf_counter()
                 frame = render_once(content, settings.with_changes(**changes), passes=("combined",))
                 renders[key] = artist.render_row(frame.passes["combined"][..., :3], reference,
@@ -176,6 +177,6 @@ def bench_artist(args, log):
     glc = GLContext.last_made or GLContext.shared()
     report = {"machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} CPU cores",
               "renderer": glc.renderer, "resolution": list(size), "cycles_samples": samples,
-              "converge_sets": artist.CONVERGE_SETS, "settings": asdict(settings), "scenes": scenes,
+              "converge_sets": sets, "settings": asdict(settings), "scenes": scenes,
               "gpu_times": gpu, "command": command_line(args)}
     return artist.write_artist_report(report, args.out)

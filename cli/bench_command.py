@@ -4,6 +4,7 @@ import sys
 from dataclasses import dataclass
 
 from .. import demo
+from ..bench.artist import CONVERGE_SETS
 from ..gpu.errors import LPVError
 from .bench_blender import (ARTIST_SAMPLES, ARTIST_SIZE, EMITTER_CYCLES_COUNTS, EMITTER_CYCLES_SAMPLES,
                             EMITTER_CYCLES_SIZE, bench_artist, bench_corrections, bench_cycles_indirect, bench_sample_workers, bench_scene, blender_available,
@@ -136,7 +137,8 @@ BENCH_MODES = (
                                      "and 64 point lights against one (emitters.json, emitters.md)"}, bench_emitters),
     BenchMode("--artist", {"action": "store_true",
                             "help": f"the artist-scene suite (demo/artist/, or --scenes of it) against Cycles' Combined "
-                                    f"at --samples (default {ARTIST_SAMPLES}): one frame and a converged frame of ours, "
+                                    f"at --samples (default {ARTIST_SAMPLES}): one frame and a converged frame of ours (--converge-sets, "
+                                    f"default {CONVERGE_SETS}), "
                                     f"EEVEE, Cycles 1 spp + OIDN; mean ratio, HDR-FLIP, relMSE and the goals (artist.json, "
                                     f"artist.md) at --width (default {ARTIST_SIZE[0]}, 16:9)"}, bench_artist_suite),
     BenchMode("--fuzz", {"type": positive_int, "metavar": "N",

@@ -92,11 +92,12 @@ def test_world_only_is_lit_by_its_world_alone():
 def test_tiny_artist_bench_writes_finite_figures(tmp_path):
     out = tmp_path / "artist"
     argv = ["bench", "--artist", "--scenes", "default_cube", "--samples", "8", "--width", "32", "--eevee-samples", "1",
-            "--rsm-resolution", "32", "--vpls-per-light", "16", "--out", str(out)]
+            "--rsm-resolution", "32", "--vpls-per-light", "16", "--converge-sets", "2", "--out", str(out)]
     assert main(argv) == 0
     report = json.loads((out / "artist.json").read_text())
     (scene,) = report["scenes"]
     assert scene["name"] == "default_cube" and report["resolution"] == [32, 18] and report["cycles_samples"] == 8
+    assert report["converge_sets"] == 2 and scene["renders"]["ours_one_frame"]["settings"]["converge_sets"] == 1
     for render, row in scene["renders"].items():
         for figure, value in row["figures"].items():
             assert value is not None and math.isfinite(value), (render, figure)

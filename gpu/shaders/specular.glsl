@@ -96,8 +96,8 @@ float diffuse_under_layer(vec3 f0, float metallic, float roughness, float nv) {
 
 // What a surface of diffuse colour `albedo` under a glossy layer sends on of the light
 // arriving at cos `nl`, counted as diffuse light: the diffuse it keeps seen from every
-// direction (the layer's albedo meaned over them) and what the
-// layer reflects of that light (docs/method.md, "Specular light").
+// direction (the layer's albedo meaned over them) and what the layer reflects of that
+// light (docs/method.md, "Specular light").
 vec3 bounce_colour(vec3 albedo, vec3 f0, float metallic, float roughness, float nl) {
     vec3 mean = layer_albedo(f0, metallic, mean_specular_albedo_terms(roughness));
     float kept = 1.0 - clamp(max(mean.r, max(mean.g, mean.b)), 0.0, 1.0);

@@ -128,3 +128,15 @@ def test_a_white_metal_reflects_all_light_at_every_roughness_and_angle():
     roughness, nv = np.meshgrid(np.linspace(0, 1, 11), np.linspace(0.05, 1, 11))
     white = specular_albedo(np.ones(roughness.shape + (3,)), np.ones(roughness.shape), roughness, nv)
     np.testing.assert_allclose(white, 1.0, atol=1e-9)
+
+
+@pytest.mark.parametrize("f0, roughness, metallic", [(0.04, 0.5, 0.0), (0.08, 0.15, 0.0), (0.5, 0.8, 0.3)])
+def test_the_gbuffer_keeps_the_diffuse_the_layer_lets_through_toward_the_eye(pipeline, f0, roughness, metallic):
+    """The G-buffer's albedo is the floor's times 1 - E(cos θv), E read from the shaders'
+    texture as the host reads its table (gpu/specular_albedo.py): the two agree."""
+    scene = floor_scene((f0, f0, f0, roughness, metallic))
+    pipeline.render(scene)
+    record = pipeline.read_gbuffer(scene)
+    seen = record.seen
+    expected = ALBEDO * diffuse_kept(record.position[seen], f0, roughness, metallic)
+    np.testing.assert_allclose(record.albedo[seen][:, 0], expected, rtol=2e-3)

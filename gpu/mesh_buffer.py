@@ -24,7 +24,10 @@ VERTEX_LAYOUT = ("3f 3f 4f 4f 4f 4f 1f", "in_position", "in_normal", "in_albedo"
                  "in_specular", "in_metallic")
 """A vertex's floats and attributes (shaders/vertex_layout.glsl says where the compute
 passes find them)."""
-VERTEX_FLOATS = sum(int(attribute[:-1]) for attribute in VERTEX_LAYOUT[0].split())
+_WIDTHS = [int(attribute[:-1]) for attribute in VERTEX_LAYOUT[0].split()]
+VERTEX_FLOATS = sum(_WIDTHS)
+VERTEX_SLICES = {name: slice(sum(_WIDTHS[:i]), sum(_WIDTHS[:i + 1])) for i, name in enumerate(VERTEX_LAYOUT[1:])}
+"""Where each attribute's floats lie in a vertex, by its name in VERTEX_LAYOUT."""
 
 
 def vertex_albedo(scene):
@@ -60,21 +63,22 @@ class MeshBuffer:
         count = scene.triangle_count
         # every vertex's floats written in place: the buffer is uploaded from this array, no copy of it is made
         interleaved = np.empty((count, 3, VERTEX_FLOATS), dtype=np.float32)
-        interleaved[..., 0:3] = scene.triangles
-        interleaved[..., 3:6] = scene.normals
-        interleaved[..., 6:10] = vertex_albedo(scene)
-        surface = interleaved[..., 10:14]
+        column = {name: interleaved[..., where] for name, where in VERTEX_SLICES.items()}
+        column["in_position"][:] = scene.triangles
+        column["in_normal"][:] = scene.normals
+        column["in_albedo"][:] = vertex_albedo(scene)
+        surface = column["in_surface"]
         surface[..., :2] = scene.uvs if scene.uvs is not None else 0.0
         surface[..., 2] = scene.image_layers[:, None] if scene.image_layers is not None else -1.0
         surface[..., 3] = scene.alpha_layers[:, None] if scene.alpha_layers is not None else -1.0
-        if scene.transmission is not None:
-            interleaved[..., 14:18] = scene.transmission[:, None, :]
-        else:
-            interleaved[..., 14:17], interleaved[..., 17] = 1.0, 0.0
+        column["in_transmission"][:] = scene.transmission[:, None, :] if scene.transmission is not None \
+            else (1.0, 1.0, 1.0, 0.0)
         if scene.specular is not None:
-            interleaved[..., 18:23] = scene.specular[:, None, :]
+            column["in_specular"][:] = scene.specular[:, None, :4]
+            column["in_metallic"][:] = scene.specular[:, None, 4:5]
         else:
-            interleaved[..., 18:21], interleaved[..., 21], interleaved[..., 22] = 0.0, 1.0, 0.0
+            column["in_specular"][:] = (0.0, 0.0, 0.0, 1.0)
+            column["in_metallic"][:] = 0.0
         self.see_through = scene.see_through
         self.glossy = scene.specular is not None
         self.hashed = scene.hashed

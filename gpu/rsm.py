@@ -231,6 +231,8 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
     rims = [mesh.split_at_rim(matrix, face) for face, matrix in enumerate(faces)] \
         if kind == PROJECTION_PARABOLOID else None
     for programs, tinting in passes:
+        for program in programs:
+            glc.use_specular_albedo(program, RASTER_UNIT)
         framebuffer.depth_mask = not tinting
         for face, (matrix, face_origin) in enumerate(zip(faces, origins)):
             framebuffer.viewport = (int(face_origin[0]), int(face_origin[1]), resolution, resolution)
@@ -239,7 +241,6 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
                              face_origin=tuple(float(v) for v in face_origin), resolution=float(resolution),
                              projection_kind=kind, ortho_texel_area=ortho_texel ** 2,
                              tessellation_unit=float(tessellation_unit or 0.0), cut_out_pattern=pattern, **uniforms)
-                glc.use_specular_albedo(program, RASTER_UNIT)
             if kind == PROJECTION_PARABOLOID:
                 lists, commands = rims[face]
                 draw = lambda: [mesh.vertex_array(program, lists).render_indirect(  # noqa: E731

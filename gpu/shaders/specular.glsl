@@ -86,12 +86,17 @@ vec3 specular_albedo(vec3 f0, float metallic, float roughness, float nv) {
     return layer_albedo(f0, metallic, specular_albedo_terms(roughness, nv));
 }
 
+// The share of the light below a glossy layer of albedo `layer` that the layer lets
+// through: one less its largest channel.
+float kept_under(vec3 layer) {
+    return 1.0 - clamp(max(layer.r, max(layer.g, layer.b)), 0.0, 1.0);
+}
+
 // The share of the light below the glossy layer that it keeps from a viewer at cos `nv`:
 // Cycles darkens the diffuse under the layer by the layer's albedo toward the viewer, its
 // largest channel (closure_layering_weight).
 float diffuse_under_layer(vec3 f0, float metallic, float roughness, float nv) {
-    vec3 layer = specular_albedo(f0, metallic, roughness, nv);
-    return 1.0 - clamp(max(layer.r, max(layer.g, layer.b)), 0.0, 1.0);
+    return kept_under(specular_albedo(f0, metallic, roughness, nv));
 }
 
 // What a surface of diffuse colour `albedo` under a glossy layer sends on of the light
@@ -99,7 +104,6 @@ float diffuse_under_layer(vec3 f0, float metallic, float roughness, float nv) {
 // direction (the layer's albedo meaned over them) and what the layer reflects of that
 // light (docs/method.md, "Specular light").
 vec3 bounce_colour(vec3 albedo, vec3 f0, float metallic, float roughness, float nl) {
-    vec3 mean = layer_albedo(f0, metallic, mean_specular_albedo_terms(roughness));
-    float kept = 1.0 - clamp(max(mean.r, max(mean.g, mean.b)), 0.0, 1.0);
+    float kept = kept_under(layer_albedo(f0, metallic, mean_specular_albedo_terms(roughness)));
     return albedo * kept + specular_albedo(f0, metallic, roughness, nl);
 }

@@ -148,6 +148,8 @@ def _assemble(meshes, batches, surfaces, emitters=None):
                    for colour in slots)
     uvs = np.zeros((total, 3, 2), dtype=np.float32) if textured else None
     vertex_colors = np.ones((total, 3, 3), dtype=np.float32) if coloured else None
+    solids = np.full(total, -1, dtype=np.int32) if any(meshes[key].closed for key in batches) else None
+    pieces = 0
     images, layers = [], {}
 
     def layer_of(image, tile=None):
@@ -169,6 +171,10 @@ def _assemble(meshes, batches, surfaces, emitters=None):
         placed[:, :3, 3] -= origin
         mirrored = mesh.write_world(placed, triangles[start:end], normals[start:end])
         visibility[start:end] = np.repeat(np.array(seen, dtype=np.uint8), mesh.triangle_count)
+        if mesh.closed:
+            solids[start:end] = np.repeat(np.arange(pieces, pieces + len(matrices), dtype=np.int32),
+                                          mesh.triangle_count)
+            pieces += len(matrices)
 
         def per_instance(array):
             return array[start:end].reshape(len(matrices), mesh.triangle_count, *array.shape[1:])
@@ -201,7 +207,7 @@ def _assemble(meshes, batches, surfaces, emitters=None):
             "emission": emission if emission.any() else None, "visibility": visibility,
             "vertex_colors": vertex_colors, "uvs": uvs, "image_layers": image_layers if images else None,
             "alpha": alpha, "alpha_layers": alpha_layers, "transmission": transmission, "specular": specular,
-            "images": images, "approximated_materials": surfaces.approximated_entries(approximated), "origin": origin,
+            "solids": solids, "images": images, "approximated_materials": surfaces.approximated_entries(approximated), "origin": origin,
             "missing_images": sorted(surfaces.missing_images),
             "point_emitters": emitters.array(origin) if emitters is not None else None}
 
@@ -291,6 +297,7 @@ class LocalMesh:
         self.uvs = uvs or {}
         self.colors = colors or {}
         self._surfaces = {}
+        self._closed = None
 
     @property
     def triangle_count(self):
@@ -299,6 +306,22 @@ class LocalMesh:
     @property
     def material_count(self):
         return int(self.material_index.max()) + 1 if self.triangle_count else 1
+
+    @property
+    def closed(self):
+        """Whether the mesh bounds a solid: every edge is shared by exactly two triangles
+        that run along it in opposite directions (watertight, consistently wound), so one
+        side of each face is its inside."""
+        if self._closed is None:
+            corners = self.triangle_vertices.astype(np.int64)
+            starts, ends = corners.ravel(), np.roll(corners, -1, axis=1).ravel()
+            vertices = int(corners.max()) + 1 if len(corners) else 1
+            directed = starts * vertices + ends
+            reverse = ends * vertices + starts
+            unique, counts = np.unique(directed, return_counts=True)
+            self._closed = bool(len(corners)) and bool(np.all(counts == 1)) and bool(np.all(starts != ends)) and \
+                bool(np.all(np.isin(reverse, unique, assume_unique=False)))
+        return self._closed
 
     @staticmethod
     def read(obj, uv_maps=(), attributes=()):

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .closed_meshes import OPEN
 from .context import run_workgroups, set_uniforms
 from .occupancy import march_batch
 from .surface_emitters import TrianglePoints
@@ -39,14 +40,17 @@ class Receivers:
 
     def __init__(self, scene):
         first, total = scene.light_triangles
+        self.first = first
         self.albedo = scene.surface_colours(first, total)
         self.points = None if total == 0 else TrianglePoints(
             scene.triangles[first:first + total].astype(np.float64), lambda doubled: doubled)
 
-    def rows(self, count, pattern):
+    def rows(self, count, pattern, sides=None):
         """(count, 3, 4) float32 emitter rows drawn with the random numbers of `pattern`
         (none when the lights see no surface): position, face normal and the area each
-        stands for, and the triangle's mean colour (its texture's too) in the flux row."""
+        stands for, and the triangle's mean colour (its texture's too) and the sides of it
+        light can reach (gpu/closed_meshes.py, of the scene's triangles `sides`; None: both)
+        in the flux row."""
         if self.points is None:
             return np.zeros((0, 3, 4), dtype=np.float32)
         picked, positions = self.points.draw(count, pattern)
@@ -55,6 +59,7 @@ class Receivers:
         rows[:, 1, :3] = self.points.cross[picked] / self.points.doubled_area[picked, None]
         rows[:, 1, 3] = self.points.doubled_area.sum() / 2 / count
         rows[:, 2, :3] = self.albedo[picked]
+        rows[:, 2, 3] = OPEN if sides is None else sides[self.first + picked]
         return rows
 
 

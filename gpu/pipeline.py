@@ -15,6 +15,7 @@ import numpy as np
 
 from .bounces import light_bounces
 from .capacity import check_frame_fits
+from .closed_meshes import ClosedMeshes
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
 from .emitter_bounce import Receivers
@@ -90,6 +91,8 @@ class Pipeline:
         self._emitter_shadows = KeyedCache(releases=True)  # grids -> EmitterShadows of the point emitters
         self._frame_lights = KeyedCache()  # what it depends on -> the last frame's FrameLights
         self._receivers = KeyedCache()     # geometry key -> Receivers of the emitters' bounce
+        self._closed_meshes = KeyedCache()  # geometry key -> ClosedMeshes
+        self._open_sides = KeyedCache()    # geometry and emitters' keys -> the sides of faces light reaches
         self._targets = KeyedCache(releases=True)    # image size -> FrameTargets
         self._placement = KeyedCache()     # what it depends on -> the grids placed around the view, the sun cascades
         self._cascade_boxes = ()   # the boxes of a sun's direct-light cascade (gpu/light_maps.py cascade_boxes)
@@ -275,9 +278,15 @@ class Pipeline:
                 indirect = method(self.glc, grids, s.grid_phases)
             receivers = lambda: self._receivers.get(scene.geometry_key(), lambda: Receivers(scene))  # noqa: E731
             indirect.build(maps, self._mesh.value, scene.bounds(), s, stats, self.vpl_pattern, sources,
-                           lambda seed: receivers().rows(s.emitter_bounce_samples, seed))
+                           lambda seed: receivers().rows(s.emitter_bounce_samples, seed, self._sides(scene)))
             self._indirect.put(key, indirect)
         return self._indirect.value
+
+    def _sides(self, scene):
+        """The sides of the scene's faces that light reaches (gpu/closed_meshes.py)."""
+        closed = self._closed_meshes.get(scene.geometry_key(), lambda: ClosedMeshes(scene))
+        return self._open_sides.get((scene.geometry_key(), closed.emitters_key(scene)),
+                                    lambda: (closed.open_sides(scene),))[0]
 
     def _direct_light(self, scene, targets, maps, lit, indirect, drawn, stats):
         """The direct image: the lights' with maps, the point emitters' (the `drawn` ones of
@@ -488,7 +497,8 @@ class Pipeline:
             maps.release()
         self._lights.clear()
         self._accumulated = None
-        for cache in (self._placement, self._frame_lights, self._receivers, self._emitter_grid, self._emitter_shadows):
+        for cache in (self._placement, self._frame_lights, self._receivers, self._closed_meshes, self._open_sides,
+                      self._emitter_grid, self._emitter_shadows):
             cache.clear()
         if self._emission is not None:
             self._emission.release()

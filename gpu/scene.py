@@ -279,7 +279,11 @@ class Scene:
     is each triangle's glossy reflection (docs/method.md, "Specular light"): the
     reflectance at normal incidence F0 (rgb, linear), Blender's roughness and the
     metallic share (its Fresnel: a dielectric's at 0, Schlick's at 1) (None: none, a
-    purely diffuse scene; (T, 4) without the metallic share: 0). `world` (gpu/world.py World; None: none) lights the scene from afar and is
+    purely diffuse scene; (T, 4) without the metallic share: 0). `solids` (T,) int32
+    names the closed mesh (watertight, consistently wound: addon/extract.py) each triangle
+    is a face of, one number per placed instance, -1 for an open mesh's triangle (None:
+    none is closed); gpu/closed_meshes.py tells from it which side of a face light can
+    reach. `world` (gpu/world.py World; None: none) lights the scene from afar and is
     what the camera sees where it sees no surface; `film` (Film) says how the pixels are
     filtered and whether that world is seen; `diffuse_bounces` is how often diffuse light
     may bounce, as its Light Paths say (Cycles' Diffuse bounces within Max Bounces; None:
@@ -311,6 +315,7 @@ class Scene:
     alpha_layers: np.ndarray = None
     transmission: np.ndarray = None
     specular: np.ndarray = None
+    solids: np.ndarray = None
     point_emitters: np.ndarray = None
     world: object = None
     film: Film = Film()
@@ -432,6 +437,8 @@ class Scene:
             if specular.shape[1] == 4:
                 specular = np.concatenate([specular, np.zeros((count, 1), np.float32)], axis=1)
             arrays["specular"] = np.clip(np.nan_to_num(specular[:, :5], nan=0.0), 0.0, 1.0)
+        if self.solids is not None:
+            arrays["solids"] = np.asarray(self.solids, dtype=np.int32).reshape(count)
         return arrays
 
     @staticmethod
@@ -472,6 +479,9 @@ class Scene:
             **({"clear": self.dropped.get("clear", 0) + int((finite & has_area & clear).sum())}
                if clear.any() or "clear" in self.dropped else {}),
         }
+        if "solids" in surface:  # a closed mesh that loses a face has a hole: it is open
+            holed = np.unique(surface["solids"][clear | ~finite])
+            surface["solids"] = np.where(np.isin(surface["solids"], holed[holed >= 0]), -1, surface["solids"])
         per_triangle = {"tri": tri, "nrm": nrm, "alb": alb, "cross": cross, "seen": seen, **surface}
         if not keep.all():
             per_triangle = {name: array[keep] for name, array in per_triangle.items()}
@@ -493,7 +503,7 @@ class Scene:
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
         self.visibility = None if np.all(seen == SEEN_BY_ALL) else seen
         for name in ("vertex_colors", "uvs", "image_layers", "emission", "alpha", "alpha_layers", "transmission",
-                     "specular"):
+                     "specular", "solids"):
             setattr(self, name, np.ascontiguousarray(per_triangle[name]) if name in per_triangle else None)
         if self.emission is not None and not self.emission.any():
             self.emission = None
@@ -507,6 +517,8 @@ class Scene:
             self.specular = None
         if self.image_layers is not None and not np.any(self.image_layers >= 0):
             self.image_layers = None
+        if self.solids is not None and not np.any(self.solids >= 0):
+            self.solids = None
         if self.image_layers is None and self.alpha_layers is None:
             self.uvs = None
         self.point_emitters = _sane_point_emitters(self.point_emitters, self.dropped)
@@ -562,7 +574,7 @@ class Scene:
         h = hashlib.sha1()
         for array in (self.triangles, self.normals, self.albedo, self.visibility, self.vertex_colors, self.uvs,
                       self.image_layers, self.emission, self.alpha, self.alpha_layers, self.transmission,
-                      self.specular):
+                      self.specular, self.solids):
             h.update(b"-" if array is None else np.ascontiguousarray(array).tobytes())
         for image in self.images:
             h.update(image.key().encode())

@@ -11,7 +11,7 @@ from .scene import Camera, Film, Light, Scene, SurfaceImage
 from .world import World
 
 SURFACE_FIELDS = ("visibility", "vertex_colors", "uvs", "image_layers", "emission", "point_emitters", "alpha",
-                  "alpha_layers", "transmission", "specular")
+                  "alpha_layers", "transmission", "specular", "solids")
 """The Scene's optional arrays (per triangle, and the point emitters), saved when present."""
 LIGHT_FIELDS = ("kind", "position", "direction", "up", "color", "power", "radius", "spot_size", "spot_blend", "size",
                 "name", "shape", "angle")

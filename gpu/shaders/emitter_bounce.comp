@@ -4,7 +4,8 @@
 // it, through a march over the grid levels' occupancy, every `stride`-th emitter from
 // its own offset, the sum scaled by `stride`. One dispatch adds the emitters [first,
 // first + batch) into `irradiance`, each side of the surface's apart (a triangle's
-// winding says nothing of where its room is); with `finish`, the receiver becomes a VPL
+// winding says nothing of where its room is), but not the side that looks into a solid
+// (its flux.w, gpu/closed_meshes.py); with `finish`, the receiver becomes a VPL
 // facing its brighter side: its flux its albedo (which its flux held) times that side's
 // irradiance times the area it stands for. An emissive surface's emitter nearer a
 // receiver than GAP_VOXELS finest voxels lights it not: the occupancy cannot tell what
@@ -36,6 +37,7 @@ void main() {
     int lane = int(gl_LocalInvocationID.x);
     Emitter r = receivers[index];
     vec3 offset_along = EMITTER_OFFSET * level_voxels[0] * r.normal.xyz;
+    int open_sides = int(r.flux.w);  // bit 0: the side its normal faces, bit 1: the other (gpu/closed_meshes.py)
     int offset = (index * 7919 + pattern) % stride;
     int last = min(first_sender + batch, sender_count);
     float gap = GAP_VOXELS * level_voxels[0];
@@ -48,6 +50,7 @@ void main() {
         if (dot(d, d) < gap * gap && dot(e.normal.xyz, e.normal.xyz) > 0.5) continue;
         float facing = -dot(r.normal.xyz, d) * inversesqrt(max(dot(d, d), 1e-30));
         int side = facing > 0.0 ? 0 : 1;
+        if ((open_sides & (1 << side)) == 0) continue;
         vec3 light = emitter_light(e, d) * abs(facing);
         if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
         vec3 from = e.position.xyz + EMITTER_OFFSET * level_voxels[0] * e.normal.xyz;

@@ -8,6 +8,7 @@ so there the GPU bytes count against it too.
 """
 import os
 
+from .bounces import light_bounces
 from .emitter_bounce import RECEIVER_BYTES
 from .emitter_grid import CLUSTER_FLOATS, grid_resolution
 from .errors import LPVError
@@ -112,9 +113,11 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     indirect = indirect_method(s).needed_bytes(s, scene, pixels, len(mapped))
     indirect += emitter_bytes(s, scene, pixels, len(scene.lights) - len(mapped))
     lit_by_world = world_lights(scene, s)
-    if not indirect_method(s).gathers_per_pixel and (scene.point_emitter_count or scene.emission is not None
-                                                      or lit_by_world or len(scene.lights) > len(mapped)):
-        indirect += pixel_gather_bytes(s, scene, pixels)  # the method's pixel gather: the emitters' light and bounce
+    method = indirect_method(s)
+    later_bounces = method.more_bounces and light_bounces(s, scene) > 1
+    if not method.gathers_per_pixel and (scene.point_emitter_count or scene.emission is not None or lit_by_world
+                                         or len(scene.lights) > len(mapped) or later_bounces):
+        indirect += pixel_gather_bytes(s, scene, pixels)  # the method's pixel gather: the emitters' light, bounces
     if scene.emission is not None:  # emitters, the glow and the triangles' radiances
         indirect += 2 * s.emission_samples * EMITTER_BYTES
         indirect += pixels * 16 + scene.triangle_count * 16

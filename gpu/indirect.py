@@ -78,9 +78,10 @@ class IndirectMethod:
     def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
         raise NotImplementedError
 
-    def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern):
-        """Gather every pixel's light (gathers_per_pixel); `uniforms` are the G-buffer's,
-        its textures bound."""
+    def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern, held_bound):
+        """Gather every pixel's light (gathers_per_pixel), the VPLs' 1/r² bounded by
+        `singularity_bound`, the held bound of the later bounces' by `held_bound`;
+        `uniforms` are the G-buffer's, its textures bound."""
 
     def pixel_gather(self):
         """The pixel gather (gpu/vpl_gather.py) that adds the emitters' direct light (the
@@ -231,9 +232,11 @@ class GatheringMethod(IndirectMethod):
             emitters = emitters + [(self.emitter_vpls.buffer, self.emitter_vpls.count)]
         if settings.bounces > 1 and emitters:
             with self.glc.timed(stats, "bounce_ms"):
+                march = self.pixel_gather().occupancy  # as the emitters' bounce, whatever the method
+                march.voxelise(mesh)
                 emitters = emitters + self.generations.build(emitters, flux_bound, settings.bounces, receivers,
-                                                             occupancy, self._layers(), settings.singularity_bound,
-                                                             pattern)
+                                                             march, march.every_grid_layers(),
+                                                             settings.singularity_bound, pattern)
             flux_bound += self.generations.flux_bound
         else:
             self.generations.release()
@@ -322,8 +325,9 @@ class VPLGatherMethod(GatheringMethod):
         self.emitter_sets, _ = self._gathered_emitters(maps, mesh, settings, stats, pattern, sources, receivers,
                                                        flux_bound)
 
-    def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern):
-        self.volumes[0].gather(targets, uniforms, camera_position, self.emitter_sets, singularity_bound, pattern)
+    def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern, held_bound):
+        self.volumes[0].gather(targets, uniforms, camera_position, self.emitter_sets, singularity_bound, pattern,
+                               held_bound)
 
     def pixel_gather(self):
         return self.volumes[0]  # its own occupancy and images: its gather comes later in the frame

@@ -332,8 +332,9 @@ class Pipeline:
             with self.glc.timed(stats, "pixel_gather_ms"):
                 bind_gbuffer(targets)
                 # the n-th set of a converging frame bounds 1/r² by 1/n as much: the average's bias tends to zero
+                # (the later bounces' points hold theirs: shaders/emitter.glsl)
                 indirect.gather_pixels(targets, gbuffer_uniforms(scene.camera), scene.camera.position,
-                                       s.singularity_bound / sets, self.vpl_pattern)
+                                       s.singularity_bound / sets, self.vpl_pattern, s.singularity_bound)
         with self.glc.timed(stats, "indirect_ms"):
             world = None
             if scene.world is not None and not scene.film.transparent:

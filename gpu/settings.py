@@ -116,10 +116,12 @@ class Settings(Validated):
                              "(Cycles' Diffuse and Max Bounces); 0: as many as the Light Paths say (1 for a scene "
                              "that says nothing). Above 1, each later bounce is lit on points of the surfaces by "
                              "the one before (light grid and VPL gathering)", 0, 8)
-    singularity_bound: float = _param(1.0, "How far a VPL's 1/r² is bounded next to it: r² grows by this times the "
-                                           "area the VPL stands for over pi (1: as a disk of that area lights its "
-                                           "axis; 0: unbounded, exact on average but spiky); the n-th VPL set of a "
-                                           "converging frame's pixel gather takes 1/n of it", 0.0, 16.0, expert=True)
+    singularity_bound: float = _param(1.0, "How far a VPL's 1/r² is bounded next to it, in the area the VPL stands "
+                                           "for over pi: added to r² for the lights' VPLs in the pixel gather (1: as "
+                                           "a disk of that area lights its axis; the n-th VPL set of a converging "
+                                           "frame takes 1/n of it), r² held at least there elsewhere (1: within that "
+                                           "disk's radius its exitance); 0: unbounded, exact on average but spiky",
+                                      0.0, 16.0, expert=True)
     converge_sets: int = _param(1, "VPL sets a rendered frame averages, each another Poisson pattern over the "
                                    "light maps seen through another point of the pixels: its light converges "
                                    "toward every texel's and its edges are anti-aliased (1: one sample at each "

@@ -41,18 +41,20 @@ class VPLGather:
             self.gathered, self.filtered = (self.glc.gl.texture(size, 4, dtype="f4") for _ in range(2))
         return self.gathered, self.filtered
 
-    def gather(self, targets, uniforms, camera_position, emitter_sets, singularity_bound, vpl_set):
+    def gather(self, targets, uniforms, camera_position, emitter_sets, singularity_bound, vpl_set, held_bound=None):
         """Gather every pixel's irradiance from the emitters (buffers with counts), their
-        1/r² bounded by `singularity_bound` (shaders/emitter.glsl), and filter it into
-        `filtered`; the pixels' subsets follow `vpl_set`. `uniforms` are the G-buffer's
-        (gpu/shade.py gbuffer_uniforms), its textures bound."""
+        1/r² bounded by `singularity_bound` (shaders/emitter.glsl), those whose bound is
+        held by `held_bound` (None: the same), and filter it into `filtered`; the pixels'
+        subsets follow `vpl_set`. `uniforms` are the G-buffer's (gpu/shade.py
+        gbuffer_uniforms), its textures bound."""
         gathered, filtered = self._images(targets.size)
         layers = self.occupancy.every_grid_layers()
         program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE, MARCH_LEVELS=len(layers))
         gathered.bind_to_image(0, read=True, write=True)
         batch = march_batch(self.occupancy.voxels, len(layers), INTERLEAVE ** 2)
         set_uniforms(program, **uniforms, **self.occupancy.march_uniforms(layers, first_unit=2),
-                     batch=batch, singularity_bound=singularity_bound, subset_shift=vpl_set % INTERLEAVE ** 2)
+                     batch=batch, singularity_bound=singularity_bound, subset_shift=vpl_set % INTERLEAVE ** 2,
+                     held_bound=singularity_bound if held_bound is None else held_bound)
         accumulate = False
         for buffer, count in emitter_sets:
             buffer.bind_to_storage_buffer(0)

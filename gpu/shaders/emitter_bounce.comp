@@ -51,7 +51,7 @@ void main() {
         float facing = -dot(r.normal.xyz, d) * inversesqrt(max(dot(d, d), 1e-30));
         int side = facing > 0.0 ? 0 : 1;
         if ((open_sides & (1 << side)) == 0) continue;
-        vec3 light = emitter_light(e, d) * abs(facing);
+        vec3 light = held_emitter_light(e, d, singularity_bound) * abs(facing);
         if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
         vec3 from = e.position.xyz + EMITTER_OFFSET * level_voxels[0] * e.normal.xyz;
         if (levels_blocked(from, r.position.xyz + (side == 0 ? offset_along : -offset_along), e.position.xyz)) continue;
@@ -73,6 +73,6 @@ void main() {
     bool back_brighter = dot(back, vec3(1.0)) > dot(front, vec3(1.0));
     Emitter vpl = r;
     vpl.normal.xyz = back_brighter ? -r.normal.xyz : r.normal.xyz;
-    vpl.flux = vec4(r.flux.rgb * (back_brighter ? back : front) * r.normal.w, 0.0);
+    vpl.flux = vec4(r.flux.rgb * (back_brighter ? back : front) * r.normal.w, 1.0);  // its bound held
     lit[index] = vpl;
 }

@@ -1,6 +1,7 @@
 #version 450 core
 // Emitters into clusters: the finest level whose box holds an emitter decides its cluster
-// cell, and its normal's main axis and sign (or "no normal") the bin; a hash table finds
+// cell, and its normal's main axis and sign (or "no normal") the bin, apart for the points
+// the later bounces lit (emitter.glsl bound_held: their bound is held); a hash table finds
 // the cluster, which sums the flux and the flux-weighted place in its cell and normal
 // in fixed-point integer atomics (the same sums whatever order the emitters come in).
 #include "common.glsl"
@@ -34,6 +35,7 @@ void main() {
         int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
         bin = 2 * axis + (n[axis] < 0.0 ? 1 : 0);
     }
+    if (bound_held(e)) level += LEVELS;  // a cluster of its own, in keys after every other
     int key = (((level * grid_size + cell.z) * grid_size + cell.y) * grid_size + cell.x) * 7 + bin;
     int slot = int(uint(key) * 2654435761u) & (capacity - 1);
     for (int probe = 0; probe < capacity; ++probe) {

@@ -19,6 +19,7 @@ uniform int first_emitter;
 uniform int batch;
 uniform bool accumulate;
 uniform int subset_shift;  // the VPL set's: a pixel's subset moves on from set to set
+uniform float held_bound;  // the later bounces' points' bound (emitter.glsl held_emitter_light), never shrunk
 const float OFF_SURFACE = 1.5;     // finest voxels off the pixel's surface where its marches end
 
 void main() {
@@ -39,7 +40,7 @@ void main() {
             vec3 d = p - e.position.xyz;
             float facing = -dot(n, d) * inversesqrt(max(dot(d, d), 1e-30));
             if (facing <= 0.0) continue;
-            vec3 light = emitter_light(e, d) * facing;
+            vec3 light = (bound_held(e) ? held_emitter_light(e, d, held_bound) : emitter_light(e, d)) * facing;
             if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
             if (levels_blocked(e.position.xyz + EMITTER_OFFSET * level_voxels[0] * e.normal.xyz, from_pixel, e.position.xyz))
                 continue;

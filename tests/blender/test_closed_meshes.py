@@ -70,13 +70,13 @@ def test_a_mirrored_instance_stays_closed_and_open_meshes_are_not(extracted):
 
 
 def test_the_courtyards_indirect_light_does_not_depend_on_where_the_grids_fall():
-    # Measured at 64 x 36: 0.701, 0.667, 0.693, 0.652 for grid shifts of 0, 1/4, 1/2 and 3/4
-    # of a cell (1.08 between the most and the least); while the sky reached the inside of
-    # the floor slab and the arcade roof, 1.019, 0.743, 0.934, 0.829 (1.37).
+    # Measured at 64 x 36: 0.793 and 0.772 for grid shifts of 0 and 1/4 of a cell (0.807 and
+    # 0.759 at 1/2 and 3/4); while the sky reached the inside of the floor slab and the
+    # arcade roof, 1.019 and 0.743 (0.934 and 0.829).
     built = demo.build("sunlit_courtyard")
     built.render.resolution_x, built.render.resolution_y = 64, 36
     scene = scene_to_render(built)
     means = [float(render_once(scene, Settings(width=64, height=36, grid_shift=shift)).passes["indirect"].mean())
-             for shift in (0.0, 0.25, 0.5, 0.75)]
-    print("\ncourtyard indirect at grid shifts 0, 1/4, 1/2, 3/4:", np.round(means, 3))
+             for shift in (0.0, 0.25)]
+    print("\ncourtyard indirect at grid shifts 0 and 1/4:", np.round(means, 3))
     assert max(means) / min(means) < 1.15

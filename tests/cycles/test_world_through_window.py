@@ -36,8 +36,9 @@ def test_the_worlds_light_through_a_window_lights_and_bounces_as_in_cycles():
     near Cycles' means at the default settings: the emitters' bounce marches the pixel
     gather's occupancy, whose voxels narrow the window half as much as the light grid's
     (through those the bounce was a tenth of Cycles'). Measured: direct 0.893 (the window
-    narrowed by about a voxel), indirect 0.787 (1.07 while the walls' outer faces took the
-    room's light through the 10 cm walls and sent it back)."""
+    narrowed by about a voxel), indirect 0.890 (1.07 while the walls' outer faces took the
+    room's light through the 10 cm walls and sent it back, 0.787 with that shut while the
+    later bounces' points grew r² by their area)."""
     built = room_lit_through_a_window()
     images = render_cycles_passes(built, ("DiffDir", "DiffInd", "DiffCol"), samples=256, resolution=SIZE)
     direct, indirect = images["DiffDir"] * images["DiffCol"], images["DiffInd"] * images["DiffCol"]
@@ -48,4 +49,4 @@ def test_the_worlds_light_through_a_window_lights_and_bounces_as_in_cycles():
     indirect_ratio = frame.passes["indirect"].mean() / indirect.mean()
     print(f"\ndirect {direct_ratio:.3f}, indirect {indirect_ratio:.3f} of Cycles'")
     assert 0.88 < direct_ratio < 1.12
-    assert 0.75 < indirect_ratio < 1.12
+    assert 0.85 < indirect_ratio < 1.12

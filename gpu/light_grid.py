@@ -22,7 +22,7 @@ from .vpl import EMITTER_BYTES
 CLUSTER_CELLS = 2
 """A cluster of emitters spans this many cells of its level along each side: a quarter to
 an eighth as many clusters to gather as with one cell, for little loss (docs/method.md)."""
-CLUSTER_INTS = 10  # flux rgb, weighted place xyz, weighted normal xyz, weight
+CLUSTER_INTS = 11  # flux rgb, weighted place xyz, weighted normal xyz, weight, weight whose bound is held
 FIXED_POINT_RANGE = 2.0 ** 30
 DIRECTIONS = 6  # +x, -x, +y, -y, +z, -z
 GATHER_LANES = 64  # invocations sharing one cell's emitters (shaders/light_grid_gather.comp)

@@ -30,6 +30,16 @@ vec3 held_emitter_light(Emitter e, vec3 d, float bound) {
     return e.flux.rgb * emitter_intensity(e, d, r2) / (max(r2, bound * e.normal.w / PI) + 1e-30);
 }
 
-// Whether an emitter is a point that later bounces or the emitters' bounce lit
-// (shaders/emitter_bounce.comp marks them in flux.w): its bound is held.
-bool bound_held(Emitter e) { return e.flux.w > 0.5; }
+// The share of an emitter's flux whose bound is held (flux.w): 1 for a point the emitters'
+// bounce or a later bounce lit (emitter_bounce.comp), a light grid cluster's flux-weighted
+// share of such points (emitter_cluster.comp), 0 for the lights' VPLs and the rest.
+float held_share(Emitter e) { return clamp(e.flux.w, 0.0, 1.0); }
+
+// The irradiance of an emitter whose held share of flux holds r^2 at `held` times the area
+// over pi and whose rest grows r^2 by `grown` times it.
+vec3 shared_emitter_light(Emitter e, vec3 d, float grown, float held) {
+    float r2 = dot(d, d);
+    float area = e.normal.w / PI, share = held_share(e);
+    return e.flux.rgb * emitter_intensity(e, d, r2)
+           * ((1.0 - share) / (r2 + grown * area + 1e-30) + share / (max(r2, held * area) + 1e-30));
+}

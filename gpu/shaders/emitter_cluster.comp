@@ -1,9 +1,9 @@
 #version 450 core
 // Emitters into clusters: the finest level whose box holds an emitter decides its cluster
-// cell, and its normal's main axis and sign (or "no normal") the bin, apart for the points
-// the later bounces lit (emitter.glsl bound_held: their bound is held); a hash table finds
-// the cluster, which sums the flux and the flux-weighted place in its cell and normal
-// in fixed-point integer atomics (the same sums whatever order the emitters come in).
+// cell, and its normal's main axis and sign (or "no normal") the bin; a hash table finds
+// the cluster, which sums the flux and the flux-weighted place in its cell, normal and
+// share whose bound is held (emitter.glsl held_share) in fixed-point integer atomics (the
+// same sums whatever order the emitters come in).
 #include "common.glsl"
 #include "emitter.glsl"
 layout(local_size_x = 64) in;
@@ -35,7 +35,6 @@ void main() {
         int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
         bin = 2 * axis + (n[axis] < 0.0 ? 1 : 0);
     }
-    if (bound_held(e)) level += LEVELS;  // a cluster of its own, in keys after every other
     int key = (((level * grid_size + cell.z) * grid_size + cell.y) * grid_size + cell.x) * 7 + bin;
     int slot = int(uint(key) * 2654435761u) & (capacity - 1);
     for (int probe = 0; probe < capacity; ++probe) {
@@ -56,4 +55,5 @@ void main() {
         atomicAdd(sums[base + 6 + k], int(round(turned[k])));
     }
     atomicAdd(sums[base + 9], int(round(weight)));
+    atomicAdd(sums[base + 10], int(round(weight * held_share(e))));
 }

@@ -1,7 +1,7 @@
 #version 450 core
 // Each filled cluster of emitter_cluster.comp becomes one emitter at the flux-weighted mean
-// of its emitters' places, with their mean normal and summed flux, standing for a disk as
-// wide as its cell, its bound held where theirs is. The list keeps the hash table's slot
+// of its emitters' places, with their mean normal, summed flux and share of it whose bound
+// is held, standing for a disk as wide as its cell. The list keeps the hash table's slot
 // order, so a frame's sums come out the same every time: STAGE 0 counts each block of 64
 // slots, STAGE 1 (one invocation) turns the counts into offsets and the total into
 // `emitter_count`, STAGE 2 writes each cluster at its block's offset plus its rank in the
@@ -63,14 +63,13 @@ void main() {
     ivec3 cell = ivec3(cell_index % grid_size, (cell_index / grid_size) % grid_size,
                        (cell_index / (grid_size * grid_size)) % grid_size);
     int level = cell_index / (grid_size * grid_size * grid_size);
-    bool held = level >= LEVELS;  // emitter_cluster.comp: the points the later bounces lit
-    level %= LEVELS;
     float size = level_cells[level];
     vec3 place = vec3(sums[base + 3], sums[base + 4], sums[base + 5]) / weight;
     vec3 n = vec3(sums[base + 6], sums[base + 7], sums[base + 8]) / weight;
     vec3 normal = bin < 6 && dot(n, n) > 1e-12 ? normalize(n) : vec3(0.0);
     emitters[blocks[block] + rank] = Emitter(vec4(level_origins[level] + (vec3(cell) + clamp(place, 0.0, 1.0)) * size, 1.0),
-                                             vec4(normal, PI * 0.25 * size * size), vec4(flux, held ? 1.0 : 0.0));
+                                             vec4(normal, PI * 0.25 * size * size),
+                                             vec4(flux, float(sums[base + 10]) / weight));
 #endif
 #endif
 }

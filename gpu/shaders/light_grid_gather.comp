@@ -53,7 +53,7 @@ void main() {
     for (int j = first_emitter + lane; j < last; j += LANES) {
         Emitter e = emitters[j];
         vec3 d = centre - e.position.xyz;
-        vec3 light = bound_held(e) ? held_emitter_light(e, d, singularity_bound) : emitter_light(e, d);
+        vec3 light = shared_emitter_light(e, d, singularity_bound, singularity_bound);
         if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
         vec3 w = normalize(d);
 #if UNSHADOWED

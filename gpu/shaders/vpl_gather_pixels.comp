@@ -40,7 +40,7 @@ void main() {
             vec3 d = p - e.position.xyz;
             float facing = -dot(n, d) * inversesqrt(max(dot(d, d), 1e-30));
             if (facing <= 0.0) continue;
-            vec3 light = (bound_held(e) ? held_emitter_light(e, d, held_bound) : emitter_light(e, d)) * facing;
+            vec3 light = shared_emitter_light(e, d, singularity_bound, held_bound) * facing;
             if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
             if (levels_blocked(e.position.xyz + EMITTER_OFFSET * level_voxels[0] * e.normal.xyz, from_pixel, e.position.xyz))
                 continue;

@@ -9,7 +9,7 @@ bpy = pytest.importorskip("bpy")
 from lpv_preview.addon.extract import extract_scene  # noqa: E402
 from lpv_preview.demo import build  # noqa: E402
 from lpv_preview.gpu.indirect import INDIRECT_STAGES  # noqa: E402
-from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
+from lpv_preview.gpu.pipeline import Pipeline, render_once  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 
 SIZE = 128
@@ -132,12 +132,15 @@ def test_dual_paraboloid_vpls_carry_the_cube_map_flux(cornell, pipeline):
         dpm.release()
 
 
-def test_warping_brings_the_paraboloid_lpv_closer_to_the_cube_map(cornell, frame):
+def test_warping_brings_the_paraboloid_lpv_closer_to_the_cube_map(cornell):
+    # One bounce: the maps' VPLs light it, while the later bounces' points are the same
+    # whatever the map (the four of the Light Paths put the two within 0.01 dB).
     from lpv_preview.gpu.metrics import psnr
-    reference = frame.passes["indirect"]
+    reference = render_once(cornell, Settings(width=SIZE, height=SIZE, rsm_resolution=256, bounces=1))
+    reference = reference.passes["indirect"]
     quality = {}
     for method in ("dpm", "wdpm"):
-        pipeline = Pipeline(Settings(width=SIZE, height=SIZE, rsm_resolution=256, method=method))
+        pipeline = Pipeline(Settings(width=SIZE, height=SIZE, rsm_resolution=256, method=method, bounces=1))
         try:
             result = pipeline.render(cornell)
         finally:

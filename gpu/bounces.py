@@ -75,10 +75,10 @@ class Generations:
     def flux_bound(self):
         return sum(generation.flux_bound for generation in self.made)
 
-    def build(self, first, first_bound, bounces, receivers, occupancy, layers, singularity_bound, pattern):
+    def build(self, first, first_bound, bounces, receivers, occupancy, singularity_bound, pattern):
         """Generations 2 to `bounces` from the `first` one's (buffer, count) sets, whose flux
         no channel's total exceeds `first_bound`, each on the points `receivers(seed)`
-        gives, marching `occupancy`'s grids `layers`; returns their (buffer, count) sets.
+        gives, marching `occupancy`'s grids; returns their (buffer, count) sets.
         Nothing is read back: a generation's bound is the one before's times its points'
         largest albedo, which `conserve` holds it to."""
         self._drop()
@@ -89,7 +89,7 @@ class Generations:
             points = thinned(receivers(generation_seed(pattern, bounce)), 2 ** bounce)
             largest_albedo = points[:, 2, :3].max(axis=0) if len(points) else np.zeros(3)
             bound *= float(largest_albedo.max())
-            generation = light_receivers(self.glc, points, senders, occupancy, layers, singularity_bound,
+            generation = light_receivers(self.glc, points, senders, occupancy, singularity_bound,
                                          pattern * MAX_BOUNCES + bounce, LATER_SENDERS, flux_bound=bound)
             conserve(self.glc, self.totals, generation, senders, largest_albedo)
             self.made.append(generation)

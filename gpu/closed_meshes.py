@@ -53,7 +53,7 @@ class ClosedMeshes:
         for point, owner in zip(points, owners):
             inside_box = solid & np.all((point >= self.low) & (point <= self.high), axis=1) & (self.names != owner)
             for index in np.flatnonzero(inside_box):
-                corners = np.asarray(scene.triangles, np.float64)[self.order[self.starts[index]:self.ends[index]]]
+                corners = scene.triangles[self.order[self.starts[index]:self.ends[index]]].astype(np.float64)
                 if _inside(point, corners):
                     solid[index] = False
         if not solid.any():

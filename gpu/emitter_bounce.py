@@ -63,13 +63,14 @@ class Receivers:
         return rows
 
 
-def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity_bound, pattern,
+def light_receivers(glc, receivers, emitter_sets, occupancy, singularity_bound, pattern,
                     senders_per_receiver=RECEIVER_SENDERS, flux_bound=None):
     """The receivers (rows of `Receivers.rows`) lit by the emitter sets ((buffer,
     count) pairs), each receiver gathering a strided subset of `senders_per_receiver` of
-    each set, marching `occupancy`'s grids `layers`: an EmitterVPLs whose flux bound is
+    each set, marching every grid of `occupancy`: an EmitterVPLs whose flux bound is
     `flux_bound` where given, else their flux read back and summed."""
     gl = glc.gl
+    layers = occupancy.every_grid_layers()
     count = max(len(receivers), 1)
     if not len(receivers):
         receivers = np.zeros((1, 3, 4), dtype=np.float32)
@@ -77,7 +78,7 @@ def light_receivers(glc, receivers, emitter_sets, occupancy, layers, singularity
     irradiance = gl.buffer(reserve=count * 32)
     lit = gl.buffer(reserve=count * EMITTER_BYTES)
     program = glc.compute("emitter_bounce", MARCH_LEVELS=len(layers), LANES=LANES)
-    set_uniforms(program, **occupancy.march_uniforms(list(layers), first_unit=0), singularity_bound=singularity_bound,
+    set_uniforms(program, **occupancy.march_uniforms(layers, first_unit=0), singularity_bound=singularity_bound,
                  receiver_count=count, pattern=pattern)
     receiver_buffer.bind_to_storage_buffer(1)
     irradiance.bind_to_storage_buffer(2)

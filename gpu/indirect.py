@@ -93,14 +93,19 @@ class IndirectMethod:
             self._pixel_gather = VPLGather(self.glc, self.levels)
         return self._pixel_gather
 
+    def _bounce_occupancy(self, mesh):
+        """The occupancy every bounce on points of the surfaces marches, whatever the method:
+        the pixel gather's, voxelised (docs/method.md, "The emitters' bounce")."""
+        occupancy = self.pixel_gather().occupancy
+        occupancy.voxelise(mesh)
+        return occupancy
+
     def _bounce_emitters(self, mesh, settings, stats, pattern, sources, receivers):
         """The emitters' bounce: `sources`' light on the points `receivers` gives, marched
         through the pixel gather's occupancy; adds it to the flux bound it returns."""
-        occupancy = self.pixel_gather().occupancy
         with self.glc.timed(stats, "emitter_bounce_ms"):
-            occupancy.voxelise(mesh)
-            self.emitter_vpls = light_receivers(self.glc, receivers(pattern), sources, occupancy,
-                                                occupancy.every_grid_layers(), settings.singularity_bound, pattern)
+            self.emitter_vpls = light_receivers(self.glc, receivers(pattern), sources, self._bounce_occupancy(mesh),
+                                                settings.singularity_bound, pattern)
         return self.emitter_vpls.flux_bound
 
     def forget(self):
@@ -232,10 +237,8 @@ class GatheringMethod(IndirectMethod):
             emitters = emitters + [(self.emitter_vpls.buffer, self.emitter_vpls.count)]
         if settings.bounces > 1 and emitters:
             with self.glc.timed(stats, "bounce_ms"):
-                march = self.pixel_gather().occupancy  # as the emitters' bounce, whatever the method
-                march.voxelise(mesh)
                 emitters = emitters + self.generations.build(emitters, flux_bound, settings.bounces, receivers,
-                                                             march, march.every_grid_layers(),
+                                                             self._bounce_occupancy(mesh),
                                                              settings.singularity_bound, pattern)
             flux_bound += self.generations.flux_bound
         else:

@@ -4,30 +4,21 @@
 struct Emitter { vec4 position; vec4 normal; vec4 flux; };
 
 // Irradiance an emitter gives a surface at distance vector d from it, facing it: its
-// radiant intensity toward d over r^2, r^2 grown by `singularity_bound` times the area
-// over pi: at 1 as a disk of that area gives on its axis (pi L R^2 / (r^2 + R^2)), so it
-// stays finite next to it. The pixel gather's converging frames shrink that bound set by
-// set, so its bias tends to zero (settings.py singularity_bound; docs/accuracy.md).
+// radiant intensity toward d over r^2, bounded next to it by the area A it stands for,
+// in one of two ways (docs/method.md, "The 1/r² bound"). Its share 1 - h grows r^2 by
+// `grown` A/pi, as a disk of area A gives on its axis (pi L R^2 / (r^2 + R^2)): the pixel
+// gather's converging frames shrink that bound set by set, so its bias tends to zero. Its
+// share h holds r^2 at least at `held` A/pi: within the disk's radius R the exitance the
+// disk gives at its centre, beyond R exact, which takes little light where the bound never
+// shrinks (growing it took a fifth of the light at 2R and a tenth at 3R).
 uniform float singularity_bound;
-float emitter_intensity(Emitter e, vec3 d, float r2) {
+vec3 bounded_emitter_light(Emitter e, vec3 d, float grown, float held, float h) {
+    float r2 = dot(d, d);
     vec3 w = d * inversesqrt(max(r2, 1e-30));
     bool cosine = dot(e.normal.xyz, e.normal.xyz) > 0.5;
-    return cosine ? max(0.0, dot(e.normal.xyz, w)) / PI : 0.25 / PI;
-}
-
-vec3 emitter_light(Emitter e, vec3 d) {
-    float r2 = dot(d, d);
-    return e.flux.rgb * emitter_intensity(e, d, r2) / (r2 + singularity_bound * e.normal.w / PI + 1e-30);
-}
-
-// The same with r^2 held at least at `bound` times the area over pi: within the radius R of
-// a disk of that area the exitance the disk gives at its centre, beyond R exact. The points
-// the emitters' bounce and the later bounces light stand for large areas and their bound
-// never shrinks: grown, it took a fifth of their light at 2R and a tenth at 3R; held, it
-// takes little (docs/method.md, "The 1/r² bound").
-vec3 held_emitter_light(Emitter e, vec3 d, float bound) {
-    float r2 = dot(d, d);
-    return e.flux.rgb * emitter_intensity(e, d, r2) / (max(r2, bound * e.normal.w / PI) + 1e-30);
+    float intensity = cosine ? max(0.0, dot(e.normal.xyz, w)) / PI : 0.25 / PI;
+    float area = e.normal.w / PI;
+    return e.flux.rgb * intensity * ((1.0 - h) / (r2 + grown * area + 1e-30) + h / (max(r2, held * area) + 1e-30));
 }
 
 // The share of an emitter's flux whose bound is held (flux.w): 1 for a point the emitters'
@@ -35,11 +26,10 @@ vec3 held_emitter_light(Emitter e, vec3 d, float bound) {
 // share of such points (emitter_cluster.comp), 0 for the lights' VPLs and the rest.
 float held_share(Emitter e) { return clamp(e.flux.w, 0.0, 1.0); }
 
-// The irradiance of an emitter whose held share of flux holds r^2 at `held` times the area
-// over pi and whose rest grows r^2 by `grown` times it.
+// With `singularity_bound` grown for all of its flux (settings.py singularity_bound).
+vec3 emitter_light(Emitter e, vec3 d) { return bounded_emitter_light(e, d, singularity_bound, 0.0, 0.0); }
+
+// With its held share held at `held`, the rest grown by `grown`.
 vec3 shared_emitter_light(Emitter e, vec3 d, float grown, float held) {
-    float r2 = dot(d, d);
-    float area = e.normal.w / PI, share = held_share(e);
-    return e.flux.rgb * emitter_intensity(e, d, r2)
-           * ((1.0 - share) / (r2 + grown * area + 1e-30) + share / (max(r2, held * area) + 1e-30));
+    return bounded_emitter_light(e, d, grown, held, held_share(e));
 }

@@ -51,7 +51,8 @@ void main() {
         float facing = -dot(r.normal.xyz, d) * inversesqrt(max(dot(d, d), 1e-30));
         int side = facing > 0.0 ? 0 : 1;
         if ((open_sides & (1 << side)) == 0) continue;
-        vec3 light = held_emitter_light(e, d, singularity_bound) * abs(facing);
+        // a receiver holds every sender's bound: it never shrinks here
+        vec3 light = bounded_emitter_light(e, d, 0.0, singularity_bound, 1.0) * abs(facing);
         if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
         vec3 from = e.position.xyz + EMITTER_OFFSET * level_voxels[0] * e.normal.xyz;
         if (levels_blocked(from, r.position.xyz + (side == 0 ? offset_along : -offset_along), e.position.xyz)) continue;

@@ -19,7 +19,7 @@ uniform int first_emitter;
 uniform int batch;
 uniform bool accumulate;
 uniform int subset_shift;  // the VPL set's: a pixel's subset moves on from set to set
-uniform float held_bound;  // the later bounces' points' bound (emitter.glsl held_emitter_light), never shrunk
+uniform float held_bound;  // the later bounces' points' bound (emitter.glsl shared_emitter_light), never shrunk
 const float OFF_SURFACE = 1.5;     // finest voxels off the pixel's surface where its marches end
 
 void main() {

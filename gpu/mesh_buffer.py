@@ -99,11 +99,27 @@ class MeshBuffer:
             emission = np.zeros((count, 4), dtype=np.float32)
             emission[:, :3] = scene.emission
             self.emission = glc.gl.buffer(emission.tobytes())
+        self.open_sides = None  # a byte a triangle: the sides of its faces light reaches (gpu/closed_meshes.py)
+        self._open_sides_of = None  # the array `open_sides` holds
         self._arrays = {}
         self.rim_lists = {}
         self._cluster_boxes = {}  # (first, count) -> (boxes, draw commands, clusters)
         self._cull_slot = {}  # (first, count) -> the slot of its commands the last view culled wrote
         self._culled = {}  # (first, count) -> {a view's matrix (bytes): the slot holding its commands}
+
+    def show_open_sides(self, sides):
+        """Hold `sides` ((T,) uint8 of gpu/closed_meshes.py, or None: every side open) for the
+        G-buffer, uploaded again only when it is another array."""
+        if sides is self._open_sides_of:
+            return
+        if self.open_sides is not None:
+            self.open_sides.release()
+            self.open_sides = None
+        if sides is not None:
+            padded = np.zeros(-(-len(sides) // 4) * 4, dtype=np.uint8)
+            padded[:len(sides)] = sides
+            self.open_sides = self.glc.gl.buffer(padded)
+        self._open_sides_of = sides
 
     def vertex_array(self, program, indices=None):
         if (program, indices) not in self._arrays:
@@ -185,7 +201,8 @@ class MeshBuffer:
     def resources(self):
         """The vertex buffer, the images, each hemisphere's rim-split lists and draw
         commands, and the culled ranges' cluster boxes and draw commands."""
-        return (self.buffer, *self.images.resources(), *((self.emission,) if self.emission is not None else ()),
+        return (self.buffer, *self.images.resources(),
+                *(buffer for buffer in (self.emission, self.open_sides) if buffer is not None),
                 *(buffer for buffers in self.rim_lists.values() for buffer in buffers),
                 *(buffer for boxes, commands, _ in self._cluster_boxes.values() for buffer in (boxes, commands)))
 

@@ -239,6 +239,7 @@ class Pipeline:
         """The mesh uploaded and the camera's images at the frame's size, with its G-buffer."""
         s = self.settings
         self._upload(scene, stats)
+        self._mesh.value.show_open_sides(self._sides(scene))
         targets = self._targets.get((s.width, s.height), lambda: FrameTargets(self.glc.gl, s.width, s.height))
         with self.glc.timed(stats, "gbuffer_ms"):
             render_gbuffer(self.glc, self._mesh.value, scene.camera, targets, self.vpl_pattern)

@@ -158,11 +158,15 @@ def cut_out_defines(mesh):
 
 
 def render_gbuffer(glc, mesh, camera, targets, pattern=0):
-    """Rasterise the scene from the camera, cut-outs hashed in VPL pattern `pattern`, and
-    tint what is seen through transmitting surfaces; clears the direct image for the
-    lights to add into."""
+    """Rasterise the scene from the camera, cut-outs hashed in VPL pattern `pattern`, the
+    sides of solids' faces no light reaches black (MeshBuffer.show_open_sides), and tint
+    what is seen through transmitting surfaces; clears the direct image for the lights to
+    add into."""
     gl = glc.gl
-    program = glc.program("raster", "gbuffer", **cut_out_defines(mesh))
+    shut = {"SHUT_SIDES": 1} if mesh.open_sides is not None else {}
+    program = glc.program("raster", "gbuffer", **cut_out_defines(mesh), **shut)
+    if shut:
+        mesh.open_sides.bind_to_storage_buffer(0)
     targets.framebuffer.use()
     targets.framebuffer.viewport = (0, 0, *targets.size)
     clear_depth_only(targets.framebuffer)

@@ -75,11 +75,12 @@ def test_light_in_a_closed_box_stays_in_it(measured):
     assert share < 0.025
 
 
-@pytest.mark.parametrize("name, most", [("camera_in_box", 0.01), ("lamp_in_box_on_floor", 0.02)])
+@pytest.mark.parametrize("name, most", [("camera_in_box", 0.002), ("lamp_in_box_on_floor", 0.02)])
 def test_nothing_is_lit_where_cycles_is_black(measured, name, most):
-    # Measured: the inside of a closed box seen from a camera in it, a sun outside, 0.62 %
-    # (13.9 % without the occupancy's outer grid: the walls behind the camera lie outside
-    # the grids' levels); the floor at the foot of a box with a lamp inside, 1.36 % (lines
+    # Measured: the inside of a closed box seen from a camera in it, a sun outside, 0.059 %
+    # (two pixels of the floor the box stands on, met by the box's bottom in the depth
+    # test; 0.62 % while the G-buffer showed a solid's inside lit, 13.9 % without the
+    # occupancy's outer grid); the floor at the foot of a box with a lamp inside, 1.36 % (lines
     # along the box's edges; 3.1 % while the light grid marched only each cell's own
     # grid). Both of the light each view gets without the box.
     scene = measured(name)

@@ -1,11 +1,15 @@
 """gpu/closed_meshes.py: a closed mesh with nothing that emits inside it is a solid, shut
 on the side of its faces that looks in; one that holds a lamp, a point emitter or another
 mesh's emissive face is a room, open on both sides, as is one that lets light through."""
+import dataclasses
+
 import numpy as np
 
 from lpv_preview.bench.synthetic import box_triangles
 from lpv_preview.gpu.closed_meshes import BACK, FRONT, OPEN, ClosedMeshes
+from lpv_preview.gpu.pipeline import render_once
 from lpv_preview.gpu.scene import Camera, Light, Scene
+from lpv_preview.gpu.settings import Settings
 
 SUN = Light("SUN", (0.0, 0.0, 10.0), (0.3, 0.2, -1.0), (0, 1, 0), (1, 1, 1), 3.0)
 CAMERA = Camera.look_at((0.0, -6.0, 2.0), (0.0, 0.0, 0.5))
@@ -81,3 +85,16 @@ def test_a_closed_box_that_loses_a_face_is_open():
     alpha[4] = 0.0  # dropped as clear: the box has a hole
     scene = floor_and_box(alpha=alpha)
     assert scene.solids is None and sides(scene) is None
+
+
+def test_a_camera_inside_a_solid_sees_it_black_and_one_outside_sees_it_lit():
+    # Either winding: the side that looks in is the one the solid's volume says. The box
+    # stands 1 cm over the floor, so the inside view sees none of the sunlit floor.
+    settings = Settings(width=48, height=32, rsm_resolution=128, vpls_per_light=256, lpv_resolution=16)
+    inside = Camera.look_at((0.2, -0.3, 0.5), (0.0, 0.4, 0.4), fov_y=1.6, aspect=1.5)
+    for reverse in (False, True):
+        seen_in = render_once(dataclasses.replace(floor_and_box(reverse=reverse), camera=inside), settings)
+        assert seen_in.passes["combined"].max() == 0.0
+        seen_out = render_once(floor_and_box(reverse=reverse), settings)
+        box_pixels = seen_out.passes["combined"][8:24, 20:28]  # the box, in the view's middle
+        assert box_pixels.mean() > 0.05

@@ -12,9 +12,12 @@ most of the light (each shell of a uniform cloud gives as much as the last), so 
 emitter here reaches every cell, through a hierarchy of clusters (shaders/
 emitter_grid_build.comp): near cells see the finest clusters, far ones coarser clusters
 (flux, flux-weighted position), about a thousand clusters a cell whatever the emitter
-count. Emitters whose light at the view is negligible are dropped before (gpu/frame_lights.py).
+count. Emitters whose light at the view is negligible are skipped first, on the GPU
+(`select`), as frame_lights.py skips lamps.
 The grid heeds no occluders; gpu/emitter_shadows.py shades its light (docs/method.md).
 """
+from dataclasses import dataclass
+
 import moderngl
 import numpy as np
 
@@ -26,8 +29,50 @@ from .shade import add_irradiance, bind_gbuffer
 from .vpl import EMITTER_BYTES
 
 CLUSTER_FLOATS = 8  # flux rgb, weight (r + g + b), weighted position xyz, weighted area
+SKIP_BINS, BINS_PER_OCTAVE = 256, 4
+"""The bins of the emitters' bounds at the view, from the strongest down 64 octaves (weaker
+ones share the last): shaders/emitter_select.comp."""
+SELECTION_WORDS = 12  # shaders/emitter_select.comp's Selection before its bins
+SELECTION_START = np.concatenate([
+    np.array([0, 0, 0], np.uint32), np.zeros(3, np.float32).view(np.uint32),
+    np.full(3, 0xFFFFFFFF, np.uint32), np.zeros(3, np.uint32), np.zeros(SKIP_BINS, np.float32).view(np.uint32)]).tobytes()
+"""The Selection buffer before a selection: no strongest bound, nothing kept, an empty box."""
 BRUTE_FORCE_BATCH = 32768
 """Emitters one brute-force dispatch adds: llvmpipe ends a loop nest after 65,535 iterations."""
+
+
+def float_from_order(keys):
+    """The floats of shaders/emitter_select.comp's order_float keys."""
+    keys = np.asarray(keys, dtype=np.uint32)
+    return np.where(keys & 0x80000000, keys & 0x7FFFFFFF, ~keys).astype(np.uint32).view(np.float32)
+
+
+@dataclass
+class EmitterSelection:
+    """What a frame keeps of the point emitters (the point lights beyond the budget always):
+    how many, how many of the scene's are skipped, the largest of the kept flux's channels
+    (summed) and the kept positions' box (None when none is kept); `chosen` is what the
+    selection was made for."""
+
+    kept: int
+    skipped: int
+    flux_bound: float
+    box: tuple
+    chosen: tuple
+
+    @classmethod
+    def read(cls, buffer, count, chosen):
+        words = np.frombuffer(buffer.read(size=SELECTION_WORDS * 4), dtype=np.uint32)
+        kept = int(words[2])
+        flux = words[3:6].view(np.float32)
+        box = (float_from_order(words[6:9]), float_from_order(words[9:12])) if kept else None
+        return cls(kept, count - kept, float(flux.max()) if kept else 0.0, box, chosen)
+
+    def bounds(self, scene_bounds):
+        """The scene's bounds grown to hold the kept emitters (which may lie outside it)."""
+        if self.box is None:
+            return scene_bounds
+        return np.minimum(scene_bounds[0], self.box[0]), np.maximum(scene_bounds[1], self.box[1])
 
 
 def grid_resolution(setting):
@@ -64,19 +109,22 @@ class EmitterGrid:
             texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
             texture.repeat_x = texture.repeat_y = texture.repeat_z = False
         self.emitters = self._packed = None
-        self.count = 0
+        self._selected = gl.buffer(reserve=len(SELECTION_START))
+        self.count = self.scene_count = 0
+        self.selection = None  # the EmitterSelection of the last `select`
         self.irradiance = None
         self.origin, self.cell_size = np.zeros(3), 1.0
         self._key = self._built = None
 
-    def upload(self, emitters, key):
-        """Take the point emitters ((M, 7) float32 as gpu/scene.py holds them) unless `key`
-        says they are the last ones, into the buffers of the last ones when they hold them,
-        and expand them into emitter rows on the GPU (shaders/emitter_expand.comp)."""
+    def upload(self, emitters, lamps, key):
+        """Take the scene's point emitters and the point lights beyond the map budget (each
+        (M, 7) float32 as gpu/scene.py holds point emitters; None: none) unless `key` says
+        they are the last ones, into the buffers of the last ones when they hold them."""
         if key == self._key and self.emitters is not None:
             return
-        emitters = np.ascontiguousarray(emitters, dtype=np.float32)
-        count = len(emitters)
+        parts = [np.ascontiguousarray(rows, dtype=np.float32) for rows in (emitters, lamps) if rows is not None]
+        self.scene_count = len(parts[0]) if emitters is not None else 0
+        count = sum(len(rows) for rows in parts)
         if self.emitters is not None and self.emitters.size < max(count, 1) * EMITTER_BYTES:
             for buffer in (self.emitters, self._packed):
                 buffer.release()
@@ -84,20 +132,46 @@ class EmitterGrid:
         if self.emitters is None:
             self.emitters = self.glc.gl.buffer(reserve=max(count, 1) * EMITTER_BYTES)
             self._packed = self.glc.gl.buffer(reserve=max(count, 1) * POINT_EMITTER_COLUMNS * 4)
-        if count:
-            self._packed.write(emitters)
-            program = self.glc.compute("emitter_expand", POINT_EMITTER_COLUMNS=POINT_EMITTER_COLUMNS)
-            self._packed.bind_to_storage_buffer(0)
-            self.emitters.bind_to_storage_buffer(1)
-            dispatch_row(program, count, "first_emitter", emitter_count=count)
+        offset = 0
+        for rows in parts:
+            if len(rows):
+                self._packed.write(rows, offset=offset)
+                offset += rows.nbytes
         self.count = count
         self._key = key
+        self._built = self.selection = None
+
+    def select(self, box, min_distance, cutoff):
+        """Expand the rows into emitter rows on the GPU, the scene's emitters weakest at the
+        view skipped (shaders/emitter_select.comp: their bounds at the box `box` the camera
+        sees, at least `min_distance` away; the weakest together under `cutoff` of their
+        sum), and read back what is kept (an EmitterSelection; once per rows, box and cutoff)."""
+        chosen = (self._key, tuple(map(tuple, box)), min_distance, cutoff)
+        if self.selection is not None and self.selection.chosen == chosen:
+            return self.selection
+        self._selected.write(SELECTION_START)
+        low, high = (tuple(float(v) for v in corner) for corner in box)
+        uniforms = {"emitter_count": self.count, "scene_count": self.scene_count, "box_low": low, "box_high": high,
+                    "min_distance_squared": float(min_distance) ** 2, "cutoff": float(cutoff),
+                    "luminance_weights": tuple(LUMINANCE_WEIGHTS)}
+        for binding, buffer in enumerate((self._packed, self.emitters, self._selected)):
+            buffer.bind_to_storage_buffer(binding)
+        for stage in range(4):
+            program = self.glc.compute("emitter_select", STAGE=stage, POINT_EMITTER_COLUMNS=POINT_EMITTER_COLUMNS,
+                                       SKIP_BINS=SKIP_BINS, BINS_PER_OCTAVE=BINS_PER_OCTAVE)
+            if stage == 2:
+                set_uniforms(program, cutoff=float(cutoff))
+                dispatch(program, 1, local=(64,))
+            elif self.count:
+                dispatch_row(program, self.count, "first_emitter", **uniforms)
+        self.selection = EmitterSelection.read(self._selected, self.count, chosen)
         self._built = None
+        return self.selection
 
     def build(self, box, singularity_bound):
-        """Cluster the emitters over the cube around `box` and fill the three textures (once
-        per emitters, box and bound)."""
-        built = (self._key, tuple(map(tuple, box)), singularity_bound)
+        """Cluster the selected emitters over the cube around `box` and fill the three
+        textures (once per selection, box and bound)."""
+        built = (self.selection.chosen, tuple(map(tuple, box)), singularity_bound)
         if self._built == built:
             return
         self.origin, self.cell_size = grid_box(box, self.resolution)
@@ -173,7 +247,7 @@ class EmitterGrid:
         add_irradiance(self.glc, targets, uniforms, image)
 
     def resources(self):
-        held = (self.clusters, *self.textures)
+        held = (self.clusters, *self.textures, self._selected)
         return held + tuple(r for r in (self.emitters, self._packed, self.irradiance) if r is not None)
 
     def release(self):

@@ -1,7 +1,7 @@
-"""What lights a frame: the lights that get maps, and the point emitters (the scene's and
-the point lights beyond the light-map budget), the weakest at the view skipped. Bounds
-of each light's irradiance at the box the camera sees rank them (docs/method.md, "Many
-emitters")."""
+"""What lights a frame: the lights that get maps and the point lights beyond the light-map
+budget, the weakest at the view skipped. Bounds of each light's irradiance at the box the
+camera sees rank them (docs/method.md, "Many emitters"); the scene's point emitters are
+ranked the same way on the GPU (gpu/emitter_grid.py select)."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,10 +26,11 @@ def light_bounds(positions, intensity, box, min_distance):
 
 
 def skip_weak(bound, cutoff):
-    """A mask of the emitters to keep, given their `light_bounds`: those dropped, the
-    weakest, give together at most `cutoff` of the sum of the bounds. The threshold comes
-    from a histogram of the bounds in logarithmic bins weighted by themselves, not a sort:
-    a million emitters take a pass, and a little less than `cutoff` may be dropped."""
+    """A mask of the lamps to keep, given their `light_bounds`: those dropped, the weakest,
+    give together at most `cutoff` of the sum of the bounds. The threshold comes from a
+    histogram of the bounds in logarithmic bins weighted by themselves, as the point
+    emitters' on the GPU (shaders/emitter_select.comp): a little less than `cutoff` may be
+    dropped."""
     total = float(bound.sum(dtype=np.float64))
     if cutoff <= 0 or not total > 0:
         return np.ones(len(bound), dtype=bool)
@@ -54,65 +55,37 @@ def seen_box(levels, bounds):
 
 @dataclass
 class FrameLights:
-    """What lights a frame: the lights that get maps, the point emitters (the scene's and
-    the point lights beyond the budget, (M, 7) float32 as gpu/scene.py holds them) with a
-    content key, and counts."""
+    """What lights a frame of the scene's lamps: the lights that get maps, the point lights
+    beyond the budget as point-emitter rows ((k, 7) float32 as gpu/scene.py holds point
+    emitters) with their keys, and counts. The scene's own point emitters are chosen on the
+    GPU (gpu/emitter_grid.py select)."""
 
     mapped: list
-    emitters: np.ndarray
+    lamp_rows: np.ndarray
     key: tuple
-    flux_bound: float
     skipped_lights: int
-    skipped_emitters: int
     lights_as_emitters: int
-
-    emitter_box: tuple = None  # (low, high) of the point emitters' positions
-
-    def bounds(self, scene_bounds):
-        """The scene's bounds grown to hold the point emitters (which may lie outside it)."""
-        if self.emitter_box is None:
-            return scene_bounds
-        return np.minimum(scene_bounds[0], self.emitter_box[0]), np.maximum(scene_bounds[1], self.emitter_box[1])
 
 
 def frame_lights(scene, settings, box, min_distance):
-    """Split the scene's lights and point emitters for a frame looking at `box`: the
-    weakest there, together under `light_cutoff` of the light, are skipped (a sun never
-    is); of the point lights left, the `light_map_budget` strongest get maps and the rest
-    join the point emitters."""
+    """Split the scene's lamps for a frame looking at `box`: the weakest there, together
+    under `light_cutoff` of the lamps' light, are skipped (a sun never is); of the point
+    lights left, the `light_map_budget` strongest get maps and the rest become point
+    emitters. The scene's point emitters are skipped by the same rule among themselves, so
+    what both drop stays under `light_cutoff` of all the light."""
     lights = scene.lights
-    emitters = scene.point_emitters if scene.point_emitters is not None else \
-        np.zeros((0, POINT_EMITTER_COLUMNS), np.float32)
     luminance = LUMINANCE_WEIGHTS.astype(np.float32)
-    lamp_strength = light_bounds(np.array([light.position for light in lights], np.float32).reshape(-1, 3),
-                                 np.array([light.peak_intensity @ luminance for light in lights], np.float32),
-                                 box, min_distance)
-    columns = np.ascontiguousarray(emitters.T)  # one copy: the rows' seven floats make every column strided
-    intensity = sum(columns[3 + channel] * (luminance[channel] / np.float32(4 * np.pi)) for channel in range(3))
-    strength = np.concatenate([lamp_strength, light_bounds(columns[:3].T, intensity, box, min_distance)])
-    for index, light in enumerate(lights):
-        if light.kind == "SUN":
-            strength[index] = np.inf
-    keep = skip_weak(np.where(np.isinf(strength), 0.0, strength), settings.light_cutoff)
-    keep[:len(lights)] |= np.isinf(strength[:len(lights)])
+    strength = light_bounds(np.array([light.position for light in lights], np.float32).reshape(-1, 3),
+                            np.array([light.peak_intensity @ luminance for light in lights], np.float32),
+                            box, min_distance)
+    sun = np.array([light.kind == "SUN" for light in lights], dtype=bool)
+    keep = skip_weak(np.where(sun, 0.0, strength).astype(np.float32), settings.light_cutoff) | sun
     kept_lights = [i for i in range(len(lights)) if keep[i]]
     points = sorted((i for i in kept_lights if lights[i].kind == "POINT"), key=lambda i: -strength[i])
     as_emitters = set(points[settings.light_map_budget:])
     mapped = [lights[i] for i in kept_lights if i not in as_emitters]
     extra = [lights[i] for i in sorted(as_emitters)]
-    kept_emitters = keep[len(lights):]
-    rows = emitters if kept_emitters.all() else emitters[kept_emitters]
-    flux = columns[3:6].sum(axis=1, dtype=np.float64, where=kept_emitters)
-    low = columns[:3].min(axis=1, where=kept_emitters, initial=np.inf)
-    high = columns[:3].max(axis=1, where=kept_emitters, initial=-np.inf)
-    if extra:
-        lamps = np.array([[*light.position, *light.rgb_power, np.pi * light.radius ** 2] for light in extra],
-                         dtype=np.float32)
-        rows = np.concatenate([rows, lamps])
-        flux = flux + lamps[:, 3:6].sum(axis=0, dtype=np.float64)
-        low, high = np.minimum(low, lamps[:, :3].min(axis=0)), np.maximum(high, lamps[:, :3].max(axis=0))
-    key = (scene.point_emitters_key(), np.packbits(kept_emitters).tobytes(), tuple(light.key() for light in extra))
-    flux_bound = float(flux.max()) if len(rows) else 0.0
-    emitter_box = (low, high) if len(rows) else None
-    return FrameLights(mapped, rows, key, flux_bound, len(lights) - len(kept_lights), int((~kept_emitters).sum()),
-                       len(extra), emitter_box)
+    rows = np.array([[*light.position, *light.rgb_power, np.pi * light.radius ** 2] for light in extra],
+                    dtype=np.float32).reshape(-1, POINT_EMITTER_COLUMNS)
+    return FrameLights(mapped, rows, tuple(light.key() for light in extra), len(lights) - len(kept_lights),
+                       len(extra))

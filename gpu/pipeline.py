@@ -199,24 +199,25 @@ class Pipeline:
         levels = list(grids[::s.grid_phases])
         box = seen_box(levels, scene.bounds())
         lit = self._frame_lights.get(
-            (fits[3], fits[2], tuple(map(tuple, box)), levels[0].cell_size, s.light_cutoff, s.light_map_budget),
+            (fits[2], tuple(map(tuple, box)), levels[0].cell_size, s.light_cutoff, s.light_map_budget),
             lambda: frame_lights(scene, s, box, levels[0].cell_size))
         maps, keys = self.light_maps(scene, stats, levels, lit.mapped)
-        sources, sources_key = self._emitter_sources(scene, s, lit, box, grids, stats)
+        selection = self._select_emitters(scene, s, lit, box, levels[0].cell_size, stats)
+        sources, sources_key = self._emitter_sources(scene, s, selection, box, grids, stats)
         vpl_count = int(sum(m.vpl_count for m in maps))
         accumulated_vpls = self._accumulated[2] + vpl_count if adding else vpl_count
         self._accumulated = None  # until this set is in the image
         indirect = self._indirect_light(scene, maps, keys, grids, sources, sources_key, stats)
-        drawn = len(lit.emitters) - lit.lights_as_emitters  # the scene's point emitters, not the lamps
+        drawn = scene.point_emitter_count  # the scene's point emitters (skipped ones draw nothing), not the lamps
         glowing = scene.emission is not None or drawn > 0
-        self._direct_light(shot, targets, maps, lit, indirect, drawn, stats)
+        self._direct_light(shot, targets, maps, selection, indirect, drawn, stats)
         self._composite(shot, targets, indirect, sets, display_into is not None, glowing, stats)
         self._accumulated = (view, sets, accumulated_vpls)
         self._shown_keys = tuple(keys)
         self.last_origin = scene.world_origin
         images, coverage, display = self._read(scene, passes, display_into, display_settings, read, stats)
         stats["total_ms"] = (time.perf_counter() - start) * 1000.0
-        stats.update(self._statistics(scene, maps, lit, indirect, vpl_count, sets, accumulated_vpls))
+        stats.update(self._statistics(scene, maps, lit, selection, indirect, vpl_count, sets, accumulated_vpls))
         return Frame(images, stats, display, coverage)
 
     def _check_fits(self, scene, passes, display):
@@ -289,7 +290,7 @@ class Pipeline:
         return self._open_sides.get((scene.geometry_key(), closed.emitters_key(scene)),
                                     lambda: (closed.open_sides(scene),))[0]
 
-    def _direct_light(self, scene, targets, maps, lit, indirect, drawn, stats):
+    def _direct_light(self, scene, targets, maps, selection, indirect, drawn, stats):
         """The direct image: the lights' with maps, the point emitters' (the `drawn` ones of
         the scene glowing too) and the emissive surfaces' with their glow."""
         s = self.settings
@@ -300,7 +301,7 @@ class Pipeline:
                 for finer, rsm in zip((None, *cascade), cascade):
                     shade_direct(self.glc, targets, scene.camera, rsm, s.shadow_bias, shadow,
                                  inside=rsm if rsm is not m.rsm else None, outside=finer)
-        if len(lit.emitters):
+        if selection is not None and selection.kept:
             with self.glc.timed(stats, "emitter_light_ms"):
                 self._emitter_grid.value.add_light(targets, gbuffer_uniforms(scene.camera), s,
                                                    self._emitter_shadows.value if s.emitter_shadows else None)
@@ -375,7 +376,7 @@ class Pipeline:
             display = None if display_into is None else self.targets.read_display_into(display_into)
         return {name: images[name] for name in passes if name in images}, coverage, display
 
-    def _statistics(self, scene, maps, lit, indirect, vpl_count, sets, accumulated_vpls):
+    def _statistics(self, scene, maps, lit, selection, indirect, vpl_count, sets, accumulated_vpls):
         s = self.settings
         bounces = light_bounces(s, scene)
         warped = [m.warp for m in maps if m.warp is not None]
@@ -384,8 +385,8 @@ class Pipeline:
             "method": s.method, "light_methods": [m.method for m in maps], "vpl_count": vpl_count,
             "vpl_pattern": self.vpl_pattern, "vpl_sets": sets, "accumulated_vpls": accumulated_vpls,
             "lights": len(scene.lights), "mapped_lights": len(lit.mapped), "lights_as_emitters": lit.lights_as_emitters,
-            "skipped_lights": lit.skipped_lights, "point_emitters": len(lit.emitters),
-            "skipped_emitters": lit.skipped_emitters, "triangles": scene.triangle_count,
+            "skipped_lights": lit.skipped_lights, "point_emitters": selection.kept if selection else 0,
+            "skipped_emitters": selection.skipped if selection else 0, "triangles": scene.triangle_count,
             "dropped_triangles": dict(scene.dropped), "images": [image.name for image in scene.images],
             "approximated_materials": list(scene.approximated_materials),
             "world": scene.world is not None, "bounces": bounces if indirect.more_bounces else min(bounces, 1),
@@ -443,31 +444,40 @@ class Pipeline:
         render_debug_passes(self.glc, self.targets, scene.camera, self.last_light_maps,
                             (display_settings or DisplaySettings()).vpl_point_size)
 
-    def _emitter_sources(self, scene, s, lit, box, grids, stats):
-        """Build the emitter grid of the frame's point emitters (when it has any) and their
+    def _select_emitters(self, scene, s, lit, box, min_distance, stats):
+        """The frame's point emitters (the scene's and the point lights beyond the budget)
+        on the GPU, those weakest at `box` skipped: an EmitterSelection, or None without any."""
+        if not scene.point_emitter_count and not lit.lights_as_emitters:
+            self._emitter_grid.clear()
+            return None
+        grid = self._emitter_grid.get(grid_resolution(s.emitter_grid_resolution),
+                                      lambda: EmitterGrid(self.glc, s.emitter_grid_resolution))
+        with self.glc.timed(stats, "emitter_upload_ms"):
+            grid.upload(scene.point_emitters, lit.lamp_rows, (scene.point_emitters_key(), lit.key))
+        with self.glc.timed(stats, "emitter_select_ms"):
+            return grid.select(box, min_distance, s.light_cutoff)
+
+    def _emitter_sources(self, scene, s, selection, box, grids, stats):
+        """Build the emitter grid of the frame's point emitters (when it keeps any) and their
         shadows' light grid over `grids`, and sample the emissive surfaces' emitters; the
         (buffer, count) sets whose light bounces, and a key of what they hold."""
         sources, key = [], ()
-        if not len(lit.emitters) or not s.emitter_shadows:
+        emitting = selection is not None and selection.kept
+        if not emitting or not s.emitter_shadows:
             self._emitter_shadows.clear()
-        if not len(lit.emitters):
-            self._emitter_grid.clear()
-        if len(lit.emitters):
-            grid = self._emitter_grid.get(grid_resolution(s.emitter_grid_resolution),
-                                          lambda: EmitterGrid(self.glc, s.emitter_grid_resolution))
-            with self.glc.timed(stats, "emitter_upload_ms"):
-                grid.upload(lit.emitters, lit.key)
+        if emitting:
+            grid = self._emitter_grid.value
             if s.emitter_light == "grid":
                 with self.glc.timed(stats, "emitter_grid_ms"):
                     grid.build(box, s.singularity_bound)
             if s.emitter_shadows:
                 shadows = self._emitter_shadows.get(grids, lambda: EmitterShadows(self.glc, grids, s.grid_phases))
                 with self.glc.timed(stats, "emitter_shadow_ms"):
-                    shadows.build(self._mesh.value, [(grid.emitters, grid.count)], lit.flux_bound,
-                                  lit.bounds(scene.bounds()), s.singularity_bound,
-                                  (lit.key, self._mesh.key, s.singularity_bound))
+                    shadows.build(self._mesh.value, [(grid.emitters, grid.count)], selection.flux_bound,
+                                  selection.bounds(scene.bounds()), s.singularity_bound,
+                                  (selection.chosen, self._mesh.key, s.singularity_bound))
             sources.append((grid.emitters, grid.count))
-            key += lit.key
+            key += selection.chosen
         if (scene.emission is not None or world_lights(scene, self.settings)) and self._emission is None:
             self._emission = SurfaceEmission(self.glc)
         if scene.emission is not None:

@@ -6,7 +6,9 @@ depsgraph; gpu/scene_file.py saves and loads one (for the GPU machine, which has
 Blender).
 """
 import hashlib
+import itertools
 import math
+import weakref
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -228,6 +230,21 @@ class SurfaceImage:
 
 
 POINT_EMITTER_COLUMNS = 7  # position xyz, flux rgb, area
+_ARRAY_KEYS = {}  # id of an array -> (a weak reference to it, its key)
+_NEXT_ARRAY_KEY = itertools.count()
+
+
+def array_key(array):
+    """A key of `array` as an object, the same while it lives and never another's: a
+    sanitized scene's arrays are not changed in place (make a new array), so a new array
+    is a new key and the same array, in any Scene, the same one."""
+    held = _ARRAY_KEYS.get(id(array))
+    if held is not None and held[0]() is array:
+        return held[1]
+    identity = id(array)
+    key = f"array-{next(_NEXT_ARRAY_KEY)}"
+    _ARRAY_KEYS[identity] = (weakref.ref(array, lambda _: _ARRAY_KEYS.pop(identity, None)), key)
+    return key
 
 
 def _sane_point_emitters(emitters, dropped):
@@ -329,7 +346,6 @@ class Scene:
     light_triangles: tuple = None
     _bounds: tuple = field(default=None, repr=False, compare=False)
     _geometry_key: str = field(default=None, repr=False, compare=False)
-    _point_emitters_key: str = field(default=None, repr=False, compare=False)
 
     @property
     def triangle_count(self):
@@ -497,7 +513,7 @@ class Scene:
         if bad.any():
             face = cross / np.linalg.norm(cross, axis=1, keepdims=True)
             nrm = np.where(bad, face[:, None, :], nrm)
-        self._bounds = self._geometry_key = self._point_emitters_key = None
+        self._bounds = self._geometry_key = None
         self.triangles = np.ascontiguousarray(tri)
         self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
@@ -556,14 +572,10 @@ class Scene:
         return self.alpha_layers is not None or bool(np.any((coverage > 0.0) & (coverage < 1.0)))
 
     def point_emitters_key(self):
-        """A content key of the point emitters ("" for none; kept once sanitized, as
-        `geometry_key` is)."""
-        if self.point_emitters is None:
-            return ""
-        if self.sanitized and self._point_emitters_key is not None:
-            return self._point_emitters_key
-        self._point_emitters_key = hashlib.sha1(np.ascontiguousarray(self.point_emitters)).hexdigest()[:16]
-        return self._point_emitters_key
+        """A key of the point emitters ("" for none): the array's own, as an object
+        (`array_key`), not of its content. Particles move every frame; hashing a million
+        rows took longer than the GPU's whole emitter frame."""
+        return "" if self.point_emitters is None else array_key(self.point_emitters)
 
     def geometry_key(self):
         """A content key of the triangles and their surfaces: normals, albedo, visibility,

@@ -8,6 +8,9 @@ import numpy as np
 import pytest
 
 from lpv_preview.bench.synthetic import lamps_over_floor, particle_room
+from lpv_preview.gpu.colour import LUMINANCE_WEIGHTS
+from lpv_preview.gpu.context import GLContext
+from lpv_preview.gpu.emitter_grid import EmitterGrid
 from lpv_preview.gpu.frame_lights import frame_lights, light_bounds, skip_weak
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.metrics import psnr
@@ -92,18 +95,46 @@ def test_skip_weak_bounds_what_it_drops():
 
 
 def test_a_frames_emitters_are_the_kept_ones_with_their_flux_and_box():
-    """The skipped emitters leave the frame's emitters, its flux bound and its box."""
+    """The GPU skips the emitters weakest at the view by the lamps' rule (skip_weak): the
+    skipped ones leave the frame's emitters, its flux bound and its box."""
     scene = particle_room(2000)
     far = np.array([[500.0 + i, -400.0, 300.0, 1e-6, 1e-6, 1e-6, 1e-4] for i in range(50)], np.float32)
     scene = dataclasses.replace(scene, point_emitters=np.concatenate([scene.point_emitters, far]))
     scene.sanitize()
-    low, high = scene.bounds()
-    lit = frame_lights(scene, Settings(), (low, high), 0.1)
-    assert lit.skipped_emitters >= len(far) and len(lit.emitters) == len(scene.point_emitters) - lit.skipped_emitters
-    assert lit.emitters[:, 0].max() < 500.0
-    np.testing.assert_allclose(lit.emitter_box[0], lit.emitters[:, :3].min(axis=0))
-    np.testing.assert_allclose(lit.emitter_box[1], lit.emitters[:, :3].max(axis=0))
-    assert lit.flux_bound == pytest.approx(lit.emitters[:, 3:6].sum(axis=0, dtype=np.float64).max(), rel=1e-6)
+    box = scene.bounds()
+    rows = scene.point_emitters
+    bound = light_bounds(rows[:, :3], rows[:, 3:6] @ LUMINANCE_WEIGHTS.astype(np.float32) / np.float32(4 * np.pi), box,
+                         0.1)
+    expected = skip_weak(bound, 0.01)
+    glc = GLContext.shared()
+    grid = EmitterGrid(glc, 8)
+    try:
+        grid.upload(rows, None, "far")
+        selection = grid.select(box, 0.1, 0.01)
+        kept = np.frombuffer(grid.emitters.read(), np.float32).reshape(-1, 12)[:len(rows), 3] > 0
+    finally:
+        grid.release()
+    assert selection.skipped >= len(far) and not kept[-len(far):].any()
+    assert selection.kept == kept.sum() == len(rows) - selection.skipped
+    assert abs(int(kept.sum()) - int(expected.sum())) <= 0.01 * len(rows)  # bins of other widths than skip_weak's
+    assert bound[~kept].sum() <= 0.01 * bound.sum()
+    np.testing.assert_allclose(selection.box[0], rows[kept, :3].min(axis=0))
+    np.testing.assert_allclose(selection.box[1], rows[kept, :3].max(axis=0))
+    assert selection.flux_bound == pytest.approx(rows[kept, 3:6].sum(axis=0, dtype=np.float64).max(), rel=1e-4)
+
+
+def test_lamps_beyond_the_budget_are_kept_emitters():
+    """Point lights beyond the map budget join the scene's emitters and are never skipped."""
+    scene = lamps_over_floor(8)
+    lit = frame_lights(scene, Settings(light_map_budget=3), scene.bounds(), 0.1)
+    assert len(lit.mapped) == 3 and lit.lamp_rows.shape == (5, 7)
+    grid = EmitterGrid(GLContext.shared(), 8)
+    try:
+        grid.upload(None, lit.lamp_rows, lit.key)
+        selection = grid.select(scene.bounds(), 0.1, 0.5)
+    finally:
+        grid.release()
+    assert (selection.kept, selection.skipped) == (5, 0)
 
 
 def test_point_emitters_are_checked_and_saved(tmp_path, particles):

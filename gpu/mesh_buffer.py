@@ -1,7 +1,8 @@
 """The scene's triangles on the GPU, shared by every raster pass (RSM faces, G-buffer)."""
 import numpy as np
 
-from .context import dispatch, set_uniforms
+from .context import dispatch, dispatch_row, set_uniforms
+from .scene import triangle_bounds
 from .surface_images import SurfaceImages
 
 # The two DrawElementsIndirect commands (count, instances, first index, base vertex, base
@@ -30,19 +31,57 @@ VERTEX_SLICES = {name: slice(sum(_WIDTHS[:i]), sum(_WIDTHS[:i + 1])) for i, name
 """Where each attribute's floats lie in a vertex, by its name in VERTEX_LAYOUT."""
 
 
-def vertex_albedo(scene):
-    """(T, 3, 4) each corner's albedo and alpha: the triangle's albedo times the corner's
-    vertex colour, divided where the surface transmits by what does not (the opaque part's
-    albedo, shaders/surface.glsl), and the triangle's alpha."""
-    albedo = np.repeat(scene.albedo[:, None, :], 3, axis=1)
-    if scene.vertex_colors is not None:
-        albedo = albedo * scene.vertex_colors
-    if scene.transmission is not None:
-        opaque = 1.0 - scene.transmission[:, 3]
-        albedo = np.clip(albedo / np.maximum(opaque, 1e-6)[:, None, None], 0.0, 1.0)
-    alpha = np.ones((len(albedo), 3, 1), np.float32) if scene.alpha is None else np.repeat(
-        scene.alpha[:, None, None], 3, axis=1)
-    return np.concatenate([albedo, alpha], axis=2)
+SURFACE_ARRAYS = (("albedo", 3), ("colours", 9), ("alpha", 1), ("transmission", 4), ("uvs", 6), ("layers", 2),
+                  ("specular", 5))
+"""The surface arrays shaders/mesh_interleave.comp reads, with their floats a triangle."""
+STAGED_FLOATS_PER_TRIANGLE = 18 + sum(width for _, width in SURFACE_ARRAYS)
+"""Floats a triangle uploads at most (positions, normals, every surface array) before the
+GPU interleaves them (gpu/capacity.py counts them beside the vertex buffer)."""
+
+
+def surface_arrays(scene):
+    """The scene's surface arrays by SURFACE_ARRAYS' names (None where it has none), as
+    float32 rows of a triangle each."""
+    layers = None
+    if scene.image_layers is not None or scene.alpha_layers is not None:
+        layers = np.full((scene.triangle_count, 2), -1.0, dtype=np.float32)
+        for column, array in enumerate((scene.image_layers, scene.alpha_layers)):
+            if array is not None:
+                layers[:, column] = array
+    arrays = {"albedo": scene.albedo, "colours": scene.vertex_colors, "alpha": scene.alpha,
+              "transmission": scene.transmission, "uvs": scene.uvs, "layers": layers, "specular": scene.specular}
+    return {name: None if array is None else np.ascontiguousarray(array, dtype=np.float32).reshape(len(array), -1)
+            for name, array in arrays.items()}
+
+
+def interleave(glc, scene):
+    """The vertex buffer of a sanitized scene: its arrays uploaded as they are and
+    interleaved on the GPU (shaders/mesh_interleave.comp): writing 23 floats a vertex on
+    the host, and uploading them, took most of a second at a million triangles."""
+    gl = glc.gl
+    count = scene.triangle_count
+    vertices = gl.buffer(reserve=max(count, 1) * 3 * VERTEX_FLOATS * 4)
+    if not count:
+        return vertices
+    shape = gl.buffer(reserve=count * 18 * 4)
+    shape.write(np.ascontiguousarray(scene.triangles, dtype=np.float32))
+    shape.write(np.ascontiguousarray(scene.normals, dtype=np.float32), offset=count * 9 * 4)
+    arrays = surface_arrays(scene)
+    offsets, at = {}, 0
+    for name, width in SURFACE_ARRAYS:
+        offsets[f"{name}_at"] = at if arrays[name] is not None else -1
+        at += count * width if arrays[name] is not None else 0
+    surfaces = gl.buffer(reserve=max(at, 1) * 4)
+    for name, _ in SURFACE_ARRAYS:
+        if arrays[name] is not None:
+            surfaces.write(arrays[name], offset=offsets[f"{name}_at"] * 4)
+    program = glc.compute("mesh_interleave")
+    for binding, buffer in enumerate((shape, surfaces, vertices)):
+        buffer.bind_to_storage_buffer(binding)
+    dispatch_row(program, count, "first_triangle", triangle_count=count, **offsets)
+    shape.release()
+    surfaces.release()
+    return vertices
 
 
 class MeshBuffer:
@@ -61,24 +100,7 @@ class MeshBuffer:
 
     def __init__(self, glc, scene):
         count = scene.triangle_count
-        # every vertex's floats written in place: the buffer is uploaded from this array, no copy of it is made
-        interleaved = np.empty((count, 3, VERTEX_FLOATS), dtype=np.float32)
-        column = {name: interleaved[..., where] for name, where in VERTEX_SLICES.items()}
-        column["in_position"][:] = scene.triangles
-        column["in_normal"][:] = scene.normals
-        column["in_albedo"][:] = vertex_albedo(scene)
-        surface = column["in_surface"]
-        surface[..., :2] = scene.uvs if scene.uvs is not None else 0.0
-        surface[..., 2] = scene.image_layers[:, None] if scene.image_layers is not None else -1.0
-        surface[..., 3] = scene.alpha_layers[:, None] if scene.alpha_layers is not None else -1.0
-        column["in_transmission"][:] = scene.transmission[:, None, :] if scene.transmission is not None \
-            else (1.0, 1.0, 1.0, 0.0)
-        if scene.specular is not None:
-            column["in_specular"][:] = scene.specular[:, None, :4]
-            column["in_metallic"][:] = scene.specular[:, None, 4:5]
-        else:
-            column["in_specular"][:] = (0.0, 0.0, 0.0, 1.0)
-            column["in_metallic"][:] = 0.0
+        self.buffer = interleave(glc, scene)
         self.see_through = scene.see_through
         self.glossy = scene.specular is not None
         self.hashed = scene.hashed
@@ -90,10 +112,8 @@ class MeshBuffer:
         self.camera_triangles = scene.camera_triangles or (0, count)
         self.light_triangles = scene.light_triangles or (0, count)
         first, shadowing = self.light_triangles
-        corners = scene.triangles[first:first + shadowing].reshape(-1, 3) if shadowing else np.zeros((1, 3))
-        self.occluder_bounds = tuple(np.array([reduce(corners[:, axis]) for axis in range(3)], dtype=np.float64)
-                                     for reduce in (np.min, np.max))  # an axis at a time: corners are strided
-        self.buffer = glc.gl.buffer(interleaved)
+        self.occluder_bounds = scene.bounds() if (first, shadowing) == (0, count) else \
+            triangle_bounds(scene.triangles[first:first + shadowing])
         self.emission = None  # each triangle's emitted radiance (vec4), for the camera's glow
         if scene.emission is not None:
             emission = np.zeros((count, 4), dtype=np.float32)

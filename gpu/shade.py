@@ -4,11 +4,15 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from .context import dispatch, set_uniforms
+from .context import dispatch, dispatch_row, set_uniforms, zero_buffer
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .settings import INDIRECT_METHODS
 from .specular_albedo import RASTER_UNIT
+
+DISC_COMMAND_START = np.array([0, 1, 0, 0, 0], dtype=np.uint32).tobytes()
+"""The head of the point emitters' disc list before it is filled: a DrawArraysIndirect
+command of no points, padded to the 20 bytes moderngl steps commands by."""
 
 
 class FrameTargets:
@@ -49,6 +53,7 @@ class FrameTargets:
         self.vpl_splats = self.warp_status = None  # debug passes (gpu/debug_views.py), made on first use
         self.splat_framebuffer = None
         self.glow = self.glow_framebuffer = None  # emissive surfaces' radiance, made on first use
+        self.glow_sums = self.glow_discs = None  # the point emitters' glow (point_glow_buffers)
         self.passing_tint = self.tint_framebuffer = None  # transmitting surfaces' tint, made on first use
         self.reflections = None  # the light glossy surfaces reflect of their surroundings, made on first use
         self.reflecting = False  # whether the last composite wrote the reflections
@@ -71,6 +76,18 @@ class FrameTargets:
             self.glow_framebuffer = self.gl.framebuffer(color_attachments=[self.glow], depth_attachment=self.depth)
             self.glow_framebuffer.depth_mask = False
         return self.glow, self.glow_framebuffer
+
+    def point_glow_buffers(self, count):
+        """The sums of the point emitters' glow (three floats a pixel) and the list of
+        `count` emitters' discs headed by its draw command (shaders/point_glow.comp), made on
+        first use and grown to `count`."""
+        if self.glow_sums is None:
+            self.glow_sums = self.gl.buffer(reserve=self.size[0] * self.size[1] * 3 * 4)
+        if self.glow_discs is None or self.glow_discs.size < len(DISC_COMMAND_START) + 4 * count:
+            if self.glow_discs is not None:
+                self.glow_discs.release()
+            self.glow_discs = self.gl.buffer(reserve=len(DISC_COMMAND_START) + 4 * max(count, 1))
+        return self.glow_sums, self.glow_discs
 
     def tint_images(self):
         """The tint image of what is seen through transmitting surfaces and its
@@ -122,6 +139,7 @@ class FrameTargets:
         return tuple(resource for resource in (self.depth, self.surface, self.specular, self.direct, self.direct_mean, self.indirect,
                                                self.combined,
                                                self.seen, self.display, self.vpl_splats, self.warp_status, self.glow,
+                                               self.glow_sums, self.glow_discs,
                                                self.passing_tint, self.reflections)
                      if resource is not None)
 
@@ -225,8 +243,8 @@ def multiply_blend(gl, draw):
 
 def render_glow(glc, mesh, camera, targets, point_emitters=None):
     """Draw the radiance the camera sees of the emissive surfaces (when the mesh has
-    them) and of the point emitters (a buffer of emitter rows with a count, drawn as
-    discs behind the G-buffer's depth) into the glow image."""
+    them) and of the point emitters (a buffer of emitter rows with a count: glow_points),
+    behind the G-buffer's depth, into the glow image."""
     gl = glc.gl
     _, framebuffer = targets.glow_images()
     framebuffer.use()
@@ -242,11 +260,41 @@ def render_glow(glc, mesh, camera, targets, point_emitters=None):
         mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles, view_projection)
         gl.depth_func = "<"
     if point_emitters is not None:
-        buffer, count = point_emitters
-        program = glc.program("emitter_glow", "emitter_glow")
-        set_uniforms(program, view_projection=view_projection, camera_position=tuple(map(float, camera.position)),
-                     pixel_angle=camera.pixel_angle(targets.size[1]))
-        draw_points(gl, program, [(buffer, count)])
+        glow_points(glc, targets, framebuffer, view_projection, camera, *point_emitters)
+
+
+def glow_points(glc, targets, framebuffer, view_projection, camera, buffer, count):
+    """The glow of `count` point emitters (emitter rows in `buffer`) into the glow image:
+    those smaller than a pixel added into their pixels by a compute pass, the others drawn
+    as discs (shaders/point_glow.comp, emitter_glow.vert)."""
+    gl = glc.gl
+    sums, discs = targets.point_glow_buffers(count)
+    zero_buffer(glc, sums)
+    discs.write(DISC_COMMAND_START)
+    glow = {"camera_position": tuple(map(float, camera.position)), "pixel_angle": camera.pixel_angle(targets.size[1]),
+            "view_projection": view_projection}
+    program = glc.compute("point_glow", STAGE=0)
+    for binding, bound in enumerate((buffer, sums, discs)):
+        bound.bind_to_storage_buffer(binding)
+    targets.depth.use(location=0)
+    set_uniforms(program, g_depth=0, **glow)
+    dispatch_row(program, count, "first_emitter", emitter_count=count)
+    framebuffer.use()
+    program = glc.program("emitter_glow", "emitter_glow", LISTED=1)
+    set_uniforms(program, **glow)
+    buffer.bind_to_storage_buffer(0)
+    discs.bind_to_storage_buffer(1)
+    gl.enable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
+    gl.blend_func = moderngl.ONE, moderngl.ONE
+    points = gl.vertex_array(program, [])
+    points.render_indirect(discs, moderngl.POINTS, count=1)
+    points.release()
+    gl.disable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
+    gl.memory_barrier()
+    program = glc.compute("point_glow", STAGE=1)
+    targets.glow.bind_to_image(0, read=True, write=True)
+    sums.bind_to_storage_buffer(1)
+    dispatch(program, *targets.size)
 
 
 def draw_points(gl, program, point_sets):

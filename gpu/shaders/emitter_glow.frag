@@ -1,10 +1,11 @@
 #version 450 core
 // A point emitter's disc, or its one pixel (emitter_glow.vert); overlapping ones add up.
-in vec3 glow_radiance;
-in float glow_radius;
+in vec3 glow_radiance_out;
+in float glow_radius_out;
 layout(location = 0) out vec4 out_glow;
 
 void main() {
-    if (glow_radius >= 0.5 && length(gl_PointCoord - 0.5) * ceil(2.0 * glow_radius + 1.0) > glow_radius) discard;
-    out_glow = vec4(glow_radiance, 1.0);
+    if (glow_radius_out >= 0.5 && length(gl_PointCoord - 0.5) * ceil(2.0 * glow_radius_out + 1.0) > glow_radius_out)
+        discard;
+    out_glow = vec4(glow_radiance_out, 1.0);
 }

@@ -268,6 +268,24 @@ def test_a_particle_glows_with_its_own_light():
         assert np.allclose(seen, flux / (4 * np.pi * 1.5 ** 2), rtol=0.1), area
 
 
+def test_a_particle_behind_a_wall_does_not_glow():
+    """The G-buffer's depth hides a speck (added into its pixel by a compute pass) and a
+    disc (drawn) behind the room's far wall alike."""
+    room = particle_room(1)
+    camera = room.camera
+    forward = -np.linalg.inv(camera.view)[:3, 2]
+    for area in (1e-6, 4.0):
+        emitters = np.array([[*(camera.position + 5.0 * forward), 3.0, 2.0, 1.0, area]])
+        scene = Scene(room.triangles, room.normals, room.albedo, [], camera, point_emitters=emitters).sanitize()
+        pipeline = Pipeline(Settings(**SMALL))
+        try:
+            frame = pipeline.render(scene, passes=("combined", "direct", "indirect"))
+        finally:
+            pipeline.release()
+        glow = frame.passes["combined"] - frame.passes["direct"] - frame.passes["indirect"]
+        assert np.abs(glow).max() < 1e-6 * frame.passes["combined"].max(), area
+
+
 @pytest.mark.parametrize("method", ["light_grid", "vpl_gather"])
 def test_a_lamp_bounces_alike_through_its_maps_and_as_an_emitter(method):
     """One lamp in the closed room: with a map its VPLs come from the map; beyond the

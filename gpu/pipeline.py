@@ -30,6 +30,7 @@ from .light_maps import AUTO_METHODS, cascade_boxes, map_recipe, render_light_ma
 from .mesh_buffer import MeshBuffer
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .pixel_filter import pixel_offset
+from .scene import array_key
 from .settings import DisplaySettings, Settings
 from .shade import (FrameTargets, ReflectionInputs, bind_gbuffer, gbuffer_uniforms, read_gbuffer_record, render_gbuffer,
                     render_glow, seen_points, shade_direct, shade_indirect)
@@ -98,6 +99,7 @@ class Pipeline:
         self._cascade_boxes = ()   # the boxes of a sun's direct-light cascade (gpu/light_maps.py cascade_boxes)
         self._shown_keys = ()      # the light cache keys of the last frame
         self._gbuffer_offset = False  # the last G-buffer looks through a point off the pixels' centres
+        self._gbuffer_drawn = None  # what the G-buffer in the targets was drawn of (_gbuffer)
         self._fits = None          # what the last frame that fitted the machine depended on
         self.last_origin = np.zeros(3)  # the world point the last frame's positions are relative to
         self.vpl_pattern = 0       # the Poisson pattern of the VPLs (gpu/vpl.py)
@@ -240,10 +242,18 @@ class Pipeline:
         """The mesh uploaded and the camera's images at the frame's size, with its G-buffer."""
         s = self.settings
         self._upload(scene, stats)
-        self._mesh.value.show_open_sides(self._sides(scene))
+        mesh = self._mesh.value
+        sides = self._sides(scene)
+        mesh.show_open_sides(sides)
         targets = self._targets.get((s.width, s.height), lambda: FrameTargets(self.glc.gl, s.width, s.height))
+        drawn = (scene.camera.key(), self._mesh.key, None if sides is None else array_key(sides), targets,
+                 self.vpl_pattern if mesh.hashed else None)
+        if drawn == self._gbuffer_drawn:  # a light or emitter edit: the same view of the same surfaces
+            targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+            return targets
         with self.glc.timed(stats, "gbuffer_ms"):
-            render_gbuffer(self.glc, self._mesh.value, scene.camera, targets, self.vpl_pattern)
+            render_gbuffer(self.glc, mesh, scene.camera, targets, self.vpl_pattern)
+        self._gbuffer_drawn = drawn
         return targets
 
     def _place_grids(self, scene, targets, stats):
@@ -285,10 +295,17 @@ class Pipeline:
         return self._indirect.value
 
     def _sides(self, scene):
-        """The sides of the scene's faces that light reaches (gpu/closed_meshes.py)."""
+        """The sides of the scene's faces that light reaches (gpu/closed_meshes.py): the
+        last array again where a lamp moved but they did not (the G-buffer then stays)."""
         closed = self._closed_meshes.get(scene.geometry_key(), lambda: ClosedMeshes(scene))
-        return self._open_sides.get((scene.geometry_key(), closed.emitters_key(scene)),
-                                    lambda: (closed.open_sides(scene),))[0]
+        key = (scene.geometry_key(), closed.emitters_key(scene))
+        if key != self._open_sides.key:
+            last = self._open_sides.value[0] if self._open_sides.value is not None else None
+            found = closed.open_sides(scene)
+            same = found is None and last is None or found is not None and last is not None and \
+                found.shape == last.shape and np.array_equal(found, last)
+            self._open_sides.put(key, (last if same else found,))
+        return self._open_sides.value[0]
 
     def _direct_light(self, scene, targets, maps, selection, indirect, drawn, stats):
         """The direct image: the lights' with maps, the point emitters' (the `drawn` ones of
@@ -432,6 +449,7 @@ class Pipeline:
         if self._gbuffer_offset:
             render_gbuffer(self.glc, self._mesh.value, scene.camera, self.targets)
             self._gbuffer_offset = False
+            self._gbuffer_drawn = None
 
     def read_gbuffer(self, scene):
         """The last frame's G-buffer as a GBufferRecord (gpu/shade.py), for the corrections."""
@@ -509,6 +527,7 @@ class Pipeline:
             maps.release()
         self._lights.clear()
         self._accumulated = None
+        self._gbuffer_drawn = None
         for cache in (self._placement, self._frame_lights, self._receivers, self._closed_meshes, self._open_sides,
                       self._emitter_grid, self._emitter_shadows):
             cache.clear()

@@ -31,10 +31,11 @@ from ..gpu.scene_edits import LIGHT_KIND_NAMES, with_lights
 from ..gpu.settings import PARAMETERS, PRESETS, preset_settings
 from .sweep_report import REFERENCE_CHANGES, SCALING_AXES
 from .timing import timed_frames
+from .viewport_work import redraw_times
 
 SWEEPS_FILE = Path(__file__).parent / "sweeps.toml"
 SWEEP_KEYS = {"description", "mode", "scenes", "methods", "preset", "lights", "light_kind", "repeats", "cycles_samples",
-              "scaling", "choose_presets", "reference"}
+              "scaling", "choose_presets", "reference", "viewport_redraws"}
 SWEEP_CHOICES = {"preset": PRESETS, "scaling": SCALING_AXES, "light_kind": LIGHT_KIND_NAMES}
 """The sweep keys whose values come from a fixed set."""
 SCHEMA_VERSION = 1
@@ -164,6 +165,8 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
         pipeline = Pipeline(settings, glc)
         try:
             timings, stats = timed_frames(pipeline, scene, repeats, passes=())
+            if sweep.get("viewport_redraws"):
+                timings.update(redraw_times(pipeline, scene, settings))
             memory = pipeline.gpu_bytes()
             if error_settings != settings:
                 pipeline.release()

@@ -9,10 +9,10 @@ from .surface_images import SurfaceImages
 # instance) of split_at_rim, in this order.
 FRONT, CROSSING = 0, 1
 RIM_COMMAND_BYTES = 2 * 5 * 4
-CLUSTER_TRIANGLES = 256
+CLUSTER_TRIANGLES = 128
 """Consecutive triangles a view culls together (shaders/frustum_cull.comp): few enough that a
 cube face draws little more than its sixth of a scene, many enough that a million
-triangles are 4,096 draws."""
+triangles are 8,192 draws (docs/performance.md compares 64 to 512)."""
 CULL_SLOTS = 8
 """Views culled in turn into a range's command buffer before its first slot is written
 again: a cube map's six faces and the camera's passes never write what a draw still reads."""

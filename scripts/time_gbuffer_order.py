@@ -16,7 +16,8 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from time_viewport_work import SIZE, SYNTHETIC, edited_frames  # noqa: E402
+from time_viewport_work import SIZE, SYNTHETIC  # noqa: E402
+from lpv_preview.bench.viewport_work import edited_frames  # noqa: E402
 
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 from lpv_preview.gpu.scene_edits import camera_path  # noqa: E402

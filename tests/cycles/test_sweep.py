@@ -77,10 +77,11 @@ def test_an_export_carries_its_cycles_reference_and_the_sweep_measures_errors_at
     sweeps = tmp_path / "sweeps.toml"
     sweeps.write_text(f'[s]\ncycles_samples = 4\nscenes = ["{scene}"]\nmethods = ["wdpm"]\nrsm_resolution = 64\n'
                       'vpls_per_light = 128\nlpv_resolution = 8\nwidth = 48\nheight = 48\nrepeats = 1\n'
-                      'reference = { rsm_resolution = 128, vpls_per_light = 1024 }\n')
+                      'viewport_redraws = true\nreference = { rsm_resolution = 128, vpls_per_light = 1024 }\n')
     assert main(["bench", "--sweep", "s", "--sweeps", str(sweeps), "--out", str(tmp_path / "out")]) == 0
     point, = json.loads((tmp_path / "out" / "sweep_s.json").read_text())["points"]
     assert point["error_size"] == [24, 24] and point["settings"]["width"] == 48 and point["cycles_samples"] == 4
+    assert point["timings_ms"]["camera_move_ms"] > 0 and point["timings_ms"]["light_edit_ms"] > 0  # viewport_redraws
     assert all(math.isfinite(point[source]["psnr"]) for source in ("errors_vs_cm", "errors_vs_cycles"))
     assert "errors measured at 24×24, times at 48×48" in (tmp_path / "out" / "sweep_s.md").read_text()
     with pytest.raises(LPVError, match="--cycles-width needs --cycles-samples"):

@@ -13,6 +13,7 @@ from ..gpu.metrics import figure_text
 from ..gpu.pipeline import STAGES
 from ..gpu.settings import INDIRECT_METHOD_ONLY, PRESET_PARAMETERS
 from .plots import pyplot, save
+from .viewport_work import SWEEP_REDRAWS
 
 ERROR_METRIC = "relative_mse"  # the Pareto plots' error axis (lower is better)
 ERROR_SOURCES = {"errors_vs_cycles": "Cycles one bounce", "errors_vs_cm": "CM-LPV"}
@@ -97,13 +98,10 @@ def pareto_front(points):
                               lambda p: p["timings_ms"]["total_ms"], lambda p: p[source][ERROR_METRIC])
 
 
-FAST_TIME_FACTOR = 2.0
-"""`fast` is the most accurate point of the front whose frame takes at most this factor of
-the fastest point's: as interactive as the fastest, not as far from Cycles."""
-ACCURATE_ERROR_FACTOR = 1.5
-"""`accurate` is the fastest point of the front within this factor of the least error
-against Cycles: at the front's end a little less error costs many times the frame time
-(docs/accuracy.md)."""
+ACCURATE_TIME_FACTOR = 4.0
+"""`accurate` is the most accurate point of the front whose time is at most this factor of
+balanced's: a quarter of its rate or more, where the front's last points took 30 to 50
+times as long for a third less error (docs/benchmarks.md, the `fronts` sweep)."""
 
 
 def geometric_mean(values):
@@ -111,6 +109,7 @@ def geometric_mean(values):
 
 
 REDRAW_KEYS = ("camera_move_ms", "light_edit_ms")
+REDRAW_NAMES = {"camera_move_ms": "camera move redraw ms", "light_edit_ms": "light edit redraw ms"}
 """The viewport redraws a sweep with `viewport_redraws` times at each point (bench/
 viewport_work.py redraw_times)."""
 
@@ -129,10 +128,11 @@ def choose_presets(report):
     time over the scenes (of the viewport's redraws where the sweep timed them, else of a
     frame with every stage redone) and its geometric-mean relMSE against Cycles' one bounce
     (a parameter the point's indirect method does not read is left out, its points
-    merged). On their Pareto front, accurate is the fastest point within
-    ACCURATE_ERROR_FACTOR of the least error, fast the most accurate within
-    FAST_TIME_FACTOR of the least frame time, and balanced the point with the least
-    product of time and error, each over the front's best."""
+    merged). On their Pareto front balanced is the point with the least product of time
+    and error, each over the front's best; fast the most accurate point faster than
+    balanced (balanced where none is), and accurate the most accurate within
+    ACCURATE_TIME_FACTOR of balanced's time: from fast to accurate each takes longer and
+    comes closer to Cycles."""
     points = [p for p in report["points"] if p.get("errors_vs_cycles", {}).get("relative_mse")]
     scenes = sorted({p["scene"] for p in points})
     timed = redraw_ms if all(REDRAW_KEYS[0] in p["timings_ms"] for p in points) else \
@@ -156,9 +156,9 @@ def choose_presets(report):
             "relative_mse_vs_cycles": geometric_mean([p["errors_vs_cycles"]["relative_mse"] for p in group])})
     front = lowest_error_front(candidates, lambda c: c["frame_ms"], lambda c: c["relative_mse_vs_cycles"])
     least_error = front[-1]["relative_mse_vs_cycles"]
-    accurate = next(c for c in front if c["relative_mse_vs_cycles"] <= ACCURATE_ERROR_FACTOR * least_error)
-    fast = [c for c in front if c["frame_ms"] <= FAST_TIME_FACTOR * front[0]["frame_ms"]][-1]
     balanced = min(front, key=lambda c: c["frame_ms"] / front[0]["frame_ms"] * c["relative_mse_vs_cycles"] / least_error)
+    fast = ([c for c in front if c["frame_ms"] < balanced["frame_ms"]] or [balanced])[-1]
+    accurate = [c for c in front if c["frame_ms"] <= ACCURATE_TIME_FACTOR * balanced["frame_ms"]][-1]
     return {"fast": fast, "balanced": balanced, "accurate": accurate}
 
 
@@ -183,7 +183,12 @@ def markdown_report(report, command=None):
     lines = [f"Sweep `{report['sweep']}`: {report['description']}", "",
              f"Machine: {machine_line(report['machine'])}; "
              f"median of {report['repeats']} frames with every stage redone (warm-up excluded), "
-             f"spread min-max, no image read back; errors of the indirect image against the CM-LPV reference "
+             f"spread min-max, no image read back; "
+             + ("the viewport's redraws after a camera move and a light edit (one VPL set, the image read back as "
+                "a viewport reads it; bench/viewport_work.py), medians of "
+                f"{SWEEP_REDRAWS}, which choose the presets; " if any(REDRAW_KEYS[0] in p["timings_ms"] for p in points)
+                else "")
+             + "errors of the indirect image against the CM-LPV reference "
              f"({reference_words(report.get('reference', REFERENCE_CHANGES))}, the same grid and steps)"
              + (f" and against Cycles' one bounce at {report['cycles_samples']} samples (points with the scene's own "
                 f"lights); the Pareto front is drawn on the Cycles errors where every point has them."
@@ -194,7 +199,9 @@ def markdown_report(report, command=None):
         front = {id(p) for p in pareto_front(group)}
         sources = [source for source in ERROR_SOURCES if any(source in p for p in group)][::-1]
         stages = [stage for stage in STAGES if any(stage in p["timings_ms"] for p in group)]  # what ran
-        head = ["method", *varied, "frame ms (spread)", *(STAGES[stage] for stage in stages), "GPU MB",
+        redraws = [key for key in REDRAW_KEYS if any(key in p["timings_ms"] for p in group)]
+        head = ["method", *varied, "frame ms (spread)", *(REDRAW_NAMES[key] for key in redraws),
+                *(STAGES[stage] for stage in stages), "GPU MB",
                 *(f"{metric} vs {ERROR_SOURCES[source]}" for source in sources for metric in ("PSNR dB", "relMSE", "FLIP")),
                 "Pareto"]
         sizes = {tuple(p.get("error_size", (p["settings"]["width"], p["settings"]["height"]))) for p in group}
@@ -210,7 +217,8 @@ def markdown_report(report, command=None):
             low, high = t["total_ms_spread"]
             errors = [error_cell(p.get(source, {}), k, f)
                       for source in sources for k, f in (("psnr", ".2f"), (ERROR_METRIC, ".3g"), ("flip", ".3f"))]
-            cells += [f"{t['total_ms']:.2f} ({low:.2f}-{high:.2f})", *(f"{t.get(s, 0.0):.2f}" for s in stages),
+            cells += [f"{t['total_ms']:.2f} ({low:.2f}-{high:.2f})",
+                      *(f"{t[key]:.2f}" if key in t else "—" for key in redraws), *(f"{t.get(s, 0.0):.2f}" for s in stages),
                       f"{p['gpu_bytes'] / 2**20:.0f}", *errors, "yes" if id(p) in front else ""]
             lines.append("| " + " | ".join(cells) + " |")
     if report.get("choose_presets"):

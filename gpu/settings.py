@@ -224,10 +224,11 @@ PRESETS = {
     "balanced": {"method": "auto", "rsm_resolution": 256, "vpls_per_light": 2048, "indirect_method": "light_grid",
                  "lpv_resolution": 32, "converge_sets": 1},
     "accurate": {"method": "auto", "rsm_resolution": 256, "vpls_per_light": 2048, "indirect_method": "vpl_gather",
-                 "lpv_resolution": 32, "converge_sets": 8},
+                 "lpv_resolution": 32, "converge_sets": 1},
 }
 """Named quality levels, each a set of Settings values: what `choose_presets` (bench/
-sweep_report.py) picked from the Pareto front of the `fronts` sweep on the H100
+sweep_report.py) picked from the Pareto front of the `fronts` sweep on the H100, by the
+viewport's redraws after camera moves and light edits against the error from Cycles
 (docs/benchmarks.md, "Presets"); a parameter the preset's indirect method does not read
 is left out. The panel's buttons and the command line's --preset apply them; other
 settings keep their values."""

@@ -280,7 +280,7 @@ def glow_points(glc, targets, framebuffer, view_projection, camera, buffer, coun
     set_uniforms(program, g_depth=0, **glow)
     dispatch_row(program, count, "first_emitter", emitter_count=count)
     framebuffer.use()
-    program = glc.program("emitter_glow", "emitter_glow", LISTED=1)
+    program = glc.program("emitter_glow", "emitter_glow")
     set_uniforms(program, **glow)
     buffer.bind_to_storage_buffer(0)
     discs.bind_to_storage_buffer(1)

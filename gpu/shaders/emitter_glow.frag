@@ -1,11 +1,10 @@
 #version 450 core
-// A point emitter's disc, or its one pixel (emitter_glow.vert); overlapping ones add up.
+// A point emitter's disc (emitter_glow.vert); overlapping ones add up.
 in vec3 glow_radiance_out;
 in float glow_radius_out;
 layout(location = 0) out vec4 out_glow;
 
 void main() {
-    if (glow_radius_out >= 0.5 && length(gl_PointCoord - 0.5) * ceil(2.0 * glow_radius_out + 1.0) > glow_radius_out)
-        discard;
+    if (length(gl_PointCoord - 0.5) * ceil(2.0 * glow_radius_out + 1.0) > glow_radius_out) discard;
     out_glow = vec4(glow_radiance_out, 1.0);
 }

@@ -46,11 +46,11 @@ class Receivers:
             scene.triangles[first:first + total].astype(np.float64), lambda doubled: doubled)
 
     def rows(self, count, pattern, sides=None):
-        """(count, 3, 4) float32 emitter rows drawn with the random numbers of `pattern`
-        (none when the lights see no surface): position, face normal and the area each
-        stands for, and the triangle's mean colour (its texture's too) and the sides of it
-        light can reach (gpu/closed_meshes.py, of the scene's triangles `sides`; None: both)
-        in the flux row."""
+        """(count, 3, 4) float32 receiver rows (shaders/emitter_bounce.comp Receiver) drawn
+        with the random numbers of `pattern` (none when the lights see no surface):
+        position, face normal and the area each stands for, and the triangle's mean colour
+        (its texture's too) with the sides of it light can reach (gpu/closed_meshes.py, of
+        the scene's triangles `sides`; None: both)."""
         if self.points is None:
             return np.zeros((0, 3, 4), dtype=np.float32)
         picked, positions = self.points.draw(count, pattern)

@@ -5,9 +5,8 @@
 // its own offset, the sum scaled by `stride`. One dispatch adds the emitters [first,
 // first + batch) into `irradiance`, each side of the surface's apart (a triangle's
 // winding says nothing of where its room is), but not the side that looks into a solid
-// (its flux.w, gpu/closed_meshes.py); with `finish`, the receiver becomes a VPL
-// facing its brighter side: its flux its albedo (which its flux held) times that side's
-// irradiance times the area it stands for. An emissive surface's emitter nearer a
+// (gpu/closed_meshes.py); with `finish`, the receiver becomes a VPL facing its brighter
+// side: its flux its albedo times that side's irradiance times the area it stands for. An emissive surface's emitter nearer a
 // receiver than GAP_VOXELS finest voxels lights it not: the occupancy cannot tell what
 // lies between (a ceiling over a panel hung just under it would send the panel's back
 // light past the panel, which holds it in); a point emitter's near light is kept.
@@ -16,7 +15,11 @@
 #include "levels_march.glsl"
 layout(local_size_x = LANES) in;
 layout(std430, binding = 0) readonly buffer Senders { Emitter senders[]; };
-layout(std430, binding = 1) readonly buffer Receivers { Emitter receivers[]; };
+// A receiver (gpu/emitter_bounce.py Receivers.rows): position (w 1), face normal and the
+// area it stands for, albedo, and the sides light reaches (bit 0: the side its normal
+// faces, bit 1: the other; gpu/closed_meshes.py).
+struct Receiver { vec4 position; vec4 normal; vec3 albedo; float open_sides; };
+layout(std430, binding = 1) readonly buffer Receivers { Receiver receivers[]; };
 layout(std430, binding = 2) buffer Irradiance { vec4 irradiance[]; };  // front, back per receiver
 layout(std430, binding = 3) writeonly buffer Lit { Emitter lit[]; };
 uniform int receiver_count;
@@ -35,9 +38,9 @@ void main() {
     int index = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);
     if (index >= receiver_count) return;
     int lane = int(gl_LocalInvocationID.x);
-    Emitter r = receivers[index];
+    Receiver r = receivers[index];
     vec3 offset_along = EMITTER_OFFSET * level_voxels[0] * r.normal.xyz;
-    int open_sides = int(r.flux.w);  // bit 0: the side its normal faces, bit 1: the other (gpu/closed_meshes.py)
+    int open_sides = int(r.open_sides);
     int offset = (index * 7919 + pattern) % stride;
     int last = min(first_sender + batch, sender_count);
     float gap = GAP_VOXELS * level_voxels[0];
@@ -72,8 +75,9 @@ void main() {
     irradiance[2 * index + 1] = vec4(back, 0.0);
     if (!finish) return;
     bool back_brighter = dot(back, vec3(1.0)) > dot(front, vec3(1.0));
-    Emitter vpl = r;
-    vpl.normal.xyz = back_brighter ? -r.normal.xyz : r.normal.xyz;
-    vpl.flux = vec4(r.flux.rgb * (back_brighter ? back : front) * r.normal.w, 1.0);  // its bound held
+    Emitter vpl;
+    vpl.position = r.position;
+    vpl.normal = vec4(back_brighter ? -r.normal.xyz : r.normal.xyz, r.normal.w);
+    vpl.flux = vec4(r.albedo * (back_brighter ? back : front) * r.normal.w, 1.0);  // its bound held
     lit[index] = vpl;
 }

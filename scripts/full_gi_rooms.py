@@ -3,11 +3,12 @@ demo/artist (GI_ROOMS), the artist suite's rooms and the particle room, as a Mar
 table on stdout and PNGs in OUT_DIR:
 
     .venv/bin/python scripts/full_gi_rooms.py OUT_DIR [--width 160 --samples 512 --sets 16]
-                                                      [--scenes a,b] [--export]
+                                                      [--scenes a,b] [--lpv-resolution N] [--export]
 
 Cycles renders each scene's light passes (Diffuse and Glossy Direct, Diffuse Indirect and
 their colours) with the scene's own Light Paths, as F12 does: the bounces our default
-follows. Ours is a frame of the default settings at that size, once with one VPL set and
+follows. Ours is a frame of the default settings at that size (with --lpv-resolution, the
+indirect grids of that many cells a side), once with one VPL set and
 once converged over --sets sets. Per scene the table gives the ratio of the direct
 light's means (converged, against Diffuse and Glossy Direct times their colours: the
 lamps', emitters' and world's light on the surfaces, highlights included, as our Direct
@@ -55,13 +56,14 @@ def main():
     parser.add_argument("--samples", type=int, default=512)
     parser.add_argument("--sets", type=int, default=16)
     parser.add_argument("--scenes", default=",".join(ROOMS))
+    parser.add_argument("--lpv-resolution", type=int, default=Settings().lpv_resolution)
     parser.add_argument("--export", action="store_true")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     names = args.scenes.split(",")
     if not args.export:
         print(f"Cycles' diffuse indirect with each scene's Light Paths, {args.samples} samples; ours with the default "
-              f"settings, {args.width} pixels across; one VPL set and {args.sets} sets\n")
+              f"settings (grids {args.lpv_resolution}³), {args.width} pixels across; one VPL set and {args.sets} sets\n")
         print("| scene | bounces | direct, ours/Cycles | indirect ours/Cycles, one set | PSNR dB | relMSE "
               "| indirect ours/Cycles, converged | PSNR dB | relMSE |")
         print("|---|---|---|---|---|---|---|---|---|")
@@ -76,7 +78,7 @@ def main():
             print(os.path.join(args.out, f"{name}.npz"), flush=True)
             continue
         direct, reference = cycles_light(bpy_scene, args.samples, size)
-        settings = Settings(width=size[0], height=size[1])
+        settings = Settings(width=size[0], height=size[1], lpv_resolution=args.lpv_resolution)
         frames = [render_once(scene, settings.with_changes(converge_sets=sets)) for sets in (1, args.sets)]
         cells = [f"{frames[1].passes['direct'].mean() / direct.mean():.3f}"]
         for frame in frames:

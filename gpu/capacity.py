@@ -76,8 +76,10 @@ def mapped_lights(s, scene):
 def emitter_bytes(s, scene, pixels, lamps):
     """The emitter grid (gpu/emitter_grid.py: clusters of every level, three textures,
     the emitters twice, an irradiance image), the emitters' shadows (a light grid with
-    unshadowed volumes, its occupancy and clusters, an image) and the receivers of their
-    bounce, for the scene's point emitters and `lamps` point lights beyond the budget."""
+    unshadowed volumes, its occupancy and clusters, an image), the scene's emitters' glow
+    (gpu/shade.py glow_points: three floats a pixel, a list entry an emitter) and the
+    receivers of their bounce, for the scene's point emitters and `lamps` point lights
+    beyond the budget."""
     count = scene.point_emitter_count + lamps
     bounce = s.emitter_bounce_samples * RECEIVER_BYTES if count or scene.emission is not None else 0
     if not count:
@@ -89,7 +91,8 @@ def emitter_bytes(s, scene, pixels, lamps):
                + occupancy_bytes(s.grid_levels * s.grid_phases, n, VOXELS_PER_CELL)
                + scene.triangle_count * LARGE_TRIANGLE_BYTES + cluster_capacity(count) * CLUSTER_BYTES) \
         if s.emitter_shadows else 0
-    return grid + shadows + 2 * pixels * 16 + bounce
+    glow = pixels * 12 + scene.point_emitter_count * 4 if scene.point_emitter_count else 0
+    return grid + shadows + 2 * pixels * 16 + glow + bounce
 
 
 def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):

@@ -29,6 +29,10 @@ _WIDTHS = [int(attribute[:-1]) for attribute in VERTEX_LAYOUT[0].split()]
 VERTEX_FLOATS = sum(_WIDTHS)
 VERTEX_SLICES = {name: slice(sum(_WIDTHS[:i]), sum(_WIDTHS[:i + 1])) for i, name in enumerate(VERTEX_LAYOUT[1:])}
 """Where each attribute's floats lie in a vertex, by its name in VERTEX_LAYOUT."""
+SURFACE_VERTICES_BINDING = 5
+"""The storage binding of the vertex buffer, from which a raster pass's fragments read
+their surface (shaders/surface_vertices.glsl): the vertex shader passes on only the
+triangle's number and two weights."""
 
 
 SURFACE_ARRAYS = (("albedo", 3), ("colours", 9), ("alpha", 1), ("transmission", 4), ("uvs", 6), ("layers", 2),
@@ -142,10 +146,13 @@ class MeshBuffer:
         self._open_sides_of = sides
 
     def vertex_array(self, program, indices=None):
+        """The vertex array that draws the triangles with `program` (through `indices`),
+        its fragments' vertex buffer and images bound."""
         if (program, indices) not in self._arrays:
             self._arrays[program, indices] = self.glc.gl.vertex_array(
                 program, [(self.buffer, *VERTEX_LAYOUT)],
                 index_buffer=indices, index_element_size=4, skip_errors=True)
+        self.buffer.bind_to_storage_buffer(SURFACE_VERTICES_BINDING)
         self.images.bind(program)
         return self._arrays[program, indices]
 

@@ -10,26 +10,21 @@
 #include "common.glsl"
 #include "specular.glsl"
 #include "surface.glsl"
-in vec3 world_position;
-in vec3 world_normal;
-in vec4 surface_albedo;
-in vec4 surface_coord;
-in vec4 surface_transmission;
-in vec4 surface_specular;
-in float surface_metallic;
+#include "surface_vertices.glsl"
 #ifdef SHUT_SIDES
 layout(std430, binding = 0) readonly buffer OpenSides { uint open_sides[]; };  // a byte a triangle
-flat in int surface_triangle;
 #endif
 uniform vec4 camera_eye;  // the camera's position, w 1; orthographic: the direction toward it, w 0
 layout(location = 0) out uvec4 out_surface;
 layout(location = 1) out uvec4 out_specular;
 
 void main() {
+    vec4 surface_albedo = surface_vec4(VERTEX_ALBEDO);
+    vec4 surface_coord = surface_vec4(VERTEX_SURFACE);
 #ifdef CUT_OUT
-    if (!surface_covers(surface_albedo, surface_coord, surface_transmission, gl_FragCoord.xy)) discard;
+    if (!surface_covers(surface_albedo, surface_coord, surface_vec4(VERTEX_TINT), gl_FragCoord.xy)) discard;
 #endif
-    vec3 n = normalize(world_normal);
+    vec3 n = normalize(surface_vec3(VERTEX_NORMAL));
 #ifdef SHUT_SIDES
     uint sides = open_sides[surface_triangle >> 2] >> (8 * (surface_triangle & 3));
     if ((sides & (gl_FrontFacing ? 1u : 2u)) == 0u) {  // FRONT: the side its winding faces
@@ -38,7 +33,9 @@ void main() {
         return;
     }
 #endif
-    vec3 v = normalize(camera_eye.xyz - world_position * camera_eye.w);
+    vec3 v = normalize(camera_eye.xyz - surface_vec3(0) * camera_eye.w);
+    vec4 surface_specular = surface_vec4(VERTEX_SPECULAR);
+    float surface_metallic = surface_float(VERTEX_METALLIC);
     if (dot(n, v) < 0.0) n = -n;
     float kept = diffuse_under_layer(surface_specular.rgb, surface_metallic, surface_specular.a, max(dot(n, v), 1e-4));
     out_surface = gbuffer_pack(n, surface_colour(surface_albedo, surface_coord) * kept);

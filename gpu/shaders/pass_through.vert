@@ -1,27 +1,15 @@
 #version 450 core
 // World-space vertices for the stages that clip or subdivide before projecting
-// (dpm.geom, tdpm.tesc/.tese).
+// (dpm.geom, tdpm.tesc/.tese), with the weights and triangle number by which the
+// fragment reads its surface (surface_vertices.glsl).
 in vec3 in_position;
-in vec3 in_normal;
-in vec4 in_albedo;
-in vec4 in_surface;
-in vec4 in_transmission;
-in vec4 in_specular;
-in float in_metallic;
 out vec3 world_position_v;
-out vec3 world_normal_v;
-out vec4 surface_albedo_v;
-out vec4 surface_coord_v;
-out vec4 surface_transmission_v;
-out vec4 surface_specular_v;
-out float surface_metallic_v;
+out vec2 surface_weights_v;
+out int surface_triangle_v;
 
 void main() {
+    int corner = gl_VertexID % 3;
     world_position_v = in_position;
-    world_normal_v = in_normal;
-    surface_albedo_v = in_albedo;
-    surface_coord_v = in_surface;
-    surface_transmission_v = in_transmission;
-    surface_specular_v = in_specular;
-    surface_metallic_v = in_metallic;
+    surface_weights_v = vec2(corner == 1, corner == 2);
+    surface_triangle_v = gl_VertexID / 3;
 }

@@ -5,9 +5,7 @@
 // the others (the G-buffer's tint image: 0; a light's map: its flux, 2, and with TINT_MAP
 // its tint, 3).
 #include "surface.glsl"
-in vec4 surface_albedo;
-in vec4 surface_coord;
-in vec4 surface_transmission;
+#include "surface_vertices.glsl"
 layout(location = 0) out vec4 out_0;
 #if TINT_ATTACHMENT == 2
 layout(location = 1) out vec4 out_1;
@@ -19,7 +17,8 @@ layout(location = 3) out vec4 out_3;
 
 void main() {
     vec3 tint;
-    if (!surface_passing_tint(surface_albedo, surface_coord, surface_transmission, gl_FragCoord.xy, tint)) discard;
+    if (!surface_passing_tint(surface_vec4(VERTEX_ALBEDO), surface_vec4(VERTEX_SURFACE), surface_vec4(VERTEX_TINT),
+                              gl_FragCoord.xy, tint)) discard;
 #if TINT_ATTACHMENT == 2
     out_0 = vec4(1.0);
     out_1 = vec4(1.0);

@@ -10,18 +10,10 @@
 #include "paraboloid.glsl"
 #include "specular.glsl"
 #include "surface.glsl"
+#include "surface_vertices.glsl"
 #define PROJECTION_CUBE 0
 #define PROJECTION_PARABOLOID 1
 #define PROJECTION_ORTHO 2
-in vec3 world_position;
-in vec3 world_normal;
-in vec4 surface_albedo;
-in vec4 surface_coord;
-in vec4 surface_transmission;
-#ifdef GLOSSY_LAYER
-in vec4 surface_specular;  // F0 rgb, roughness
-in float surface_metallic;
-#endif
 uniform vec2 face_origin;        // this face's lower-left texel in the atlas
 uniform float resolution;        // texels along one side of a face
 uniform float ortho_texel_area;  // sun: the area one texel covers across the beam
@@ -34,13 +26,16 @@ layout(location = 3) out vec4 out_tint;      // rgb what the light passing trans
 #endif
 
 void main() {
+    vec4 surface_albedo = surface_vec4(VERTEX_ALBEDO);
+    vec4 surface_coord = surface_vec4(VERTEX_SURFACE);
 #ifdef CUT_OUT
-    if (!surface_covers(surface_albedo, surface_coord, surface_transmission, gl_FragCoord.xy)) discard;
+    if (!surface_covers(surface_albedo, surface_coord, surface_vec4(VERTEX_TINT), gl_FragCoord.xy)) discard;
 #endif
+    vec3 world_position = surface_vec3(0);
     vec3 w;
     float dist;
     light_ray(world_position, w, dist);
-    vec3 n = normalize(world_normal);
+    vec3 n = normalize(surface_vec3(VERTEX_NORMAL));
     if (dot(n, w) > 0.0) n = -n;
     float cos_receiver = max(abs(dot(n, w)), 0.05);
     vec3 power;
@@ -61,7 +56,8 @@ void main() {
     out_normal = vec4(n, area);
     vec3 colour = surface_colour(surface_albedo, surface_coord);
 #ifdef GLOSSY_LAYER
-    colour = bounce_colour(colour, surface_specular.rgb, surface_metallic, surface_specular.a, abs(dot(n, w)));
+    vec4 specular = surface_vec4(VERTEX_SPECULAR);  // F0 rgb, roughness
+    colour = bounce_colour(colour, specular.rgb, surface_float(VERTEX_METALLIC), specular.a, abs(dot(n, w)));
 #endif
     out_flux = vec4(colour * power, 1.0);
 #ifdef TINT_MAP

@@ -4,32 +4,20 @@
 #include "paraboloid.glsl"
 layout(vertices = 3) out;
 in vec3 world_position_v[];
-in vec3 world_normal_v[];
-in vec4 surface_albedo_v[];
-in vec4 surface_coord_v[];
-in vec4 surface_transmission_v[];
-in vec4 surface_specular_v[];
-in float surface_metallic_v[];
+in vec2 surface_weights_v[];
+in int surface_triangle_v[];
 out vec3 world_position_c[];
-out vec3 world_normal_c[];
-out vec4 surface_albedo_c[];
-out vec4 surface_coord_c[];
-out vec4 surface_transmission_c[];
-out vec4 surface_specular_c[];
-out float surface_metallic_c[];
+out vec2 surface_weights_c[];
+patch out int surface_triangle_c;
 uniform mat4 hemisphere_view;
 uniform float tessellation_unit;
 const float MAX_LEVEL = 64.0;  // GL's guaranteed GL_MAX_TESS_GEN_LEVEL
 
 void main() {
     world_position_c[gl_InvocationID] = world_position_v[gl_InvocationID];
-    world_normal_c[gl_InvocationID] = world_normal_v[gl_InvocationID];
-    surface_albedo_c[gl_InvocationID] = surface_albedo_v[gl_InvocationID];
-    surface_coord_c[gl_InvocationID] = surface_coord_v[gl_InvocationID];
-    surface_transmission_c[gl_InvocationID] = surface_transmission_v[gl_InvocationID];
-    surface_specular_c[gl_InvocationID] = surface_specular_v[gl_InvocationID];
-    surface_metallic_c[gl_InvocationID] = surface_metallic_v[gl_InvocationID];
+    surface_weights_c[gl_InvocationID] = surface_weights_v[gl_InvocationID];
     if (gl_InvocationID != 0) return;
+    surface_triangle_c = surface_triangle_v[0];
     vec3 h[3];
     vec2 p[3];
     for (int i = 0; i < 3; ++i) {

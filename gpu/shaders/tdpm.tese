@@ -3,27 +3,15 @@
 // projects every one exactly with eq. 3.
 layout(triangles, equal_spacing, ccw) in;
 in vec3 world_position_c[];
-in vec3 world_normal_c[];
-in vec4 surface_albedo_c[];
-in vec4 surface_coord_c[];
-in vec4 surface_transmission_c[];
-in vec4 surface_specular_c[];
-in float surface_metallic_c[];
+in vec2 surface_weights_c[];
+patch in int surface_triangle_c;
 out vec3 world_position_v;
-out vec3 world_normal_v;
-out vec4 surface_albedo_v;
-out vec4 surface_coord_v;
-out vec4 surface_transmission_v;
-out vec4 surface_specular_v;
-out float surface_metallic_v;
+out vec2 surface_weights_v;
+out int surface_triangle_v;
 
 void main() {
     vec3 w = gl_TessCoord;
     world_position_v = w.x * world_position_c[0] + w.y * world_position_c[1] + w.z * world_position_c[2];
-    world_normal_v = w.x * world_normal_c[0] + w.y * world_normal_c[1] + w.z * world_normal_c[2];
-    surface_albedo_v = w.x * surface_albedo_c[0] + w.y * surface_albedo_c[1] + w.z * surface_albedo_c[2];
-    surface_coord_v = w.x * surface_coord_c[0] + w.y * surface_coord_c[1] + w.z * surface_coord_c[2];
-    surface_transmission_v = w.x * surface_transmission_c[0] + w.y * surface_transmission_c[1] + w.z * surface_transmission_c[2];
-    surface_specular_v = w.x * surface_specular_c[0] + w.y * surface_specular_c[1] + w.z * surface_specular_c[2];
-    surface_metallic_v = w.x * surface_metallic_c[0] + w.y * surface_metallic_c[1] + w.z * surface_metallic_c[2];
+    surface_weights_v = w.x * surface_weights_c[0] + w.y * surface_weights_c[1] + w.z * surface_weights_c[2];
+    surface_triangle_v = surface_triangle_c;
 }

@@ -14,6 +14,7 @@ import numpy as np
 from ..gpu.gl_thread import GLThread
 from ..gpu.pipeline import Pipeline
 from ..gpu.scene import Camera
+from ..gpu.shade import DISPLAY_CHANNELS
 from . import frame_stats, overlay
 from .properties import (correction_settings_from_properties, display_settings_from_properties,
                          settings_from_properties)
@@ -59,7 +60,7 @@ class DisplayRows:
     def target(self, size):
         """The buffer the next frame of `size` (width, height) goes into."""
         if self._back is None or self._back[0] != size:
-            self._back = (size, *self.allocate(size[0] * size[1] * 4))
+            self._back = (size, *self.allocate(size[0] * size[1] * DISPLAY_CHANNELS))
         return self._back[1]
 
     def present(self):

@@ -29,7 +29,7 @@ class ViewportImage(DisplayRows):
         smaller), through the scene's view transform like every render engine's viewport
         image."""
         if self.fresh or self.texture is None:
-            self.texture = gpu.types.GPUTexture(self.size, format="RGBA16F", data=self.handle)
+            self.texture = gpu.types.GPUTexture(self.size, format="RGB16F", data=self.handle)
             self.fresh = False
         gpu.state.blend_set("ALPHA_PREMULT")
         engine.bind_display_space_shader(scene)

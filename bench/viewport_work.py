@@ -10,6 +10,7 @@ import time
 import numpy as np
 
 from ..gpu.scene_edits import camera_path
+from ..gpu.shade import DISPLAY_CHANNELS
 from .timing import THROUGHPUT_WARM_UP_SECONDS
 
 TURN_DEGREES = 0.25
@@ -40,7 +41,7 @@ def edited_frames(scene, edit, frames):
 
 def display_buffer(settings):
     """A float buffer the size of the settings' image, as a viewport reads its frames into."""
-    return np.empty(settings.width * settings.height * 4, dtype=np.float32)
+    return np.empty(settings.width * settings.height * DISPLAY_CHANNELS, dtype=np.float32)
 
 
 def timed_redraws(pipeline, scenes, display):

@@ -21,6 +21,7 @@ from .light_maps import SUN_CASCADES
 from .mesh_buffer import STAGED_FLOATS_PER_TRIANGLE, VERTEX_FLOATS
 from .rsm import face_atlas_size, map_face_count
 from .scene import POINT_EMITTER_COLUMNS
+from .shade import DISPLAY_CHANNELS
 from .surface_images import BYTES_PER_TEXEL, layer_size
 from .vpl import EMITTER_BYTES
 from .vpl_gather import pixel_gather_bytes
@@ -35,7 +36,7 @@ SEEN_POINTS_BYTES = VIEW_LATTICE ** 2 * 16  # gpu/shade.py seen_points' buffer
 DEBUG_BYTES_PER_PIXEL = 2 * 16        # VPL Splats and Warp Status (RGBA32F)
 REFLECTION_BYTES_PER_PIXEL = 16       # the Reflections image of a scene with glossy surfaces (RGBA32F)
 WORLD_MAP_BYTES_PER_TEXEL = 12        # the world's maps (RGB32F); its lighting map's mip chain adds a third
-DISPLAY_BYTES_PER_PIXEL = 16          # the viewport's RGBA32F rows
+DISPLAY_BYTES_PER_PIXEL = 4 * DISPLAY_CHANNELS  # the viewport's float rows
 READBACK_BYTES_PER_PIXEL = 16         # a pass as the GPU gives it back (RGBA32F), before its RGB copy
 PASS_BYTES_PER_PIXEL = 5 * 3 * 4
 """A pass read back (RGB float32) and about four copies more as the caller writes it (an

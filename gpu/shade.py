@@ -10,6 +10,9 @@ from .grids import VIEW_LATTICE
 from .settings import INDIRECT_METHODS
 from .specular_albedo import RASTER_UNIT
 
+DISPLAY_CHANNELS = 3
+"""Floats a pixel of the viewport's rows: RGB, as the viewport is never transparent (its
+alpha would be 1 everywhere), a quarter less to read back than RGBA."""
 DISC_COMMAND_START = np.array([0, 1, 0, 0, 0], dtype=np.uint32).tobytes()
 """The head of the point emitters' disc list before it is filled: a DrawArraysIndirect
 command of no points, padded to the 20 bytes moderngl steps commands by."""
@@ -109,7 +112,7 @@ class FrameTargets:
 
     def display_buffer(self):
         if self.display is None:
-            self.display = self.gl.buffer(reserve=self.size[0] * self.size[1] * 16)
+            self.display = self.gl.buffer(reserve=self.size[0] * self.size[1] * DISPLAY_CHANNELS * 4)
         return self.display
 
     def read(self, name):
@@ -127,12 +130,13 @@ class FrameTargets:
         return np.frombuffer(texture.read(), dtype=np.float32).reshape(height, width, 4)[::-1]
 
     def read_display_into(self, out):
-        """The composite as shade_indirect wrote it into the display buffer (RGBA float32,
-        bottom row first: the layout Blender's textures take) into `out`, a writable
-        buffer of width x height x 4 floats; returns it as (height, width, 4)."""
+        """The composite as shade_indirect wrote it into the display buffer (DISPLAY_CHANNELS
+        float32 a pixel, bottom row first: the layout Blender's textures take) into `out`,
+        a writable buffer of width x height x DISPLAY_CHANNELS floats; returns it as
+        (height, width, DISPLAY_CHANNELS)."""
         self.display.read_into(out)
         width, height = self.size
-        return np.frombuffer(out, dtype=np.float32).reshape(height, width, 4)
+        return np.frombuffer(out, dtype=np.float32).reshape(height, width, DISPLAY_CHANNELS)
 
     def resources(self):
         """Every texture and buffer made so far (the display and debug ones on request)."""

@@ -22,7 +22,7 @@ from lpv_preview.bench.viewport_work import edited_frames  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 from lpv_preview.gpu.scene_edits import camera_path  # noqa: E402
 from lpv_preview.gpu.settings import preset_settings  # noqa: E402
-from lpv_preview.gpu.shade import render_gbuffer  # noqa: E402
+from lpv_preview.gpu.shade import DISPLAY_CHANNELS, render_gbuffer  # noqa: E402
 
 FRAMES = 12
 
@@ -40,7 +40,7 @@ def main():
     for name in names:
         scene = SYNTHETIC[name]()
         pipeline = Pipeline(preset_settings(None, width=SIZE[0], height=SIZE[1]))
-        display = np.zeros(SIZE[0] * SIZE[1] * 4, np.float32)
+        display = np.zeros(SIZE[0] * SIZE[1] * DISPLAY_CHANNELS, np.float32)
         dummy = pipeline.glc.gl.texture((1, 1), 4)
         for kind in ("camera move", "light edit"):
             scenes = edited_frames(scene, kind, FRAMES)

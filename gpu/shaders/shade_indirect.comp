@@ -39,7 +39,7 @@ layout(rgba32f, binding = 0) uniform readonly image2D direct;
 layout(rgba32f, binding = 1) uniform image2D indirect;
 layout(rgba32f, binding = 2) uniform image2D combined;
 layout(rgba32f, binding = 4) uniform image2D direct_mean;
-layout(std430, binding = 0) writeonly buffer Display { vec4 display_rows[]; };
+layout(std430, binding = 0) writeonly buffer Display { float display_rows[]; };  // RGB a pixel (gpu/shade.py DISPLAY_CHANNELS)
 uniform bool write_display;
 uniform float intensity;
 uniform int accumulated;
@@ -131,5 +131,10 @@ void main() {
     vec4 mean = vec4(composite.rgb, coverage);
     if (accumulated > 0) mean = mix(imageLoad(combined, pixel), mean, weight);
     imageStore(combined, pixel, mean);
-    if (write_display) display_rows[pixel.y * imageSize(combined).x + pixel.x] = vec4(mean.rgb, 1.0);
+    if (write_display) {
+        int at = 3 * (pixel.y * imageSize(combined).x + pixel.x);
+        display_rows[at] = mean.r;
+        display_rows[at + 1] = mean.g;
+        display_rows[at + 2] = mean.b;
+    }
 }

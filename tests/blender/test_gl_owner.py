@@ -67,7 +67,7 @@ SCRIPT = textwrap.dedent(f"""
         if not session.rendering and sets and sets[-1] == 3:
             break
     report["sets"] = sets
-    rows = np.array(session.display.rows).reshape({SIZE}, {SIZE}, 4)[::-1]
+    rows = np.array(session.display.rows).reshape({SIZE}, {SIZE}, 3)[::-1]
     session.release()
     image = scene.render.image_settings
     image.media_type, image.file_format, image.color_depth = "MULTI_LAYER_IMAGE", "OPEN_EXR_MULTILAYER", "32"

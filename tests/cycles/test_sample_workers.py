@@ -331,7 +331,7 @@ def test_the_still_viewport_streams_corrections_and_keeps_them_over_a_move():
         def redraw():
             depsgraph = bpy.context.evaluated_depsgraph_get()
             frame = session.frame_to_draw(depsgraph, extract_camera(depsgraph, SIZE), SIZE)
-            return frame, np.array(session.display.rows.reshape(SIZE[1], SIZE[0], 4)[::-1, :, :3])
+            return frame, np.array(session.display.rows.reshape(SIZE[1], SIZE[0], 3)[::-1])
 
         first, preview = redraw()  # the view is new: shown as it is
         assert "correction_problem" not in first.stats and session.corrections.streaming

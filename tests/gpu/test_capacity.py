@@ -11,7 +11,7 @@ from lpv_preview.gpu.passes import PASS_NAMES, render_passes
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.scene import Light
 from lpv_preview.gpu.settings import Settings
-from lpv_preview.gpu.shade import FrameTargets
+from lpv_preview.gpu.shade import DISPLAY_CHANNELS, FrameTargets
 
 from ..synthetic_scenes import room_scene
 
@@ -35,7 +35,7 @@ def test_the_estimate_covers_what_a_pipeline_holds_after_a_frame(method, indirec
     passes = tuple(p.name for p in render_passes(debug=True))
     pipeline = Pipeline(settings, glc)
     try:
-        pipeline.render(scene, passes=passes, display_into=np.empty((64, 96, 4), dtype=np.float32))
+        pipeline.render(scene, passes=passes, display_into=np.empty((64, 96, DISPLAY_CHANNELS), dtype=np.float32))
         held = pipeline.gpu_bytes()
     finally:
         pipeline.release()

@@ -78,11 +78,11 @@ def draw_statistics(layout, stats):
     column = layout.column(align=True)
     for text, icon in renderer_lines(stats):
         column.label(text=text, icon=icon)
-    for key, label in STAGES:
+    for key, label in STAGES:  # the GPU's time where the driver times it (docs/performance.md)
         if key in stats:
             row = column.row()
             row.label(text=label)
-            row.label(text=f"{stats[key]:.1f} ms")
+            row.label(text=f"{stats.get('gpu_' + key, stats[key]):.1f} ms")
     column.separator()
     column.label(text=f"{stats.get('vpl_count', 0):,} VPLs, {stats.get('triangles', 0):,} triangles")
     if stats.get("vpl_sets", 1) > 1:

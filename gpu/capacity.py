@@ -18,7 +18,7 @@ from .light_grid import CLUSTER_BYTES, LIGHT_GRID_BYTES_PER_CELL, cluster_capaci
 from .occupancy import LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, occupancy_bytes
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .light_maps import SUN_CASCADES
-from .mesh_buffer import STAGED_FLOATS_PER_TRIANGLE, VERTEX_FLOATS
+from .mesh_buffer import POSITION_BYTES, STAGED_FLOATS_PER_TRIANGLE, VERTEX_FLOATS
 from .rsm import face_atlas_size, map_face_count
 from .scene import POINT_EMITTER_COLUMNS
 from .shade import DISPLAY_CHANNELS
@@ -134,7 +134,7 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
         camera += pixels * REFLECTION_BYTES_PER_PIXEL
     rims = 2 * RIM_LIST_BYTES_PER_TRIANGLE * (s.method != "cm")
     # the arrays staged for the interleave are let go before the rim lists are made
-    mesh = scene.triangle_count * (3 * VERTEX_BYTES + max(4 * STAGED_FLOATS_PER_TRIANGLE, rims))
+    mesh = scene.triangle_count * (3 * (VERTEX_BYTES + POSITION_BYTES) + max(4 * STAGED_FLOATS_PER_TRIANGLE, rims))
     mesh += len(scene.images) * layer_size(scene.images) ** 2 * BYTES_PER_TEXEL
     host = pixels * (READBACK_BYTES_PER_PIXEL * bool(passes) + PASS_BYTES_PER_PIXEL * len(passes))
     return camera + SEEN_POINTS_BYTES + maps + indirect + mesh, host

@@ -106,6 +106,8 @@ class GLContext:
         self.version = self.gl.info["GL_VERSION"]
         self.is_software = any(name in self.renderer.lower() for name in ("llvmpipe", "softpipe", "swrast"))
         self._programs = {}
+        self._timed_queries = []  # (stats, key, query) of timed blocks not read yet
+        self._idle_queries = []
         self._free = {}  # (kind, size, components, dtype) -> released textures to reuse
         self._specular_albedo = None  # the glossy layer's table, made on first use
 
@@ -186,21 +188,32 @@ class GLContext:
 
     @contextmanager
     def timed(self, stats, stage):
-        """Add the block's wall-clock milliseconds, GPU work finished, to stats[stage], and
-        on drivers whose timer queries work (not llvmpipe's) its GPU milliseconds to
-        stats["gpu_" + stage]. Blocks must not nest (GL timer queries cannot)."""
-        query = None if self.is_software else self.gl.query(time=True)
-        self.gl.finish()
-        start = time.perf_counter()
-        if query is None:
+        """Add the block's milliseconds to stats[stage]. On llvmpipe, whose timer queries
+        do not work, the GPU finishes before and after: they are the stage's wall clock.
+        Elsewhere nothing waits (a finish between stages left the GPU idle while Python
+        made the next one): stats[stage] is the host's time in the block, and a timer
+        query's GPU milliseconds go to stats["gpu_" + stage] at `read_timings`. Blocks
+        must not nest (GL timer queries cannot)."""
+        if self.is_software:
+            self.gl.finish()
+            start = time.perf_counter()
             yield
+            self.gl.finish()
         else:
+            query = self._idle_queries.pop() if self._idle_queries else self.gl.query(time=True)
+            start = time.perf_counter()
             with query:
                 yield
-        self.gl.finish()
+            self._timed_queries.append((stats, "gpu_" + stage, query))
         stats[stage] = stats.get(stage, 0.0) + (time.perf_counter() - start) * 1000.0
-        if query is not None:
-            stats["gpu_" + stage] = stats.get("gpu_" + stage, 0.0) + query.elapsed / 1e6
+
+    def read_timings(self):
+        """Add the GPU milliseconds of the blocks timed since the last call to their stats
+        (waiting for the GPU to finish them)."""
+        for stats, key, query in self._timed_queries:
+            stats[key] = stats.get(key, 0.0) + query.elapsed / 1e6
+            self._idle_queries.append(query)
+        self._timed_queries.clear()
 
     def release(self):
         for program in self._programs.values():

@@ -23,8 +23,8 @@ reads commands 20 bytes apart (DrawElementsIndirect's size) for arrays too."""
 
 VERTEX_LAYOUT = ("3f 3f 4f 4f 4f 4f 1f", "in_position", "in_normal", "in_albedo", "in_surface", "in_transmission",
                  "in_specular", "in_metallic")
-"""A vertex's floats and attributes (shaders/vertex_layout.glsl says where the compute
-passes find them)."""
+"""A vertex's floats in the vertex buffer, by attribute (shaders/vertex_layout.glsl says
+where the compute passes and the raster passes' fragments find them)."""
 _WIDTHS = [int(attribute[:-1]) for attribute in VERTEX_LAYOUT[0].split()]
 VERTEX_FLOATS = sum(_WIDTHS)
 VERTEX_SLICES = {name: slice(sum(_WIDTHS[:i]), sum(_WIDTHS[:i + 1])) for i, name in enumerate(VERTEX_LAYOUT[1:])}
@@ -38,9 +38,12 @@ triangle's number and two weights."""
 SURFACE_ARRAYS = (("albedo", 3), ("colours", 9), ("alpha", 1), ("transmission", 4), ("uvs", 6), ("layers", 2),
                   ("specular", 5))
 """The surface arrays shaders/mesh_interleave.comp reads, with their floats a triangle."""
-STAGED_FLOATS_PER_TRIANGLE = 18 + sum(width for _, width in SURFACE_ARRAYS)
-"""Floats a triangle uploads at most (positions, normals, every surface array) before the
-GPU interleaves them (gpu/capacity.py counts them beside the vertex buffer)."""
+STAGED_FLOATS_PER_TRIANGLE = 9 + sum(width for _, width in SURFACE_ARRAYS)
+"""Floats a triangle uploads at most (normals, every surface array) to be interleaved and
+released (gpu/capacity.py counts them beside the vertex buffer and the positions)."""
+POSITION_BYTES = 3 * 4
+"""A vertex's bytes in the positions the raster passes draw from: fetching them from the
+interleaved vertex (23 floats apart) took twice as long (docs/performance.md, "Raster passes")."""
 
 
 def surface_arrays(scene):
@@ -59,17 +62,18 @@ def surface_arrays(scene):
 
 
 def interleave(glc, scene):
-    """The vertex buffer of a sanitized scene: its arrays uploaded as they are and
-    interleaved on the GPU (shaders/mesh_interleave.comp): writing 23 floats a vertex on
-    the host, and uploading them, took most of a second at a million triangles."""
+    """The vertex buffer of a sanitized scene, and its positions alone (what the raster
+    passes draw from): its arrays uploaded as they are and interleaved on the GPU
+    (shaders/mesh_interleave.comp): writing 23 floats a vertex on the host, and uploading
+    them, took most of a second at a million triangles."""
     gl = glc.gl
     count = scene.triangle_count
     vertices = gl.buffer(reserve=max(count, 1) * 3 * VERTEX_FLOATS * 4)
+    positions = gl.buffer(np.ascontiguousarray(scene.triangles, dtype=np.float32)) if count else \
+        gl.buffer(reserve=POSITION_BYTES)
     if not count:
-        return vertices
-    shape = gl.buffer(reserve=count * 18 * 4)
-    shape.write(np.ascontiguousarray(scene.triangles, dtype=np.float32))
-    shape.write(np.ascontiguousarray(scene.normals, dtype=np.float32), offset=count * 9 * 4)
+        return vertices, positions
+    normals = gl.buffer(np.ascontiguousarray(scene.normals, dtype=np.float32))
     arrays = surface_arrays(scene)
     offsets, at = {}, 0
     for name, width in SURFACE_ARRAYS:
@@ -80,12 +84,12 @@ def interleave(glc, scene):
         if arrays[name] is not None:
             surfaces.write(arrays[name], offset=offsets[f"{name}_at"] * 4)
     program = glc.compute("mesh_interleave")
-    for binding, buffer in enumerate((shape, surfaces, vertices)):
+    for binding, buffer in enumerate((positions, surfaces, vertices, normals)):
         buffer.bind_to_storage_buffer(binding)
     dispatch_row(program, count, "first_triangle", triangle_count=count, **offsets)
-    shape.release()
+    normals.release()
     surfaces.release()
-    return vertices
+    return vertices, positions
 
 
 class MeshBuffer:
@@ -104,7 +108,7 @@ class MeshBuffer:
 
     def __init__(self, glc, scene):
         count = scene.triangle_count
-        self.buffer = interleave(glc, scene)
+        self.buffer, self.positions = interleave(glc, scene)
         self.see_through = scene.see_through
         self.glossy = scene.specular is not None
         self.hashed = scene.hashed
@@ -146,12 +150,11 @@ class MeshBuffer:
         self._open_sides_of = sides
 
     def vertex_array(self, program, indices=None):
-        """The vertex array that draws the triangles with `program` (through `indices`),
-        its fragments' vertex buffer and images bound."""
+        """The vertex array that draws the triangles with `program` (through `indices`)
+        from their positions, its fragments' vertex buffer and images bound."""
         if (program, indices) not in self._arrays:
             self._arrays[program, indices] = self.glc.gl.vertex_array(
-                program, [(self.buffer, *VERTEX_LAYOUT)],
-                index_buffer=indices, index_element_size=4, skip_errors=True)
+                program, [(self.positions, "3f", "in_position")], index_buffer=indices, index_element_size=4)
         self.buffer.bind_to_storage_buffer(SURFACE_VERTICES_BINDING)
         self.images.bind(program)
         return self._arrays[program, indices]
@@ -226,9 +229,9 @@ class MeshBuffer:
         return lists, commands
 
     def resources(self):
-        """The vertex buffer, the images, each hemisphere's rim-split lists and draw
-        commands, and the culled ranges' cluster boxes and draw commands."""
-        return (self.buffer, *self.images.resources(),
+        """The vertex buffer and positions, the images, each hemisphere's rim-split lists
+        and draw commands, and the culled ranges' cluster boxes and draw commands."""
+        return (self.buffer, self.positions, *self.images.resources(),
                 *(buffer for buffer in (self.emission, self.open_sides) if buffer is not None),
                 *(buffer for buffers in self.rim_lists.values() for buffer in buffers),
                 *(buffer for boxes, commands, _ in self._cluster_boxes.values() for buffer in (boxes, commands)))

@@ -65,7 +65,7 @@ def render_once(scene, settings, glc=None, **render_args):
 @dataclass
 class Frame:
     """The passes (name -> (height, width, 3) float32 linear, top row first), statistics,
-    the combined image as a viewport draws it ((height, width, 4), bottom row first, in
+    the combined image as a viewport draws it ((height, width, 3), bottom row first, in
     the caller's buffer; None unless asked for), and with the combined pass its coverage
     ((height, width): 1 where the camera sees a surface or an emitter, 0 where it sees the
     background; Film Transparent's alpha)."""
@@ -218,6 +218,7 @@ class Pipeline:
         self._shown_keys = tuple(keys)
         self.last_origin = scene.world_origin
         images, coverage, display = self._read(scene, passes, display_into, display_settings, read, stats)
+        self.glc.read_timings()
         stats["total_ms"] = (time.perf_counter() - start) * 1000.0
         stats.update(self._statistics(scene, maps, lit, selection, indirect, vpl_count, sets, accumulated_vpls))
         return Frame(images, stats, display, coverage)

@@ -32,6 +32,7 @@ def gbuffer_ms(pipeline, camera):
     stats = {}
     with pipeline.glc.timed(stats, "draw"):
         render_gbuffer(pipeline.glc, pipeline._mesh.value, camera, pipeline.targets, pipeline.vpl_pattern)
+    pipeline.glc.read_timings()
     return stats.get("gpu_draw", stats["draw"])
 
 

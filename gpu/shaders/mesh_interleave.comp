@@ -1,16 +1,17 @@
 #version 450 core
 // The scene's arrays, uploaded as it holds them, interleaved into the vertex buffer
 // (gpu/mesh_buffer.py VERTEX_LAYOUT) on the GPU: one invocation per triangle writes its
-// three vertices. `Shape` holds the corners' positions then their normals (9 floats a
-// triangle each); `Surfaces` the surface arrays one after another, each at its offset in
+// three vertices. `Positions` and `Normals` hold the corners' (9 floats a triangle each;
+// the raster passes keep drawing from the positions); `Surfaces` the surface arrays one after another, each at its offset in
 // floats (-1: the scene has none; its default then): albedo (3 a triangle), corner colours
 // (9), alpha (1), transmission (4: tint, share), corner UVs (6), image and alpha-image
 // layers (2), glossy layer (5: F0 rgb, roughness, metallic).
 #include "vertex_layout.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Shape { float shape[]; };
+layout(std430, binding = 0) readonly buffer Positions { float positions[]; };
 layout(std430, binding = 1) readonly buffer Surfaces { float surfaces[]; };
 layout(std430, binding = 2) writeonly buffer Vertices { float vertices[]; };
+layout(std430, binding = 3) readonly buffer Normals { float normals[]; };
 uniform int triangle_count;
 uniform int first_triangle;  // this dispatch's first (a dispatch reaches 65,535 workgroups)
 uniform int albedo_at;
@@ -39,8 +40,8 @@ void main() {
     for (int corner = 0; corner < 3; ++corner) {
         int at = (3 * t + corner) * VERTEX_FLOATS;
         for (int i = 0; i < 3; ++i) {
-            vertices[at + i] = shape[9 * t + 3 * corner + i];                             // position
-            vertices[at + VERTEX_NORMAL + i] = shape[9 * triangle_count + 9 * t + 3 * corner + i];    // normal
+            vertices[at + i] = positions[9 * t + 3 * corner + i];
+            vertices[at + VERTEX_NORMAL + i] = normals[9 * t + 3 * corner + i];
         }
         // the triangle's albedo times the corner's colour, divided where the surface
         // transmits by what does not (the opaque part's albedo, surface.glsl)

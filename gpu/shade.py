@@ -7,6 +7,7 @@ import numpy as np
 from .context import dispatch, dispatch_row, set_uniforms, zero_buffer
 from .errors import LPVError
 from .grids import VIEW_LATTICE
+from .mesh_buffer import SURFACE_VERTICES_BINDING
 from .settings import INDIRECT_METHODS
 from .specular_albedo import RASTER_UNIT
 
@@ -48,8 +49,7 @@ class FrameTargets:
         for texture in (self.surface, self.specular, self.depth):
             texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self.depth.compare_func = ""
-        self.framebuffer = gl.framebuffer(color_attachments=[self.surface, self.specular],
-                                          depth_attachment=self.depth)
+        self.framebuffer = gl.framebuffer(color_attachments=[self.surface], depth_attachment=self.depth)
         self.direct_framebuffer = gl.framebuffer(color_attachments=[self.direct])
         self.display = None  # the composite as RGBA rows, made on a viewport's first request
         self.seen = gl.buffer(reserve=VIEW_LATTICE * VIEW_LATTICE * 16)  # seen_points' positions
@@ -180,15 +180,13 @@ def cut_out_defines(mesh):
 
 
 def render_gbuffer(glc, mesh, camera, targets, pattern=0):
-    """Rasterise the scene from the camera, cut-outs hashed in VPL pattern `pattern`, the
-    sides of solids' faces no light reaches black (MeshBuffer.show_open_sides), and tint
-    what is seen through transmitting surfaces; clears the direct image for the lights to
-    add into."""
+    """Rasterise the scene from the camera, cut-outs hashed in VPL pattern `pattern`, into
+    each pixel's depth and triangle (shaders/gbuffer.frag); make the surface texels from
+    them (gbuffer_resolve.comp), the sides of solids' faces no light reaches black
+    (MeshBuffer.show_open_sides); tint what is seen through transmitting surfaces. Clears
+    the direct image for the lights to add into."""
     gl = glc.gl
-    shut = {"SHUT_SIDES": 1} if mesh.open_sides is not None else {}
-    program = glc.program("raster", "gbuffer", **cut_out_defines(mesh), **shut)
-    if shut:
-        mesh.open_sides.bind_to_storage_buffer(0)
+    program = glc.program("raster", "gbuffer", **cut_out_defines(mesh))
     targets.framebuffer.use()
     targets.framebuffer.viewport = (0, 0, *targets.size)
     clear_depth_only(targets.framebuffer)
@@ -197,11 +195,27 @@ def render_gbuffer(glc, mesh, camera, targets, pattern=0):
     uniforms = {"view_projection": camera.projection @ camera.view,
                 "camera_eye": tuple(float(v) for v in camera.eye), "cut_out_pattern": pattern}
     set_uniforms(program, **uniforms)
-    glc.use_specular_albedo(program, RASTER_UNIT)
     mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles, uniforms["view_projection"])
+    resolve_gbuffer(glc, mesh, camera, targets, uniforms["camera_eye"])
     if mesh.transmits:
         tint_seen_through(glc, mesh, targets, uniforms)
     targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+
+
+def resolve_gbuffer(glc, mesh, camera, targets, camera_eye):
+    """The G-buffer's surface texels from the triangle each pixel sees
+    (shaders/gbuffer_resolve.comp)."""
+    shut = {"SHUT_SIDES": 1} if mesh.open_sides is not None else {}
+    program = glc.compute("gbuffer_resolve", **shut)
+    if shut:
+        mesh.open_sides.bind_to_storage_buffer(0)
+    mesh.buffer.bind_to_storage_buffer(SURFACE_VERTICES_BINDING)
+    targets.depth.use(location=0)
+    targets.surface.bind_to_image(0, read=True, write=True)
+    targets.specular.bind_to_image(1, read=False, write=True)
+    glc.use_specular_albedo(program, RASTER_UNIT)
+    set_uniforms(program, **gbuffer_uniforms(camera), camera_eye=camera_eye)
+    dispatch(program, *targets.size)
 
 
 def clear_depth_only(framebuffer):

@@ -5,9 +5,14 @@
 uniform sampler2DArray surface_images;
 uniform uint cut_out_pattern;  // the VPL pattern: hashed cut-outs differ from one pattern to the next
 
+// The colour of the surface's image at `coord` (1 where it has none).
+vec3 surface_image(vec4 coord) {
+    if (coord.z < -0.5) return vec3(1.0);
+    return texture(surface_images, vec3(coord.xy, floor(coord.z + 0.5))).rgb;
+}
+
 vec3 surface_colour(vec4 albedo, vec4 coord) {
-    if (coord.z < -0.5) return albedo.rgb;
-    return albedo.rgb * texture(surface_images, vec3(coord.xy, floor(coord.z + 0.5))).rgb;
+    return albedo.rgb * surface_image(coord);
 }
 
 // What of the light meeting the surface is not cut out: alpha times its image's alpha.

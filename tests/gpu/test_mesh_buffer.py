@@ -58,3 +58,42 @@ def test_a_scene_without_surface_arrays_gets_their_defaults(glc):
                                   np.repeat(scene.albedo[:, None], 3, 1))
     defaults = np.array([1, 0, 0, -1, -1, 1, 1, 1, 0, 0, 0, 0, 1, 0], np.float32)  # alpha, uv, layers, tint, F0, ...
     np.testing.assert_array_equal(found[..., 9:], np.broadcast_to(defaults, found[..., 9:].shape))
+
+
+def test_each_pixel_sees_the_corners_mixed_where_its_ray_meets_the_triangle(glc):
+    """The G-buffer's triangle numbers and the resolve of the surface from them
+    (shaders/gbuffer.frag, gbuffer_resolve.comp): a triangle seen obliquely in
+    perspective, its corners red, green and blue, gives each pixel the corners' colours
+    weighted where the pixel's ray meets it, as perspective-correct interpolation does;
+    the pixel that sees the tip of a second triangle gets that one's colour."""
+    from lpv_preview.gpu.shade import FrameTargets, read_gbuffer_record, render_gbuffer
+    triangles = np.array([[(-3, 0, 0), (3, 0, 0), (0, 9, 0)], [(-0.2, 2, 0.5), (0.2, 2, 0.5), (0, 2.3, 0.5)]],
+                         dtype=np.float32)
+    normals = np.tile(np.float32([0, 0, 1]), (2, 3, 1))
+    colours = np.array([np.eye(3), np.full((3, 3), 0.5)], dtype=np.float32)
+    camera = Camera.look_at((0.5, -3, 2), (0, 4, 0), aspect=4 / 3)
+    scene = Scene(triangles, normals, np.ones((2, 3), np.float32), [LAMP], camera, vertex_colors=colours).sanitize()
+    assert not np.any(scene.world_origin)
+    mesh, targets = MeshBuffer(glc, scene), FrameTargets(glc.gl, 64, 48)
+    try:
+        render_gbuffer(glc, mesh, scene.camera, targets)
+        record = read_gbuffer_record(glc, targets, scene.camera)
+    finally:
+        mesh.release()
+        targets.release()
+    rows, columns = np.nonzero(record.seen)
+    inverse = np.linalg.inv(camera.projection @ camera.view)
+    ndc = np.stack([(columns + 0.5) / 32 - 1, 1 - (rows + 0.5) / 24, np.full(len(rows), -1.0), np.ones(len(rows))])
+    near, far = inverse @ ndc, inverse @ (ndc * [[1], [1], [-1], [1]])
+    origin = (near[:3] / near[3]).T
+    direction = (far[:3] / far[3]).T - origin
+    t = -origin[:, 2] / direction[:, 2]  # the first triangle lies in z = 0
+    hit = origin + t[:, None] * direction
+    p0, e1, e2 = triangles[0, 0], triangles[0, 1] - triangles[0, 0], triangles[0, 2] - triangles[0, 0]
+    weights = np.linalg.lstsq(np.stack([e1, e2], axis=1), (hit - p0).T, rcond=None)[0].T
+    expected = np.stack([1 - weights.sum(axis=1), weights[:, 0], weights[:, 1]], axis=1)  # red, green, blue
+    found = record.albedo[rows, columns]
+    on_tip = np.all(np.isclose(found, 0.5, atol=1e-4), axis=1)
+    assert 0 < on_tip.sum() < 20
+    assert len(rows) > 500
+    np.testing.assert_allclose(found[~on_tip], expected[~on_tip], atol=2e-4)

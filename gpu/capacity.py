@@ -29,9 +29,11 @@ from .world_light import world_lights
 
 GIB = 2 ** 30
 
-CAMERA_BYTES_PER_PIXEL = 4 * 16 + 16 + 8 + 4
+CAMERA_BYTES_PER_PIXEL = 4 * 16 + 16 + 8 + 4 + 4
 """Direct, its mean over the sets, indirect and combined (RGBA32F), the G-buffer's packed
-texel (RGBA32UI), its glossy texel (RGBA16UI: F0, roughness and metallic) and depth."""
+texel (RGBA32UI), its glossy texel (RGBA16UI: F0, roughness and metallic), depth and the
+triangle seen (R32UI)."""
+IMAGE_COLOUR_BYTES_PER_PIXEL = 8  # the colour of the images seen (RGBA16F), in a scene with images
 SEEN_POINTS_BYTES = VIEW_LATTICE ** 2 * 16  # gpu/shade.py seen_points' buffer
 DEBUG_BYTES_PER_PIXEL = 2 * 16        # VPL Splats and Warp Status (RGBA32F)
 REFLECTION_BYTES_PER_PIXEL = 16       # the Reflections image of a scene with glossy surfaces (RGBA32F)
@@ -104,6 +106,7 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     pixels = s.width * s.height
     warped = s.method in WARPED_METHODS
     camera = pixels * (CAMERA_BYTES_PER_PIXEL + DISPLAY_BYTES_PER_PIXEL * display
+                       + IMAGE_COLOUR_BYTES_PER_PIXEL * bool(scene.images)
                        + DEBUG_BYTES_PER_PIXEL * any(name in DEBUG_PASS_NAMES for name in passes))
     mapped = mapped_lights(s, scene)
     atlases = [face_atlas_size(map_face_count(light, map_method(s.method)), s.rsm_resolution) for light in mapped]

@@ -115,6 +115,7 @@ class MeshBuffer:
         self.transmits = scene.transmission is not None
         self.glc = glc
         self.images = SurfaceImages(glc.gl, scene.images)
+        self.textured = bool(scene.images)  # some surface has an image
         self.triangle_count = count
         self.vertex_count = count * 3
         self.camera_triangles = scene.camera_triangles or (0, count)

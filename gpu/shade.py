@@ -24,9 +24,12 @@ class FrameTargets:
 
     The G-buffer is a depth texture and one packed RGBA32UI texel per pixel (normal and
     albedo, shaders/gbuffer.glsl), 20 bytes a pixel where position, normal and albedo as
-    float images would take 52: the H100 has few raster units, and the G-buffer is most of
-    a camera move (docs/performance.md). A second texel (RGBA16UI, `specular`) holds the
-    glossy reflection: F0, roughness and metallic.
+    float images would take 52. A second texel (RGBA16UI, `specular`) holds the glossy
+    reflection: F0, roughness and metallic. The raster writes neither: only the depth, the
+    triangle each pixel sees (R32UI, `triangles`) and, in a scene with images, their colour
+    (RGBA16F, `image_colours`); a compute pass makes the texels from them (render_gbuffer):
+    the H100 has few raster units, and what they write per pixel counts
+    (docs/performance.md, "Raster passes").
     """
 
     def __init__(self, gl, width, height):
@@ -38,18 +41,20 @@ class FrameTargets:
         self.direct, self.direct_mean, self.indirect, self.combined = (gl.texture(self.size, 4, dtype="f4")
                                                                        for _ in range(4))
         self.surface = gl.texture(self.size, 4, dtype="u4")
+        self.triangles = gl.texture(self.size, 1, dtype="u4")
         self.specular = gl.texture(self.size, 4, dtype="u2")
         self.depth = gl.depth_texture(self.size)
         if gl.error == "GL_OUT_OF_MEMORY":  # within the limits yet refused: llvmpipe makes no image of 1.5 GiB
-            for texture in (self.direct, self.direct_mean, self.indirect, self.combined, self.surface, self.specular,
-                            self.depth):
+            for texture in (self.direct, self.direct_mean, self.indirect, self.combined, self.surface, self.triangles,
+                            self.specular, self.depth):
                 texture.release()
             raise LPVError(f"{gl.info['GL_RENDERER']} cannot make {width} x {height} images (GL_OUT_OF_MEMORY); "
                            f"lower the resolution.")
-        for texture in (self.surface, self.specular, self.depth):
+        for texture in (self.surface, self.triangles, self.specular, self.depth):
             texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self.depth.compare_func = ""
-        self.framebuffer = gl.framebuffer(color_attachments=[self.surface], depth_attachment=self.depth)
+        self.framebuffer = gl.framebuffer(color_attachments=[self.triangles], depth_attachment=self.depth)
+        self.image_colours = self.image_framebuffer = None  # the colour of surfaces' images, made on first use
         self.direct_framebuffer = gl.framebuffer(color_attachments=[self.direct])
         self.display = None  # the composite as RGBA rows, made on a viewport's first request
         self.seen = gl.buffer(reserve=VIEW_LATTICE * VIEW_LATTICE * 16)  # seen_points' positions
@@ -60,6 +65,16 @@ class FrameTargets:
         self.passing_tint = self.tint_framebuffer = None  # transmitting surfaces' tint, made on first use
         self.reflections = None  # the light glossy surfaces reflect of their surroundings, made on first use
         self.reflecting = False  # whether the last composite wrote the reflections
+
+    def image_colour_images(self):
+        """The image colours the camera sees and the G-buffer's framebuffer that writes them
+        beside the triangles, made on first use."""
+        if self.image_colours is None:
+            self.image_colours = self.gl.texture(self.size, 4, dtype="f2")
+            self.image_colours.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            self.image_framebuffer = self.gl.framebuffer(color_attachments=[self.triangles, self.image_colours],
+                                                         depth_attachment=self.depth)
+        return self.image_colours, self.image_framebuffer
 
     def debug_images(self):
         """The VPL Splats and Warp Status images, and the framebuffer the splats are drawn
@@ -140,7 +155,8 @@ class FrameTargets:
 
     def resources(self):
         """Every texture and buffer made so far (the display and debug ones on request)."""
-        return tuple(resource for resource in (self.depth, self.surface, self.specular, self.direct, self.direct_mean, self.indirect,
+        return tuple(resource for resource in (self.depth, self.surface, self.triangles, self.image_colours,
+                                               self.specular, self.direct, self.direct_mean, self.indirect,
                                                self.combined,
                                                self.seen, self.display, self.vpl_splats, self.warp_status, self.glow,
                                                self.glow_sums, self.glow_discs,
@@ -150,7 +166,8 @@ class FrameTargets:
     def release(self):
         self.framebuffer.release()
         self.direct_framebuffer.release()
-        for framebuffer in (self.splat_framebuffer, self.glow_framebuffer, self.tint_framebuffer):
+        for framebuffer in (self.image_framebuffer, self.splat_framebuffer, self.glow_framebuffer,
+                            self.tint_framebuffer):
             if framebuffer is not None:
                 framebuffer.release()
         for resource in self.resources():
@@ -186,35 +203,40 @@ def render_gbuffer(glc, mesh, camera, targets, pattern=0):
     (MeshBuffer.show_open_sides); tint what is seen through transmitting surfaces. Clears
     the direct image for the lights to add into."""
     gl = glc.gl
-    program = glc.program("raster", "gbuffer", **cut_out_defines(mesh))
-    targets.framebuffer.use()
-    targets.framebuffer.viewport = (0, 0, *targets.size)
-    clear_depth_only(targets.framebuffer)
+    imaged = {"SURFACE_IMAGES": 1} if mesh.textured else {}
+    program = glc.program("raster", "gbuffer", **cut_out_defines(mesh), **imaged)
+    framebuffer = targets.image_colour_images()[1] if imaged else targets.framebuffer
+    framebuffer.use()
+    framebuffer.viewport = (0, 0, *targets.size)
+    clear_depth_only(framebuffer)
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
     uniforms = {"view_projection": camera.projection @ camera.view,
                 "camera_eye": tuple(float(v) for v in camera.eye), "cut_out_pattern": pattern}
     set_uniforms(program, **uniforms)
     mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles, uniforms["view_projection"])
-    resolve_gbuffer(glc, mesh, camera, targets, uniforms["camera_eye"])
+    resolve_gbuffer(glc, mesh, camera, targets, uniforms["camera_eye"], imaged)
     if mesh.transmits:
         tint_seen_through(glc, mesh, targets, uniforms)
     targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
 
 
-def resolve_gbuffer(glc, mesh, camera, targets, camera_eye):
-    """The G-buffer's surface texels from the triangle each pixel sees
-    (shaders/gbuffer_resolve.comp)."""
+def resolve_gbuffer(glc, mesh, camera, targets, camera_eye, imaged):
+    """The G-buffer's surface texels from the triangle each pixel sees (and with
+    `imaged` the colour of its image there; shaders/gbuffer_resolve.comp)."""
     shut = {"SHUT_SIDES": 1} if mesh.open_sides is not None else {}
-    program = glc.compute("gbuffer_resolve", **shut)
+    program = glc.compute("gbuffer_resolve", **shut, **imaged)
     if shut:
         mesh.open_sides.bind_to_storage_buffer(0)
     mesh.buffer.bind_to_storage_buffer(SURFACE_VERTICES_BINDING)
     targets.depth.use(location=0)
-    targets.surface.bind_to_image(0, read=True, write=True)
+    targets.triangles.use(location=1)
+    if imaged:
+        targets.image_colours.use(location=2)
+    targets.surface.bind_to_image(0, read=False, write=True)
     targets.specular.bind_to_image(1, read=False, write=True)
     glc.use_specular_albedo(program, RASTER_UNIT)
-    set_uniforms(program, **gbuffer_uniforms(camera), camera_eye=camera_eye)
+    set_uniforms(program, **gbuffer_uniforms(camera), camera_eye=camera_eye, g_triangles=1, g_image_colours=2)
     dispatch(program, *targets.size)
 
 

@@ -1,23 +1,28 @@
 #version 450 core
 // Camera G-buffer, first half: the depth and, per pixel, the number of the triangle seen
-// (its top bit set where its front faces the camera) and the colour of its image there;
-// gbuffer_resolve.comp makes the surface texels from them. A raster pass spends its time
-// on what each fragment reads and writes, which a GPU with few raster units does slowly
-// (docs/performance.md, "Raster passes"); the image is sampled here, where the pixel's
-// footprint on it is known.
+// (its top bit set where its front faces the camera) and with SURFACE_IMAGES the colour of
+// its image there; gbuffer_resolve.comp makes the surface texels from them. A raster pass
+// spends its time on what each fragment reads and writes, which a GPU with few raster
+// units does slowly (docs/performance.md, "Raster passes"); the image is sampled here,
+// where the pixel's footprint on it is known.
 // With CUT_OUT a pixel the surface does not cover (surface.glsl) shows what is behind it.
 #include "surface.glsl"
 #include "surface_vertices.glsl"
-layout(location = 0) out uvec4 out_seen;
+layout(location = 0) out uint out_triangle;
+#ifdef SURFACE_IMAGES
+layout(location = 1) out vec4 out_image_colour;
+#endif
 
 void main() {
-    vec4 coord = vec4(0.0, 0.0, -1.0, -1.0);
-    coord.z = surface_vertices[3 * VERTEX_FLOATS * surface_triangle + VERTEX_SURFACE + 2];  // one layer a triangle
-    if (coord.z > -0.5) coord = surface_vec4(VERTEX_SURFACE);
 #ifdef CUT_OUT
     if (!surface_covers(surface_vec4(VERTEX_ALBEDO), surface_vec4(VERTEX_SURFACE), surface_vec4(VERTEX_TINT),
                         gl_FragCoord.xy)) discard;
 #endif
-    uint facing = gl_FrontFacing ? 0x80000000u : 0u;
-    out_seen = uvec4(uint(surface_triangle) | facing, floatBitsToUint(surface_image(coord)));
+    out_triangle = uint(surface_triangle) | (gl_FrontFacing ? 0x80000000u : 0u);
+#ifdef SURFACE_IMAGES
+    vec4 coord = vec4(0.0, 0.0, -1.0, -1.0);
+    coord.z = surface_vertices[3 * VERTEX_FLOATS * surface_triangle + VERTEX_SURFACE + 2];  // one layer a triangle
+    if (coord.z > -0.5) coord = surface_vec4(VERTEX_SURFACE);
+    out_image_colour = vec4(surface_image(coord), 1.0);
+#endif
 }

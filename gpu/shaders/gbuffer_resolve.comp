@@ -2,7 +2,7 @@
 // Camera G-buffer, second half: at each pixel gbuffer.frag drew, the surface of the
 // triangle it saw, where the pixel's ray meets it, read from the vertex buffer
 // (vertex_layout.glsl): the normal turned toward the camera (surfaces are two-sided) and
-// the albedo (times the image's colour gbuffer.frag sampled) darkened by the glossy layer
+// the albedo (with SURFACE_IMAGES times the image's colour gbuffer.frag sampled) darkened by the glossy layer
 // over it toward the camera (specular.glsl), packed into one texel (gbuffer.glsl), and
 // the glossy reflection (F0, roughness, metallic) in a second.
 // With SHUT_SIDES the side of a solid's face that looks into it (gpu/closed_meshes.py: no
@@ -16,8 +16,12 @@ layout(std430, binding = 5) readonly buffer SurfaceVertices { float vertices[]; 
 #ifdef SHUT_SIDES
 layout(std430, binding = 0) readonly buffer OpenSides { uint open_sides[]; };  // a byte a triangle
 #endif
-layout(rgba32ui, binding = 0) uniform uimage2D g_surface_image;  // gbuffer.frag's triangle and image colour
+layout(rgba32ui, binding = 0) uniform writeonly uimage2D g_surface_image;
 layout(rgba16ui, binding = 1) uniform writeonly uimage2D g_specular_image;
+uniform usampler2D g_triangles;  // gbuffer.frag's
+#ifdef SURFACE_IMAGES
+uniform sampler2D g_image_colours;
+#endif
 uniform vec4 camera_eye;  // the camera's position, w 1; orthographic: the direction toward it, w 0
 
 int first_vertex;  // the triangle's first vertex's first float
@@ -58,8 +62,8 @@ void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, imageSize(g_surface_image)))) return;
     if (texelFetch(g_depth, pixel, 0).r >= 1.0) return;
-    uvec4 seen = imageLoad(g_surface_image, pixel);
-    int triangle = int(seen.x & 0x7fffffffu);
+    uint seen = texelFetch(g_triangles, pixel, 0).r;
+    int triangle = int(seen & 0x7fffffffu);
     first_vertex = 3 * VERTEX_FLOATS * triangle;
     vec3 p0 = corner_position(0);
     vec3 e1 = corner_position(1) - p0, e2 = corner_position(2) - p0;
@@ -67,7 +71,7 @@ void main() {
     vec3 n = normalize(interpolated4(w, VERTEX_NORMAL).xyz);
 #ifdef SHUT_SIDES
     uint sides = open_sides[triangle >> 2] >> (8 * (triangle & 3));
-    if ((sides & ((seen.x >> 31) == 1u ? 1u : 2u)) == 0u) {  // FRONT: the side its winding faces
+    if ((sides & ((seen >> 31) == 1u ? 1u : 2u)) == 0u) {  // FRONT: the side its winding faces
         imageStore(g_surface_image, pixel, gbuffer_pack(n, vec3(0.0)));
         imageStore(g_specular_image, pixel, gbuffer_pack_specular(vec3(0.0), 1.0, 0.0));
         return;
@@ -76,7 +80,10 @@ void main() {
     vec3 position = p0 + w.x * e1 + w.y * e2;
     vec3 v = normalize(camera_eye.xyz - position * camera_eye.w);
     if (dot(n, v) < 0.0) n = -n;
-    vec3 albedo = interpolated4(w, VERTEX_ALBEDO).rgb * uintBitsToFloat(seen.yzw);
+    vec3 albedo = interpolated4(w, VERTEX_ALBEDO).rgb;
+#ifdef SURFACE_IMAGES
+    albedo *= texelFetch(g_image_colours, pixel, 0).rgb;
+#endif
     vec4 specular = interpolated4(w, VERTEX_SPECULAR);
     float metallic = interpolated(w, VERTEX_METALLIC);
     float kept = diffuse_under_layer(specular.rgb, metallic, specular.a, max(dot(n, v), 1e-4));

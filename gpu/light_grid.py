@@ -68,7 +68,6 @@ class LightGrid:
         self.count = gl.buffer(reserve=16)
         self.keys = self.sums = self.emitters = self.blocks = None
         self.capacity = 0
-        self.emitter_count = 0
 
     def _cluster_buffers(self, emitter_total):
         capacity = cluster_capacity(emitter_total)
@@ -136,8 +135,11 @@ class LightGrid:
         program = self.glc.compute("light_grid_gather", UNSHADOWED=int(bool(self.unshadowed)), MARCH_LEVELS=len(layers))
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
-        self.emitter_count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
-        batch = march_batch(self.occupancy.voxels, len(layers), GATHER_LANES)
+        if self.glc.is_software:  # llvmpipe ends long loop nests: batches its limit allows, as many as there are
+            count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
+            batch = march_batch(self.occupancy.voxels, len(layers), GATHER_LANES)
+        else:  # one dispatch, which stops at the count: the host does not wait for it
+            count = batch = max(self.capacity, 1)
         self.receiving.use(location=2)  # after the occupancy's two volumes
         set_uniforms(program, batch=batch, singularity_bound=singularity_bound, receiving=2)
         for layer, (grid, irradiance) in enumerate(zip(self.grids, self.irradiance)):
@@ -149,7 +151,7 @@ class LightGrid:
                                                                   first_unit=0),
                          grid_origin=grid.origin, cell_size=grid.cell_size, grid_size=grid.size, first_level=level,
                          layer=layer)
-            for first in range(0, max(self.emitter_count, 1), batch):
+            for first in range(0, max(count, 1), batch):
                 set_uniforms(program, first_emitter=first)
                 dispatch(program, grid.size ** 3, local=(1,))  # a workgroup per cell
 

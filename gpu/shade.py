@@ -305,8 +305,8 @@ def render_glow(glc, mesh, camera, targets, point_emitters=None):
 
 def glow_points(glc, targets, framebuffer, view_projection, camera, buffer, count):
     """The glow of `count` point emitters (emitter rows in `buffer`) into the glow image:
-    those smaller than a pixel added into their pixels by a compute pass, the others drawn
-    as discs (shaders/point_glow.comp, emitter_glow.vert)."""
+    specks and discs a few pixels wide added into their pixels by a compute pass, the
+    larger discs drawn (shaders/point_glow.comp, emitter_glow.vert)."""
     gl = glc.gl
     sums, discs = targets.point_glow_buffers(count)
     zero_buffer(glc, sums)

@@ -1,6 +1,6 @@
 #version 450 core
 // A point emitter's disc (emitter_glow.glsl), drawn as a round point of its projected size:
-// the emitters point_glow.comp listed as larger than a pixel, one point each.
+// the emitters point_glow.comp listed as wider than it adds itself, one point each.
 #include "common.glsl"
 #include "emitter.glsl"
 #include "emitter_glow.glsl"

@@ -42,8 +42,9 @@ STAGED_FLOATS_PER_TRIANGLE = 9 + sum(width for _, width in SURFACE_ARRAYS)
 """Floats a triangle uploads at most (normals, every surface array) to be interleaved and
 released (gpu/capacity.py counts them beside the vertex buffer and the positions)."""
 POSITION_BYTES = 3 * 4
-"""A vertex's bytes in the positions the raster passes draw from: fetching them from the
-interleaved vertex (23 floats apart) took twice as long (docs/performance.md, "Raster passes")."""
+"""A vertex's bytes in the positions the raster passes draw from: fetched from the
+interleaved vertex, 23 floats apart, each position cost a memory line of its own
+(docs/performance.md, "Raster passes")."""
 
 
 def surface_arrays(scene):

@@ -15,14 +15,12 @@ layout(location = 1) out vec4 out_image_colour;
 
 void main() {
 #ifdef CUT_OUT
-    if (!surface_covers(surface_vec4(VERTEX_ALBEDO), surface_vec4(VERTEX_SURFACE), surface_vec4(VERTEX_TINT),
-                        gl_FragCoord.xy)) discard;
+    if (!surface_covers(surface_vec4(VERTEX_ALBEDO), surface_point(), surface_vec4(VERTEX_TINT), gl_FragCoord.xy))
+        discard;
 #endif
     out_triangle = uint(surface_triangle) | (gl_FrontFacing ? 0x80000000u : 0u);
 #ifdef SURFACE_IMAGES
-    vec4 coord = vec4(0.0, 0.0, -1.0, -1.0);
-    coord.z = surface_vertices[3 * VERTEX_FLOATS * surface_triangle + VERTEX_SURFACE + 2];  // one layer a triangle
-    if (coord.z > -0.5) coord = surface_vec4(VERTEX_SURFACE);
-    out_image_colour = vec4(surface_image(coord), 1.0);
+    float layer = surface_vertices[3 * VERTEX_FLOATS * surface_triangle + VERTEX_SURFACE + 2];  // one a triangle
+    out_image_colour = vec4(layer < -0.5 ? vec3(1.0) : surface_image(surface_point()), 1.0);
 #endif
 }

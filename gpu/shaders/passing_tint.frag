@@ -17,7 +17,7 @@ layout(location = 3) out vec4 out_3;
 
 void main() {
     vec3 tint;
-    if (!surface_passing_tint(surface_vec4(VERTEX_ALBEDO), surface_vec4(VERTEX_SURFACE), surface_vec4(VERTEX_TINT),
+    if (!surface_passing_tint(surface_vec4(VERTEX_ALBEDO), surface_point(), surface_vec4(VERTEX_TINT),
                               gl_FragCoord.xy, tint)) discard;
 #if TINT_ATTACHMENT == 2
     out_0 = vec4(1.0);

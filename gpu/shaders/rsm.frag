@@ -27,9 +27,9 @@ layout(location = 3) out vec4 out_tint;      // rgb what the light passing trans
 
 void main() {
     vec4 surface_albedo = surface_vec4(VERTEX_ALBEDO);
-    vec4 surface_coord = surface_vec4(VERTEX_SURFACE);
+    SurfacePoint here = surface_point();
 #ifdef CUT_OUT
-    if (!surface_covers(surface_albedo, surface_coord, surface_vec4(VERTEX_TINT), gl_FragCoord.xy)) discard;
+    if (!surface_covers(surface_albedo, here, surface_vec4(VERTEX_TINT), gl_FragCoord.xy)) discard;
 #endif
     vec3 world_position = surface_vec3(0);
     vec3 w;
@@ -54,7 +54,7 @@ void main() {
     }
     out_position = vec4(world_position, max(dist, 1e-30));
     out_normal = vec4(n, area);
-    vec3 colour = surface_colour(surface_albedo, surface_coord);
+    vec3 colour = surface_colour(surface_albedo, here);
 #ifdef GLOSSY_LAYER
     vec4 specular = surface_vec4(VERTEX_SPECULAR);  // F0 rgb, roughness
     colour = bounce_colour(colour, specular.rgb, surface_float(VERTEX_METALLIC), specular.a, abs(dot(n, w)));

@@ -1,24 +1,60 @@
 // A surface's diffuse colour and what of it lets light through (mesh_buffer.py,
 // surface_images.py, docs/method.md "Alpha and transmission"). `albedo` is the vertex
-// albedo and alpha, `coord` the surface coordinate (u, v, image layer, alpha image layer;
-// layer -1: none), `transmission` the tint and the share transmitted of what is not cut out.
+// albedo and alpha, a SurfacePoint where its images are read, `transmission` the tint and
+// the share transmitted of what is not cut out.
 uniform sampler2DArray surface_images;
 uniform uint cut_out_pattern;  // the VPL pattern: hashed cut-outs differ from one pattern to the next
 
-// The colour of the surface's image at `coord` (1 where it has none).
-vec3 surface_image(vec4 coord) {
-    if (coord.z < -0.5) return vec3(1.0);
-    return texture(surface_images, vec3(coord.xy, floor(coord.z + 0.5))).rgb;
+// The surface coordinate (u, v, image layer, alpha image layer; layer -1: none) and its
+// change a pixel along x and along y: the footprint its images are filtered over.
+struct SurfacePoint {
+    vec4 coord;
+    vec2 along_x;
+    vec2 along_y;
+};
+
+// Level `level` of image `layer` at `uv`, bilinear, repeating.
+vec4 surface_bilinear(vec2 uv, int layer, int level) {
+    ivec2 size = textureSize(surface_images, level).xy;
+    vec2 at = uv * vec2(size) - 0.5;
+    ivec2 low = ivec2(floor(at));
+    vec2 f = at - vec2(low);
+    ivec2 x = (ivec2(low.x, low.x + 1) % size.x + size.x) % size.x;
+    ivec2 y = (ivec2(low.y, low.y + 1) % size.y + size.y) % size.y;
+    return mix(mix(texelFetch(surface_images, ivec3(x.x, y.x, layer), level),
+                   texelFetch(surface_images, ivec3(x.y, y.x, layer), level), f.x),
+               mix(texelFetch(surface_images, ivec3(x.x, y.y, layer), level),
+                   texelFetch(surface_images, ivec3(x.y, y.y, layer), level), f.x), f.y);
 }
 
-vec3 surface_colour(vec4 albedo, vec4 coord) {
-    return albedo.rgb * surface_image(coord);
+// The image's colour at `s`, filtered between the two levels GL's isotropic rule picks for
+// its footprint (trilinear, as the sampler would). Fetched texel by texel: llvmpipe's
+// sampler works out a level per pixel quad from its four coordinates even when told the
+// level, and its helper invocations read nothing from storage buffers, so a quad that
+// crosses a triangle's edge sampled a blurred level.
+vec4 surface_texel(SurfacePoint s, float layer) {
+    vec2 texels = vec2(textureSize(surface_images, 0).xy);
+    float top = float(textureQueryLevels(surface_images) - 1);
+    float level = clamp(log2(max(max(length(s.along_x * texels), length(s.along_y * texels)), 1e-30)), 0.0, top);
+    int below = int(level), image = int(floor(layer + 0.5));
+    return mix(surface_bilinear(s.coord.xy, image, below), surface_bilinear(s.coord.xy, image, min(below + 1, int(top))),
+               level - float(below));
+}
+
+// The colour of the surface's image at `s` (1 where it has none).
+vec3 surface_image(SurfacePoint s) {
+    if (s.coord.z < -0.5) return vec3(1.0);
+    return surface_texel(s, s.coord.z).rgb;
+}
+
+vec3 surface_colour(vec4 albedo, SurfacePoint s) {
+    return albedo.rgb * surface_image(s);
 }
 
 // What of the light meeting the surface is not cut out: alpha times its image's alpha.
-float surface_alpha(vec4 albedo, vec4 coord) {
-    if (coord.w < -0.5) return albedo.a;
-    return albedo.a * texture(surface_images, vec3(coord.xy, floor(coord.w + 0.5))).a;
+float surface_alpha(vec4 albedo, SurfacePoint s) {
+    if (s.coord.w < -0.5) return albedo.a;
+    return albedo.a * surface_texel(s, s.coord.w).a;
 }
 
 uint cut_out_hash(uint x) {
@@ -39,15 +75,15 @@ float cut_out_threshold(vec2 frag_coord) {
 
 // Whether the surface is opaque at this pixel: its opaque share, alpha times what it
 // does not transmit, against the hashed threshold (1 always, 0 never).
-bool surface_covers(vec4 albedo, vec4 coord, vec4 transmission, vec2 frag_coord) {
-    return surface_alpha(albedo, coord) * (1.0 - transmission.w) > cut_out_threshold(frag_coord);
+bool surface_covers(vec4 albedo, SurfacePoint s, vec4 transmission, vec2 frag_coord) {
+    return surface_alpha(albedo, s) * (1.0 - transmission.w) > cut_out_threshold(frag_coord);
 }
 
 // Where the surface does not cover the pixel, what multiplies the light passing it: the
 // cut-out part untinted, the transmitted part tinted, as shares of what passes. False
 // where it covers the pixel or passes everything untouched.
-bool surface_passing_tint(vec4 albedo, vec4 coord, vec4 transmission, vec2 frag_coord, out vec3 tint) {
-    float alpha = surface_alpha(albedo, coord);
+bool surface_passing_tint(vec4 albedo, SurfacePoint s, vec4 transmission, vec2 frag_coord, out vec3 tint) {
+    float alpha = surface_alpha(albedo, s);
     float opaque = alpha * (1.0 - transmission.w);
     if (opaque > cut_out_threshold(frag_coord) || transmission.w <= 0.0) return false;
     tint = ((1.0 - alpha) + alpha * transmission.w * transmission.rgb) / max(1.0 - opaque, 1e-6);

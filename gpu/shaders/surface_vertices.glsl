@@ -2,6 +2,7 @@
 // gpu/mesh_buffer.py) by the triangle's number and the fragment's barycentric weights:
 // the rasterizer interpolates two floats, not every attribute, which on a GPU with few
 // raster units costs more than the whole fragment (docs/performance.md, "Raster passes").
+#include "surface.glsl"
 #include "vertex_layout.glsl"
 layout(std430, binding = 5) readonly buffer SurfaceVertices { float surface_vertices[]; };
 flat in int surface_triangle;
@@ -20,4 +21,17 @@ vec3 surface_vec3(int offset) {
 
 vec4 surface_vec4(int offset) {
     return vec4(surface_vec3(offset), surface_float(offset + 3));
+}
+
+// The surface coordinate here and its change a pixel along x and along y, from the
+// derivatives of the weights (inputs, which helper invocations have too: llvmpipe's give
+// no storage reads, so a derivative of what the fragment reads is wrong where a pixel
+// quad crosses a triangle's edge) and the corners' coordinates.
+SurfacePoint surface_point() {
+    int at = 3 * VERTEX_FLOATS * surface_triangle + VERTEX_SURFACE;
+    vec2 c0 = vec2(surface_vertices[at], surface_vertices[at + 1]);
+    vec2 c1 = vec2(surface_vertices[at + VERTEX_FLOATS], surface_vertices[at + VERTEX_FLOATS + 1]) - c0;
+    vec2 c2 = vec2(surface_vertices[at + 2 * VERTEX_FLOATS], surface_vertices[at + 2 * VERTEX_FLOATS + 1]) - c0;
+    vec2 dx = dFdx(surface_weights), dy = dFdy(surface_weights);
+    return SurfacePoint(surface_vec4(VERTEX_SURFACE), c1 * dx.x + c2 * dx.y, c1 * dy.x + c2 * dy.y);
 }

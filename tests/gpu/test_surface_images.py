@@ -112,3 +112,36 @@ def test_a_surface_bounces_its_texture_mean_colour():
     pixels = np.zeros((8, 8, 4), np.float32)
     pixels[:, :2] = (0.2, 0.4, 0.6, 1.0)  # a quarter kept by its alpha; the rest cut out (and black)
     assert np.allclose(SurfaceImage("leaf", pixels).mean_colour(), (0.2, 0.4, 0.6))
+
+
+def test_a_magnified_image_stays_sharp_where_pixel_quads_cross_a_triangles_edge(glc):
+    """Every pixel of a floor of two triangles, its image of eight stripes magnified six
+    times, sees the image's nearest level bilinear at its UV, on the triangles' shared
+    edge too (llvmpipe sampled a blurred level there when a quad's helper pixels read
+    their coordinates from the vertex buffer: shaders/surface.glsl)."""
+    from lpv_preview.gpu.mesh_buffer import MeshBuffer
+    from lpv_preview.gpu.shade import FrameTargets, read_gbuffer_record, render_gbuffer
+    pixels = np.repeat(np.linspace(0.05, 0.95, 8, dtype=np.float32)[:, None, None], 8, axis=1).repeat(3, axis=2)
+    triangles = np.array(quad(-2, 2, -2, 2), dtype=np.float32)
+    uv = np.array([[(0, 0), (1, 0), (1, 1)], [(0, 0), (1, 1), (0, 1)]], dtype=np.float32)
+    camera = Camera.look_at((0.3, 0.2, 7), (0.3, 0.2, 0), up=(0, 1, 0), fov_y=np.radians(40), near=0.1, far=20)
+    scene = Scene(triangles, np.zeros_like(triangles), np.ones((2, 3), np.float32),
+                  [Light("SUN", (0, 0, 5), (0, 0, -1), (0, 1, 0), (1, 1, 1), 3.0)], camera, uvs=uv,
+                  image_layers=np.zeros(2, np.int16), images=[SurfaceImage("stripes", pixels)]).sanitize()
+    mesh, targets = MeshBuffer(glc, scene), FrameTargets(glc.gl, 64, 64)
+    try:
+        render_gbuffer(glc, mesh, scene.camera, targets)
+        record = read_gbuffer_record(glc, targets, scene.camera)
+    finally:
+        mesh.release()
+        targets.release()
+    layer = resampled(pixels, layer_size(scene.images))[..., 0]
+    size = layer.shape[0]
+    rows, columns = np.nonzero(record.seen)
+    points = record.position[rows, columns]
+    v = (points[:, 1] + 2) / 4 * size - 0.5  # the image's rows run along y; the floor is uniform along x
+    low = np.floor(v).astype(int)
+    f = v - low
+    expected = (1 - f) * layer[np.mod(low, size), 0] + f * layer[np.mod(low + 1, size), 0]
+    assert len(rows) > 1000
+    np.testing.assert_allclose(record.albedo[rows, columns, 0], expected, atol=2e-3)

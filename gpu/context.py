@@ -174,6 +174,8 @@ class GLContext:
     def program(self, vertex, fragment, geometry=None, tessellation=None, **defines):
         """The program of `shaders/<vertex>.vert`, `<fragment>.frag`, optionally
         `<geometry>.geom` and `<tessellation>.tesc/.tese`, compiled once."""
+        if self.is_software:  # shaders/surface.glsl filters images texel by texel there
+            defines = {**defines, "TEXEL_FILTER": 1}
         key = (vertex, fragment, geometry, tessellation, tuple(sorted(defines.items())))
         if key not in self._programs:
             stages = {"vertex_shader": load_shader(f"{vertex}.vert", defines),

@@ -13,6 +13,7 @@ struct SurfacePoint {
     vec2 along_y;
 };
 
+#ifdef TEXEL_FILTER
 // Level `level` of image `layer` at `uv`, bilinear, repeating.
 vec4 surface_bilinear(vec2 uv, int layer, int level) {
     ivec2 size = textureSize(surface_images, level).xy;
@@ -27,11 +28,12 @@ vec4 surface_bilinear(vec2 uv, int layer, int level) {
                    texelFetch(surface_images, ivec3(x.y, y.y, layer), level), f.x), f.y);
 }
 
-// The image's colour at `s`, filtered between the two levels GL's isotropic rule picks for
-// its footprint (trilinear, as the sampler would). Fetched texel by texel: llvmpipe's
-// sampler works out a level per pixel quad from its four coordinates even when told the
-// level, and its helper invocations read nothing from storage buffers, so a quad that
-// crosses a triangle's edge sampled a blurred level.
+// The image's colour at `s`, filtered over its footprint. With TEXEL_FILTER (llvmpipe,
+// gpu/context.py) trilinear between the two levels GL's isotropic rule picks, fetched
+// texel by texel: llvmpipe's sampler works out a level per pixel quad from its four
+// coordinates even when told the level or the gradients, and its helper invocations read
+// nothing from storage buffers, so a quad that crosses a triangle's edge sampled a
+// blurred level.
 vec4 surface_texel(SurfacePoint s, float layer) {
     vec2 texels = vec2(textureSize(surface_images, 0).xy);
     float top = float(textureQueryLevels(surface_images) - 1);
@@ -40,6 +42,11 @@ vec4 surface_texel(SurfacePoint s, float layer) {
     return mix(surface_bilinear(s.coord.xy, image, below), surface_bilinear(s.coord.xy, image, min(below + 1, int(top))),
                level - float(below));
 }
+#else
+vec4 surface_texel(SurfacePoint s, float layer) {
+    return textureGrad(surface_images, vec3(s.coord.xy, floor(layer + 0.5)), s.along_x, s.along_y);
+}
+#endif
 
 // The colour of the surface's image at `s` (1 where it has none).
 vec3 surface_image(SurfacePoint s) {

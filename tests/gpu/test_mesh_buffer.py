@@ -6,6 +6,8 @@ import numpy as np
 from lpv_preview.gpu.mesh_buffer import VERTEX_FLOATS, VERTEX_SLICES, MeshBuffer
 from lpv_preview.gpu.scene import Camera, Light, Scene
 
+from .gbuffers import drawn_gbuffer
+
 LAMP = Light("POINT", (0.0, 0.0, 3.0), (0, 0, -1), (0, 1, 0), (1, 1, 1), 10.0)
 
 
@@ -66,7 +68,6 @@ def test_each_pixel_sees_the_corners_mixed_where_its_ray_meets_the_triangle(glc)
     perspective, its corners red, green and blue, gives each pixel the corners' colours
     weighted where the pixel's ray meets it, as perspective-correct interpolation does;
     the pixel that sees the tip of a second triangle gets that one's colour."""
-    from lpv_preview.gpu.shade import FrameTargets, read_gbuffer_record, render_gbuffer
     triangles = np.array([[(-3, 0, 0), (3, 0, 0), (0, 9, 0)], [(-0.2, 2, 0.5), (0.2, 2, 0.5), (0, 2.3, 0.5)]],
                          dtype=np.float32)
     normals = np.tile(np.float32([0, 0, 1]), (2, 3, 1))
@@ -74,13 +75,7 @@ def test_each_pixel_sees_the_corners_mixed_where_its_ray_meets_the_triangle(glc)
     camera = Camera.look_at((0.5, -3, 2), (0, 4, 0), aspect=4 / 3)
     scene = Scene(triangles, normals, np.ones((2, 3), np.float32), [LAMP], camera, vertex_colors=colours).sanitize()
     assert not np.any(scene.world_origin)
-    mesh, targets = MeshBuffer(glc, scene), FrameTargets(glc.gl, 64, 48)
-    try:
-        render_gbuffer(glc, mesh, scene.camera, targets)
-        record = read_gbuffer_record(glc, targets, scene.camera)
-    finally:
-        mesh.release()
-        targets.release()
+    record = drawn_gbuffer(glc, scene, (64, 48))
     rows, columns = np.nonzero(record.seen)
     inverse = np.linalg.inv(camera.projection @ camera.view)
     ndc = np.stack([(columns + 0.5) / 32 - 1, 1 - (rows + 0.5) / 24, np.full(len(rows), -1.0), np.ones(len(rows))])

@@ -10,6 +10,8 @@ from lpv_preview.gpu.scene_file import load_scene, save_scene
 from lpv_preview.gpu.settings import Settings
 from lpv_preview.gpu.surface_images import layer_size, resampled
 
+from .gbuffers import drawn_gbuffer
+
 SETTINGS = Settings(width=64, height=64, rsm_resolution=128, vpls_per_light=512, lpv_resolution=16, method="cm")
 RED, GREEN = (0.8, 0.05, 0.05), (0.05, 0.8, 0.05)
 
@@ -119,8 +121,6 @@ def test_a_magnified_image_stays_sharp_where_pixel_quads_cross_a_triangles_edge(
     times, sees the image's nearest level bilinear at its UV, on the triangles' shared
     edge too (llvmpipe sampled a blurred level there when a quad's helper pixels read
     their coordinates from the vertex buffer: shaders/surface.glsl)."""
-    from lpv_preview.gpu.mesh_buffer import MeshBuffer
-    from lpv_preview.gpu.shade import FrameTargets, read_gbuffer_record, render_gbuffer
     pixels = np.repeat(np.linspace(0.05, 0.95, 8, dtype=np.float32)[:, None, None], 8, axis=1).repeat(3, axis=2)
     triangles = np.array(quad(-2, 2, -2, 2), dtype=np.float32)
     uv = np.array([[(0, 0), (1, 0), (1, 1)], [(0, 0), (1, 1), (0, 1)]], dtype=np.float32)
@@ -128,13 +128,7 @@ def test_a_magnified_image_stays_sharp_where_pixel_quads_cross_a_triangles_edge(
     scene = Scene(triangles, np.zeros_like(triangles), np.ones((2, 3), np.float32),
                   [Light("SUN", (0, 0, 5), (0, 0, -1), (0, 1, 0), (1, 1, 1), 3.0)], camera, uvs=uv,
                   image_layers=np.zeros(2, np.int16), images=[SurfaceImage("stripes", pixels)]).sanitize()
-    mesh, targets = MeshBuffer(glc, scene), FrameTargets(glc.gl, 64, 64)
-    try:
-        render_gbuffer(glc, mesh, scene.camera, targets)
-        record = read_gbuffer_record(glc, targets, scene.camera)
-    finally:
-        mesh.release()
-        targets.release()
+    record = drawn_gbuffer(glc, scene, (64, 64))
     layer = resampled(pixels, layer_size(scene.images))[..., 0]
     size = layer.shape[0]
     rows, columns = np.nonzero(record.seen)

@@ -24,11 +24,10 @@ import json
 import numpy as np
 
 from lpv_preview.bench.synthetic import particle_room, room_scene
-from lpv_preview.bench.viewport_work import EDITS, edited_frames, timed_redraws
+from lpv_preview.bench.viewport_work import EDITS, display_buffer, edited_frames, timed_redraws
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.scene_file import load_scene
 from lpv_preview.gpu.settings import preset_settings
-from lpv_preview.gpu.shade import DISPLAY_CHANNELS
 
 SIZE = (1920, 1080)
 SYNTHETIC = {"room1200k": lambda: room_scene(320), "room1200k_glossy": lambda: glossy(room_scene(320))}
@@ -49,7 +48,7 @@ def main():
     parser.add_argument("--presets", default="defaults,fast,balanced,accurate")
     parser.add_argument("--emitters", type=int, default=1 << 20)
     args = parser.parse_args()
-    display = np.empty(SIZE[0] * SIZE[1] * DISPLAY_CHANNELS, dtype=np.float32)
+    display = display_buffer(preset_settings(None, width=SIZE[0], height=SIZE[1]))
     runs, renderer = {}, None
     presets = args.presets.split(",")
     for name in args.names:

@@ -2,6 +2,7 @@
 (shaders/mesh_interleave.comp) hold each vertex as VERTEX_LAYOUT says, every surface
 array given or left out."""
 import numpy as np
+import pytest
 
 from lpv_preview.gpu.mesh_buffer import VERTEX_FLOATS, VERTEX_SLICES, MeshBuffer
 from lpv_preview.gpu.scene import Camera, Light, Scene
@@ -62,17 +63,22 @@ def test_a_scene_without_surface_arrays_gets_their_defaults(glc):
     np.testing.assert_array_equal(found[..., 9:], np.broadcast_to(defaults, found[..., 9:].shape))
 
 
-def test_each_pixel_sees_the_corners_mixed_where_its_ray_meets_the_triangle(glc):
+@pytest.mark.parametrize("orthographic", [False, True])
+def test_each_pixel_sees_the_corners_mixed_where_its_ray_meets_the_triangle(glc, orthographic):
     """The G-buffer's triangle numbers and the resolve of the surface from them
     (shaders/gbuffer.frag, gbuffer_resolve.comp): a triangle seen obliquely in
-    perspective, its corners red, green and blue, gives each pixel the corners' colours
-    weighted where the pixel's ray meets it, as perspective-correct interpolation does;
-    the pixel that sees the tip of a second triangle gets that one's colour."""
+    perspective (or by an orthographic camera), its corners red, green and blue, gives
+    each pixel the corners' colours weighted where the pixel's ray meets it, as
+    perspective-correct interpolation does; the pixels that see the tip of a second
+    triangle get that one's colour."""
     triangles = np.array([[(-3, 0, 0), (3, 0, 0), (0, 9, 0)], [(-0.2, 2, 0.5), (0.2, 2, 0.5), (0, 2.3, 0.5)]],
                          dtype=np.float32)
     normals = np.tile(np.float32([0, 0, 1]), (2, 3, 1))
     colours = np.array([np.eye(3), np.full((3, 3), 0.5)], dtype=np.float32)
     camera = Camera.look_at((0.5, -3, 2), (0, 4, 0), aspect=4 / 3)
+    if orthographic:  # 6 m across
+        camera = Camera(camera.view, np.diag([1 / 3, 1 / 2.25, -2 / 19.9, 1.0]) + np.array(
+            [[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, -20.1 / 19.9], [0, 0, 0, 0]]))
     scene = Scene(triangles, normals, np.ones((2, 3), np.float32), [LAMP], camera, vertex_colors=colours).sanitize()
     assert not np.any(scene.world_origin)
     record = drawn_gbuffer(glc, scene, (64, 48))

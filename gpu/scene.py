@@ -133,14 +133,6 @@ class Camera:
     def position(self):
         return np.linalg.inv(self.view)[:3, 3]
 
-    @property
-    def eye(self):
-        """The homogeneous point every ray of the camera comes from: its position (w 1), or
-        for an orthographic camera the direction toward it (w 0)."""
-        if float(self.projection[3, 3]) == 1.0:
-            return np.append(self.view[2, :3] / np.linalg.norm(self.view[2, :3]), 0.0)
-        return np.append(self.position, 1.0)
-
     def pixel_angle(self, height):
         """A pixel's width per unit distance in front of the camera, in an image `height`
         pixels tall (orthographic: its width)."""

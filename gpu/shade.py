@@ -56,7 +56,7 @@ class FrameTargets:
         self.framebuffer = gl.framebuffer(color_attachments=[self.triangles], depth_attachment=self.depth)
         self.image_colours = self.image_framebuffer = None  # the colour of surfaces' images, made on first use
         self.direct_framebuffer = gl.framebuffer(color_attachments=[self.direct])
-        self.display = None  # the composite as RGBA rows, made on a viewport's first request
+        self.display = None  # the composite as the viewport's rows, made on its first request
         self.seen = gl.buffer(reserve=VIEW_LATTICE * VIEW_LATTICE * 16)  # seen_points' positions
         self.vpl_splats = self.warp_status = None  # debug passes (gpu/debug_views.py), made on first use
         self.splat_framebuffer = None
@@ -211,17 +211,16 @@ def render_gbuffer(glc, mesh, camera, targets, pattern=0):
     clear_depth_only(framebuffer)
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
-    uniforms = {"view_projection": camera.projection @ camera.view,
-                "camera_eye": tuple(float(v) for v in camera.eye), "cut_out_pattern": pattern}
+    uniforms = {"view_projection": camera.projection @ camera.view, "cut_out_pattern": pattern}
     set_uniforms(program, **uniforms)
     mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles, uniforms["view_projection"])
-    resolve_gbuffer(glc, mesh, camera, targets, uniforms["camera_eye"], imaged)
+    resolve_gbuffer(glc, mesh, camera, targets, imaged)
     if mesh.transmits:
         tint_seen_through(glc, mesh, targets, uniforms)
     targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
 
 
-def resolve_gbuffer(glc, mesh, camera, targets, camera_eye, imaged):
+def resolve_gbuffer(glc, mesh, camera, targets, imaged):
     """The G-buffer's surface texels from the triangle each pixel sees (and with
     `imaged` the colour of its image there; shaders/gbuffer_resolve.comp)."""
     shut = {"SHUT_SIDES": 1} if mesh.open_sides is not None else {}
@@ -236,7 +235,7 @@ def resolve_gbuffer(glc, mesh, camera, targets, camera_eye, imaged):
     targets.surface.bind_to_image(0, read=False, write=True)
     targets.specular.bind_to_image(1, read=False, write=True)
     glc.use_specular_albedo(program, RASTER_UNIT)
-    set_uniforms(program, **gbuffer_uniforms(camera), camera_eye=camera_eye, g_triangles=1, g_image_colours=2)
+    set_uniforms(program, **gbuffer_uniforms(camera), g_triangles=1, g_image_colours=2)
     dispatch(program, *targets.size)
 
 

@@ -20,7 +20,7 @@ void main() {
 #endif
     out_triangle = uint(surface_triangle) | (gl_FrontFacing ? 0x80000000u : 0u);
 #ifdef SURFACE_IMAGES
-    float layer = surface_vertices[3 * VERTEX_FLOATS * surface_triangle + VERTEX_SURFACE + 2];  // one a triangle
+    float layer = vertices[3 * VERTEX_FLOATS * surface_triangle + VERTEX_SURFACE + 2];  // one a triangle
     out_image_colour = vec4(layer < -0.5 ? vec3(1.0) : surface_image(surface_point()), 1.0);
 #endif
 }

@@ -1,26 +1,22 @@
-// The surface at a fragment of a raster pass, read from the vertex buffer (bound at 5,
-// gpu/mesh_buffer.py) by the triangle's number and the fragment's barycentric weights:
+// The surface at a fragment of a raster pass, read from the vertex buffer
+// (triangle_corners.glsl) by the triangle's number and the fragment's barycentric weights:
 // the rasterizer interpolates two floats, not every attribute, which on a GPU with few
 // raster units costs more than the whole fragment (docs/performance.md, "Raster passes").
 #include "surface.glsl"
-#include "vertex_layout.glsl"
-layout(std430, binding = 5) readonly buffer SurfaceVertices { float surface_vertices[]; };
+#include "triangle_corners.glsl"
 flat in int surface_triangle;
 in vec2 surface_weights;  // the weights of the triangle's second and third corners
 
 float surface_float(int offset) {
-    int at = 3 * VERTEX_FLOATS * surface_triangle + offset;
-    return (1.0 - surface_weights.x - surface_weights.y) * surface_vertices[at]
-        + surface_weights.x * surface_vertices[at + VERTEX_FLOATS]
-        + surface_weights.y * surface_vertices[at + 2 * VERTEX_FLOATS];
+    return corner_mix(surface_triangle, surface_weights, offset);
 }
 
 vec3 surface_vec3(int offset) {
-    return vec3(surface_float(offset), surface_float(offset + 1), surface_float(offset + 2));
+    return corner_mix3(surface_triangle, surface_weights, offset);
 }
 
 vec4 surface_vec4(int offset) {
-    return vec4(surface_vec3(offset), surface_float(offset + 3));
+    return corner_mix4(surface_triangle, surface_weights, offset);
 }
 
 // The surface coordinate here and its change a pixel along x and along y, from the
@@ -29,9 +25,9 @@ vec4 surface_vec4(int offset) {
 // quad crosses a triangle's edge) and the corners' coordinates.
 SurfacePoint surface_point() {
     int at = 3 * VERTEX_FLOATS * surface_triangle + VERTEX_SURFACE;
-    vec2 c0 = vec2(surface_vertices[at], surface_vertices[at + 1]);
-    vec2 c1 = vec2(surface_vertices[at + VERTEX_FLOATS], surface_vertices[at + VERTEX_FLOATS + 1]) - c0;
-    vec2 c2 = vec2(surface_vertices[at + 2 * VERTEX_FLOATS], surface_vertices[at + 2 * VERTEX_FLOATS + 1]) - c0;
+    vec2 c0 = vec2(vertices[at], vertices[at + 1]);
+    vec2 c1 = vec2(vertices[at + VERTEX_FLOATS], vertices[at + VERTEX_FLOATS + 1]) - c0;
+    vec2 c2 = vec2(vertices[at + 2 * VERTEX_FLOATS], vertices[at + 2 * VERTEX_FLOATS + 1]) - c0;
     vec2 dx = dFdx(surface_weights), dy = dFdy(surface_weights);
     return SurfacePoint(surface_vec4(VERTEX_SURFACE), c1 * dx.x + c2 * dx.y, c1 * dy.x + c2 * dy.y);
 }

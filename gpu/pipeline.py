@@ -170,7 +170,7 @@ class Pipeline:
         """Render the scene from its camera; returns a Frame with the `passes` asked for
         (read back from the GPU; PASS_NAMES and the debug passes DEBUG_PASS_NAMES, whose
         splat size `display_settings` gives), and with `display_into` (a writable buffer
-        of width x height x 4 float32) the combined image read into it as RGBA rows,
+        of width x height x DISPLAY_CHANNELS float32) the combined image read into it as RGB rows,
         bottom row first: what a viewport draws, read with no copy on the way. A frame
         the driver's limits or the memory free cannot hold is refused before anything of
         it is allocated (capacity.py).

@@ -1,5 +1,5 @@
 #version 450 core
-// Indirect light and the composite; when asked, the composite also as RGBA rows, bottom row
+// Indirect light and the composite; when asked, the composite also as RGB rows, bottom row
 // first, in a buffer (a viewport reads a buffer back several times faster than a texture).
 // The indirect light comes from LEVELS nested grids (gpu/grids.py), each PHASES grids
 // offset by a fraction of a cell (light_grid_levels.glsl). The grids

@@ -14,7 +14,7 @@ from .emitter_grid import CLUSTER_FLOATS, grid_resolution
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .indirect import indirect_method
-from .light_grid import CLUSTER_BYTES, LIGHT_GRID_BYTES_PER_CELL, cluster_capacity
+from .light_grid import LIGHT_GRID_BYTES_PER_CELL, cluster_bytes
 from .occupancy import LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, occupancy_bytes
 from .passes import DEBUG_PASS_NAMES, PASS_NAMES
 from .light_maps import SUN_CASCADES
@@ -92,7 +92,7 @@ def emitter_bytes(s, scene, pixels, lamps):
     n = s.lpv_resolution
     shadows = (2 * s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL
                + occupancy_bytes(s.grid_levels * s.grid_phases, n, VOXELS_PER_CELL)
-               + scene.triangle_count * LARGE_TRIANGLE_BYTES + cluster_capacity(count) * CLUSTER_BYTES) \
+               + scene.triangle_count * LARGE_TRIANGLE_BYTES + cluster_bytes(count, s)) \
         if s.emitter_shadows else 0
     glow = pixels * 12 + scene.point_emitter_count * 4 if scene.point_emitter_count else 0
     return grid + shadows + 2 * pixels * 16 + glow + bounce

@@ -10,8 +10,7 @@ import numpy as np
 
 from .bounces import Generations, light_bounces
 from .emitter_bounce import RECEIVER_BYTES, light_receivers
-from .light_grid import CLUSTER_BYTES, DIRECTIONS, LIGHT_GRID_BYTES_PER_CELL, LightGrid, cluster_capacity, \
-    cluster_levels
+from .light_grid import DIRECTIONS, LIGHT_GRID_BYTES_PER_CELL, LightGrid, cluster_bytes, cluster_levels
 from .lpv import GEOMETRY_VOLUME_BYTES_PER_CELL, LPV_BYTES_PER_CELL, LightPropagationVolume
 from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, occupancy_bytes
 from .settings import INDIRECT_METHODS
@@ -270,7 +269,7 @@ class LightGridMethod(GatheringMethod):
         return (s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL
                 + occupancy_bytes(s.grid_levels * s.grid_phases, n, VOXELS_PER_CELL)
                 + scene.triangle_count * LARGE_TRIANGLE_BYTES
-                + cluster_capacity(s.vpls_per_light * mapped) * CLUSTER_BYTES
+                + cluster_bytes(s.vpls_per_light * mapped, s)
                 + cls.bounce_bytes(s, scene))
 
     @staticmethod

@@ -7,7 +7,9 @@ them, and no SH ringing that lets a surface light itself). Emitters come as buff
 the VPL layout (shaders/emitter.glsl): the lights' VPLs now, emissive surfaces and
 particles next. They are first summed into clusters, one per block of CLUSTER_CELLS³ cells
 of the finest level holding them and normal direction, so the gather's cost follows the
-surfaces lit, not the emitter count.
+surfaces lit, not the emitter count; the clusters into clusters twice as wide, and so on
+up to one per level, and a cell centre gathers the widest ones that are far enough from it
+(a light cut), so the cost follows the cells' distance in octaves, not the clusters' count.
 """
 import math
 
@@ -15,6 +17,7 @@ import moderngl
 import numpy as np
 
 from .context import dispatch, set_uniforms, zero_buffer
+from .errors import LPVError
 from .grids import fit_grid
 from .occupancy import VOXELS_PER_CELL, Occupancy, march_batch
 from .vpl import EMITTER_BYTES
@@ -22,19 +25,42 @@ from .vpl import EMITTER_BYTES
 CLUSTER_CELLS = 2
 """A cluster of emitters spans this many cells of its level along each side: a quarter to
 an eighth as many clusters to gather as with one cell, for little loss (docs/method.md)."""
+NEAR_SIZES = 1.5
+"""A cluster stands for its emitters at cell centres farther than NEAR_SIZES times its width
+from its cell; nearer, the clusters half as wide inside it do (docs/method.md)."""
+BINS = 7  # a cluster's normal: the main axis and its sign, or none
 CLUSTER_INTS = 11  # flux rgb, weighted place xyz, weighted normal xyz, weight, weight whose bound is held
 FIXED_POINT_RANGE = 2.0 ** 30
 DIRECTIONS = 6  # +x, -x, +y, -y, +z, -z
 GATHER_LANES = 64  # invocations sharing one cell's emitters (shaders/light_grid_gather.comp)
 LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16
 """Six RGBA32F irradiances (its occupancy: gpu/occupancy.py occupancy_bytes)."""
+COUNT_BYTES = 64  # the clusters' total, then where each octave's start in the list
 CLUSTER_BYTES = 4 + CLUSTER_INTS * 4 + EMITTER_BYTES + 1  # per hash slot: key, sums, emitter, its block's count
 
 
 def cluster_capacity(emitter_total):
-    """Slots of the clusters' hash table: a power of two, at least twice the emitters (no
-    more clusters than emitters), at most 2^20 (more clusters than surface cells to fill)."""
+    """Slots of the finest clusters' hash table: a power of two, at least twice the emitters
+    (no more clusters than emitters), at most 2^20 (more clusters than surface cells to fill)."""
     return min(1 << max(10, math.ceil(math.log2(max(2 * emitter_total, 1)))), 1 << 20)
+
+
+def cluster_tables(emitter_total, cluster_size, levels):
+    """Slots of each octave's hash table, finest first, for `levels` cluster grids of
+    `cluster_size` cells a side: each wider octave's at least twice the cells it can fill,
+    never more than the finest's."""
+    first = cluster_capacity(emitter_total)
+    tables = [first]
+    for octave in range(1, cluster_size.bit_length()):
+        cells = levels * BINS * (((cluster_size - 1) >> octave) + 1) ** 3
+        tables.append(min(first, 1 << max(6, math.ceil(math.log2(2 * cells)))))
+    return tables
+
+
+def cluster_bytes(emitter_total, settings):
+    """What the clusters of `emitter_total` emitters take over the grids of `settings`."""
+    return sum(cluster_tables(emitter_total, max(1, settings.lpv_resolution // CLUSTER_CELLS),
+                              settings.grid_levels + 1)) * CLUSTER_BYTES
 
 
 def cluster_levels(levels, scene_bounds):
@@ -42,6 +68,12 @@ def cluster_levels(levels, scene_bounds):
     coarser by CLUSTER_CELLS, and a last one over the scene that holds every emitter."""
     grids = [grid.coarser(CLUSTER_CELLS) for grid in levels]
     return grids + [fit_grid(scene_bounds, grids[0].size)]
+
+
+def _block_words(slots):
+    """A hash table's block counts (emitter_compact.comp), padded to 256 bytes: each
+    octave's are bound at an offset, which GL wants aligned."""
+    return max(-(-slots // 64), 64)
 
 
 class LightGrid:
@@ -65,49 +97,63 @@ class LightGrid:
         self.receiving = gl.texture3d((n, n, n * len(self.grids)), 1, dtype="u1")
         self._no_cells = bytes(n ** 3 * len(self.grids))
         self.marked = None  # the mesh `receiving` was marked from
-        self.count = gl.buffer(reserve=16)
-        self.keys = self.sums = self.emitters = self.blocks = None
-        self.capacity = 0
+        self.count = gl.buffer(reserve=COUNT_BYTES)
+        self.keys = self.sums = self.blocks = self.emitters = None  # each octave's table one after another
+        self.tables = []
+        self.cluster_uniforms = {}
 
-    def _cluster_buffers(self, emitter_total):
-        capacity = cluster_capacity(emitter_total)
-        if capacity != self.capacity:
-            for buffer in (self.keys, self.sums, self.emitters, self.blocks):
+    def _cluster_buffers(self, tables):
+        if tables != self.tables:
+            for buffer in (self.keys, self.sums, self.blocks, self.emitters):
                 if buffer is not None:
                     buffer.release()
             gl = self.glc.gl
-            self.blocks = gl.buffer(reserve=-(-capacity // 64) * 4)
-            self.keys = gl.buffer(reserve=capacity * 4)
-            self.sums = gl.buffer(reserve=capacity * CLUSTER_INTS * 4)
-            self.emitters = gl.buffer(reserve=capacity * EMITTER_BYTES)
-            self.capacity = capacity
-        self.keys.write(np.full(capacity, -1, dtype=np.int32).tobytes())
-        zero_buffer(self.glc, self.sums)
-        zero_buffer(self.glc, self.count)
+            self.keys = gl.buffer(reserve=sum(tables) * 4)
+            self.sums = gl.buffer(reserve=sum(tables) * CLUSTER_INTS * 4)
+            self.blocks = gl.buffer(reserve=sum(_block_words(slots) for slots in tables) * 4)
+            self.emitters = gl.buffer(reserve=sum(tables) * EMITTER_BYTES)
+            self.tables = tables
+        for buffer in (self.keys, self.sums, self.count):
+            zero_buffer(self.glc, buffer)
 
     def cluster(self, emitter_sets, flux_bound, cluster_grids):
         """Sum the emitters (buffers with counts) into clusters of `cluster_grids` (the
-        levels, finest first, and a last grid that holds every emitter)."""
-        total = sum(count for _, count in emitter_sets)
-        self._cluster_buffers(total)
-        defines = {"LEVELS": len(cluster_grids), "CLUSTER_INTS": CLUSTER_INTS}
+        levels, finest first, and a last grid that holds every emitter), then those into
+        clusters twice as wide, octave after octave, all in one list."""
+        size = cluster_grids[0].size
+        tables = cluster_tables(sum(count for _, count in emitter_sets), size, len(cluster_grids))
+        if len(cluster_grids) * size ** 3 * BINS * len(tables) >= 1 << 30:
+            raise LPVError(f"A light grid of {size * CLUSTER_CELLS} cells a side is more than its clusters can name.")
+        self._cluster_buffers(tables)
+        defines = {"LEVELS": len(cluster_grids), "CLUSTER_INTS": CLUSTER_INTS, "DEPTH": len(tables)}
         levels = {"level_origins": np.array([g.origin for g in cluster_grids]),
-                  "level_cells": np.array([g.cell_size for g in cluster_grids]),
-                  "grid_size": cluster_grids[0].size, "capacity": self.capacity,
+                  "level_cells": np.array([g.cell_size for g in cluster_grids]), "grid_size": size,
                   "flux_scale": FIXED_POINT_RANGE / flux_bound if flux_bound > 0 else 1.0}
-        program = self.glc.compute("emitter_cluster", **defines)
-        self.keys.bind_to_storage_buffer(1)
-        self.sums.bind_to_storage_buffer(2)
-        for buffer, count in emitter_sets:
-            buffer.bind_to_storage_buffer(0)
-            set_uniforms(program, emitter_count=count, **levels)
-            dispatch(program, count, local=(64,))
-        for binding, buffer in enumerate((self.emitters, self.keys, self.sums, self.count, self.blocks)):
-            buffer.bind_to_storage_buffer(binding)
-        for stage in range(3):
-            program = self.glc.compute("emitter_compact", STAGE=stage, **defines)
-            set_uniforms(program, **levels)
-            dispatch(program, 1 if stage == 1 else self.capacity, local=(64,))
+        self.count.bind_to_storage_buffer(3)
+        first_slot = first_block = 0
+        for octave, slots in enumerate(tables):
+            program = self.glc.compute("emitter_cluster", WIDER=int(octave > 0), **defines)
+            set_uniforms(program, capacity=slots, octave=octave, **levels)
+            self.keys.bind_to_storage_buffer(1, offset=first_slot * 4, size=slots * 4)
+            self.sums.bind_to_storage_buffer(2, offset=first_slot * CLUSTER_INTS * 4, size=slots * CLUSTER_INTS * 4)
+            if octave == 0:
+                for buffer, count in emitter_sets:
+                    buffer.bind_to_storage_buffer(0)
+                    set_uniforms(program, emitter_count=count)
+                    dispatch(program, count, local=(64,))
+            else:  # the octave before's clusters
+                self.emitters.bind_to_storage_buffer(0)
+                dispatch(program, tables[octave - 1], local=(64,))
+            self.emitters.bind_to_storage_buffer(0)
+            self.blocks.bind_to_storage_buffer(4, offset=first_block * 4, size=_block_words(slots) * 4)
+            for stage in range(3):
+                program = self.glc.compute("emitter_compact", STAGE=stage, **defines)
+                set_uniforms(program, capacity=slots, octave=octave, **levels)
+                dispatch(program, 1 if stage == 1 else slots, local=(64,))
+            first_slot += slots
+            first_block += _block_words(slots)
+        self.cluster_uniforms = {"cluster_origins": levels["level_origins"], "cluster_cells": levels["level_cells"],
+                                 "cluster_grid_size": size}
 
     def _mark_receiving(self, mesh):
         """Mark the cells within reach of the lookups at `mesh`'s surfaces, in every grid."""
@@ -132,16 +178,18 @@ class LightGrid:
         levels = list(levels)
         phases = len(self.grids) // len(levels)
         layers = self.occupancy.march_layers(levels)
-        program = self.glc.compute("light_grid_gather", UNSHADOWED=int(bool(self.unshadowed)), MARCH_LEVELS=len(layers))
+        program = self.glc.compute("light_grid_gather", UNSHADOWED=int(bool(self.unshadowed)), MARCH_LEVELS=len(layers),
+                                   CLUSTER_LEVELS=len(self.cluster_uniforms["cluster_cells"]), DEPTH=len(self.tables),
+                                   NEAR_SIZES=NEAR_SIZES)
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
         if self.glc.is_software:  # llvmpipe ends long loop nests: batches its limit allows, as many as there are
             count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
             batch = march_batch(self.occupancy.voxels, len(layers), GATHER_LANES)
         else:  # one dispatch, which stops at the count: the host does not wait for it
-            count = batch = max(self.capacity, 1)
+            count = batch = max(sum(self.tables), 1)
         self.receiving.use(location=2)  # after the occupancy's two volumes
-        set_uniforms(program, batch=batch, singularity_bound=singularity_bound, receiving=2)
+        set_uniforms(program, batch=batch, singularity_bound=singularity_bound, receiving=2, **self.cluster_uniforms)
         for layer, (grid, irradiance) in enumerate(zip(self.grids, self.irradiance)):
             irradiance.bind_to_image(0, read=True, write=True)
             if self.unshadowed:

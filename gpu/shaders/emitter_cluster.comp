@@ -3,22 +3,38 @@
 // cell, and its normal's main axis and sign (or "no normal") the bin; a hash table finds
 // the cluster, which sums the flux and the flux-weighted place in its cell, normal and
 // share whose bound is held (emitter.glsl held_share) in fixed-point integer atomics (the
-// same sums whatever order the emitters come in).
+// same sums whatever order the emitters come in). With WIDER, the emitters are the clusters
+// of the octave before (emitter_compact.comp's list) and each goes into the cell twice as
+// wide that holds its own, by its name (cluster_key.glsl), not its place.
 #include "common.glsl"
 #include "emitter.glsl"
+#include "cluster_key.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
-layout(std430, binding = 1) buffer Keys { int keys[]; };     // -1: empty
+layout(std430, binding = 1) buffer Keys { int keys[]; };     // key + 1, 0: empty
 layout(std430, binding = 2) buffer Sums { int sums[]; };     // CLUSTER_INTS per slot
+layout(std430, binding = 3) readonly buffer Count { int emitter_total; int octave_start[]; };
 uniform int emitter_count;
 uniform int capacity;                  // a power of two
 uniform vec3 level_origins[LEVELS];
 uniform float level_cells[LEVELS];
 uniform int grid_size;
+uniform int octave;                    // the clusters' width: level_cells << octave
 uniform float flux_scale;              // fixed-point units per W
 
 void main() {
     int index = int(gl_GlobalInvocationID.x);
+#if WIDER
+    int first = octave_start[octave - 1];
+    if (index >= emitter_total - first) return;
+    Emitter e = emitters[first + index];
+    int level, bin;
+    ivec3 cell;
+    cluster_cell(cluster_word_key(e.position.w), grid_size, level, cell, bin);
+    cell >>= 1;
+    vec3 g = (e.position.xyz - level_origins[level]) / (level_cells[level] * float(1 << octave));
+    vec3 n = e.normal.xyz;
+#else
     if (index >= emitter_count || emitters[index].position.w <= 0.0) return;
     Emitter e = emitters[index];
     int level = LEVELS - 1;
@@ -35,11 +51,12 @@ void main() {
         int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
         bin = 2 * axis + (n[axis] < 0.0 ? 1 : 0);
     }
-    int key = (((level * grid_size + cell.z) * grid_size + cell.y) * grid_size + cell.x) * 7 + bin;
+#endif
+    int key = cluster_key(level, cell, bin, grid_size);
     int slot = int(uint(key) * 2654435761u) & (capacity - 1);
     for (int probe = 0; probe < capacity; ++probe) {
-        int held = atomicCompSwap(keys[slot], -1, key);
-        if (held == -1 || held == key) break;
+        int held = atomicCompSwap(keys[slot], 0, key + 1);
+        if (held == 0 || held == key + 1) break;
         slot = (slot + 1) & (capacity - 1);
     }
     vec3 flux = e.flux.rgb * flux_scale;
@@ -48,7 +65,7 @@ void main() {
     atomicAdd(sums[base + 0], int(round(flux.r)));
     atomicAdd(sums[base + 1], int(round(flux.g)));
     atomicAdd(sums[base + 2], int(round(flux.b)));
-    vec3 place = (g - vec3(cell)) * weight;
+    vec3 place = clamp(g - vec3(cell), 0.0, 1.0) * weight;
     vec3 turned = n * weight;
     for (int k = 0; k < 3; ++k) {
         atomicAdd(sums[base + 3 + k], int(round(place[k])));

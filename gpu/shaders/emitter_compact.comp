@@ -1,29 +1,32 @@
 #version 450 core
 // Each filled cluster of emitter_cluster.comp becomes one emitter at the flux-weighted mean
 // of its emitters' places, with their mean normal, summed flux and share of it whose bound
-// is held, standing for a disk as wide as its cell. The list keeps the hash table's slot
-// order, so a frame's sums come out the same every time: STAGE 0 counts each block of 64
-// slots, STAGE 1 (one invocation) turns the counts into offsets and the total into
-// `emitter_count`, STAGE 2 writes each cluster at its block's offset plus its rank in the
-// block.
+// is held, standing for a disk as wide as the finest clusters' cell, and its name and
+// octave in position.w (cluster_key.glsl). The list keeps the hash table's slot order, so
+// a frame's sums come out the same every time: STAGE 0 counts each block of 64 slots,
+// STAGE 1 (one invocation) turns the counts into offsets after the octaves listed before
+// and the total into `emitter_total`, STAGE 2 writes each cluster at its block's offset
+// plus its rank in the block.
 #include "common.glsl"
 #include "emitter.glsl"
+#include "cluster_key.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) writeonly buffer Emitters { Emitter emitters[]; };
-layout(std430, binding = 1) readonly buffer Keys { int keys[]; };
+layout(std430, binding = 1) readonly buffer Keys { int keys[]; };  // key + 1, 0: empty
 layout(std430, binding = 2) readonly buffer Sums { int sums[]; };
-layout(std430, binding = 3) buffer Count { int emitter_count; };
+layout(std430, binding = 3) buffer Count { int emitter_total; int octave_start[]; };
 layout(std430, binding = 4) buffer Blocks { int blocks[]; };  // per 64 slots: count, then offset
 uniform int capacity;
 uniform vec3 level_origins[LEVELS];
 uniform float level_cells[LEVELS];
 uniform int grid_size;
+uniform int octave;
 uniform float flux_scale;
 
 shared int filled[64];
 
 bool is_filled(int slot) {
-    if (slot >= capacity || keys[slot] < 0) return false;
+    if (slot >= capacity || keys[slot] == 0) return false;
     int base = slot * CLUSTER_INTS;
     return sums[base + 9] > 0 && max(sums[base], max(sums[base + 1], sums[base + 2])) > 0;
 }
@@ -34,13 +37,14 @@ void main() {
     int block = int(gl_WorkGroupID.x);
 #if STAGE == 1
     if (slot != 0) return;
-    int total = 0;
+    int total = emitter_total;
+    octave_start[octave] = total;
     for (int b = 0; b < (capacity + 63) / 64; ++b) {
         int count = blocks[b];
         blocks[b] = total;
         total += count;
     }
-    emitter_count = total;
+    emitter_total = total;
 #else
     filled[lane] = is_filled(slot) ? 1 : 0;
     barrier();
@@ -57,18 +61,17 @@ void main() {
     int base = slot * CLUSTER_INTS;
     float weight = float(sums[base + 9]);
     vec3 flux = vec3(sums[base], sums[base + 1], sums[base + 2]) / flux_scale;
-    int key = keys[slot];
-    int bin = key % 7;
-    int cell_index = key / 7;
-    ivec3 cell = ivec3(cell_index % grid_size, (cell_index / grid_size) % grid_size,
-                       (cell_index / (grid_size * grid_size)) % grid_size);
-    int level = cell_index / (grid_size * grid_size * grid_size);
-    float size = level_cells[level];
+    int key = keys[slot] - 1;
+    int level, bin;
+    ivec3 cell;
+    cluster_cell(key, grid_size, level, cell, bin);
+    float size = level_cells[level] * float(1 << octave);
     vec3 place = vec3(sums[base + 3], sums[base + 4], sums[base + 5]) / weight;
     vec3 n = vec3(sums[base + 6], sums[base + 7], sums[base + 8]) / weight;
     vec3 normal = bin < 6 && dot(n, n) > 1e-12 ? normalize(n) : vec3(0.0);
-    emitters[blocks[block] + rank] = Emitter(vec4(level_origins[level] + (vec3(cell) + clamp(place, 0.0, 1.0)) * size, 1.0),
-                                             vec4(normal, PI * 0.25 * size * size),
+    emitters[blocks[block] + rank] = Emitter(vec4(level_origins[level] + (vec3(cell) + clamp(place, 0.0, 1.0)) * size,
+                                                  cluster_word(key, octave)),
+                                             vec4(normal, PI * 0.25 * level_cells[level] * level_cells[level]),
                                              vec4(flux, float(sums[base + 10]) / weight));
 #endif
 #endif

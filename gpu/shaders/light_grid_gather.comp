@@ -4,6 +4,10 @@
 // finest level that holds it: a wall outside the cell's own grid still stands), as the
 // irradiance of six surfaces facing +x, -x, +y, -y, +z and -z (an ambient cube), each into
 // its own block of the volume along z.
+// The emitters are clusters of every octave (emitter_compact.comp); a cell takes a light cut
+// of them: each cluster where it stands far enough from the cell centre and the one twice
+// as wide holding it does not (gpu/light_grid.py NEAR_SIZES), so every emitter is counted
+// once, near ones in the finest clusters and far ones in wide ones.
 // A workgroup is one cell, its lanes share the emitters and add up their sums at the end:
 // cells alone are too few to fill a GPU. One dispatch adds the emitters [first_emitter,
 // first_emitter + batch) to what the ones before left: llvmpipe ends a loop nest after
@@ -13,6 +17,7 @@
 #include "common.glsl"
 #include "emitter.glsl"
 #include "levels_march.glsl"
+#include "cluster_key.glsl"
 #define LANES 64
 layout(local_size_x = LANES) in;
 layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
@@ -31,8 +36,28 @@ uniform int first_emitter;
 uniform int batch;
 uniform usampler3D receiving;  // the cells a lookup can read (light_grid_receiving.comp): the others are skipped
 uniform int layer;             // this grid's block of it along z
+uniform vec3 cluster_origins[CLUSTER_LEVELS];  // the clusters' levels (emitter_cluster.comp)
+uniform float cluster_cells[CLUSTER_LEVELS];
+uniform int cluster_grid_size;
 
 shared vec3 sums[SUMS][LANES];  // +x, -x, +y, -y, +z, -z (then the same unshadowed)
+
+// Whether the cluster cell of `level`, `cell` (in cells `octave` octaves wide) is near `p`.
+bool near_cluster(vec3 p, int level, ivec3 cell, int octave) {
+    float size = cluster_cells[level] * float(1 << octave);
+    vec3 low = cluster_origins[level] + vec3(cell) * size;
+    return length(max(max(low - p, p - low - size), 0.0)) <= NEAR_SIZES * size;
+}
+
+// Whether the cluster `e` is in the cut at `p`: near it stand its narrower clusters, where
+// the wider one holding it is far, that one does.
+bool in_cut(Emitter e, vec3 p) {
+    int octave = cluster_word_octave(e.position.w), level, bin;
+    ivec3 cell;
+    cluster_cell(cluster_word_key(e.position.w), cluster_grid_size, level, cell, bin);
+    return (octave == 0 || !near_cluster(p, level, cell, octave))
+        && (octave == DEPTH - 1 || near_cluster(p, level, cell >> 1, octave + 1));
+}
 
 void main() {
     int index = int(gl_WorkGroupID.x);
@@ -52,6 +77,7 @@ void main() {
     int last = min(first_emitter + batch, emitter_count);
     for (int j = first_emitter + lane; j < last; j += LANES) {
         Emitter e = emitters[j];
+        if (!in_cut(e, centre)) continue;
         vec3 d = centre - e.position.xyz;
         vec3 light = shared_emitter_light(e, d, singularity_bound, singularity_bound);
         if (max(light.r, max(light.g, light.b)) <= 0.0) continue;

@@ -40,20 +40,20 @@ CLUSTER_BYTES = 4 + CLUSTER_INTS * 4 + EMITTER_BYTES + 1  # per hash slot: key, 
 
 
 def cluster_capacity(emitter_total):
-    """Slots of the finest clusters' hash table: a power of two, at least twice the emitters
-    (no more clusters than emitters), at most 2^20 (more clusters than surface cells to fill)."""
+    """Slots of a hash table of clusters of `emitter_total` emitters: a power of two, at
+    least twice the emitters, at most 2^20."""
     return min(1 << max(10, math.ceil(math.log2(max(2 * emitter_total, 1)))), 1 << 20)
 
 
 def cluster_tables(emitter_total, cluster_size, levels):
     """Slots of each octave's hash table, finest first, for `levels` cluster grids of
-    `cluster_size` cells a side: each wider octave's at least twice the cells it can fill,
-    never more than the finest's."""
-    first = cluster_capacity(emitter_total)
-    tables = [first]
-    for octave in range(1, cluster_size.bit_length()):
+    `cluster_size` cells a side: twice the clusters it can hold, which are no more than the
+    emitters and no more than the cells times the normals' bins (a million particles in a
+    16³ grid's levels make a few thousand clusters at most)."""
+    tables = []
+    for octave in range(cluster_size.bit_length()):
         cells = levels * BINS * (((cluster_size - 1) >> octave) + 1) ** 3
-        tables.append(min(first, 1 << max(6, math.ceil(math.log2(2 * cells)))))
+        tables.append(min(cluster_capacity(emitter_total), 1 << max(6, math.ceil(math.log2(2 * cells)))))
     return tables
 
 

@@ -158,11 +158,11 @@ class GLContext:
             self._free.setdefault(key, []).append(resource)
 
     def clear(self, *textures):
-        """Zero colour textures, each through a framebuffer made for it and released."""
+        """Zero float colour textures (shaders/zero_image.comp)."""
         for texture in textures:
-            framebuffer = self.gl.framebuffer(color_attachments=[texture])
-            framebuffer.clear(0.0, 0.0, 0.0, 0.0)
-            framebuffer.release()
+            program = self.compute("zero_image", FORMAT=IMAGE_FORMATS[texture.dtype, texture.components])
+            texture.bind_to_image(0, read=False, write=True)
+            dispatch(program, *texture.size)
 
     def compute(self, name, **defines):
         """The compute shader `shaders/<name>.comp`, compiled once per set of defines."""
@@ -318,6 +318,18 @@ def run_workgroups(program, count):
     gl_WorkGroupID.x (rows of WORKGROUP_ROW), its writes made visible."""
     program.run(min(count, WORKGROUP_ROW), -(-count // WORKGROUP_ROW), 1)
     program.ctx.memory_barrier()
+
+
+IMAGE_FORMATS = {("f4", 4): "rgba32f", ("f2", 4): "rgba16f", ("f4", 1): "r32f", ("f2", 1): "r16f"}
+"""The GLSL image format of a float texture's (dtype, components)."""
+
+
+def clear_depth_only(framebuffer):
+    """Clear a framebuffer's depth and leave its colour as it is."""
+    masks = framebuffer.color_mask
+    framebuffer.color_mask = tuple((False,) * 4 for _ in masks)
+    framebuffer.clear(depth=1.0)
+    framebuffer.color_mask = masks
 
 
 def zero_buffer(glc, buffer):

@@ -250,7 +250,7 @@ class Pipeline:
         drawn = (scene.camera.key(), self._mesh.key, None if sides is None else array_key(sides), targets,
                  self.vpl_pattern if mesh.hashed else None)
         if drawn == self._gbuffer_drawn:  # a light or emitter edit: the same view of the same surfaces
-            targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+            self.glc.clear(targets.direct)
             return targets
         with self.glc.timed(stats, "gbuffer_ms"):
             render_gbuffer(self.glc, mesh, scene.camera, targets, self.vpl_pattern)

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from .context import set_uniforms
+from .context import clear_depth_only, set_uniforms
 from .mesh_buffer import CROSSING, FRONT
 from .scene import look_at_view, perspective
 from .shade import cut_out_defines, multiply_blend
@@ -223,8 +223,9 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
     if mesh.transmits:
         passes.append((face_programs("passing_tint", TINT_ATTACHMENT=2, **tinted), True))
     uniforms = light_uniforms(light, origin)
+    glc.clear(*textures, *([tint] if tint is not None else []))
     framebuffer.use()
-    framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+    clear_depth_only(framebuffer)
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
     mode = moderngl.PATCHES if tessellated else moderngl.TRIANGLES

@@ -4,7 +4,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from .context import dispatch, dispatch_row, set_uniforms, zero_buffer
+from .context import clear_depth_only, dispatch, dispatch_row, set_uniforms, zero_buffer
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .mesh_buffer import SURFACE_VERTICES_BINDING
@@ -55,7 +55,6 @@ class FrameTargets:
         self.depth.compare_func = ""
         self.framebuffer = gl.framebuffer(color_attachments=[self.triangles], depth_attachment=self.depth)
         self.image_colours = self.image_framebuffer = None  # the colour of surfaces' images, made on first use
-        self.direct_framebuffer = gl.framebuffer(color_attachments=[self.direct])
         self.display = None  # the composite as the viewport's rows, made on its first request
         self.seen = gl.buffer(reserve=VIEW_LATTICE * VIEW_LATTICE * 16)  # seen_points' positions
         self.vpl_splats = self.warp_status = None  # debug passes (gpu/debug_views.py), made on first use
@@ -165,7 +164,6 @@ class FrameTargets:
 
     def release(self):
         self.framebuffer.release()
-        self.direct_framebuffer.release()
         for framebuffer in (self.image_framebuffer, self.splat_framebuffer, self.glow_framebuffer,
                             self.tint_framebuffer):
             if framebuffer is not None:
@@ -217,7 +215,7 @@ def render_gbuffer(glc, mesh, camera, targets, pattern=0):
     resolve_gbuffer(glc, mesh, camera, targets, imaged)
     if mesh.transmits:
         tint_seen_through(glc, mesh, targets, uniforms)
-    targets.direct_framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+    glc.clear(targets.direct)
 
 
 def resolve_gbuffer(glc, mesh, camera, targets, imaged):
@@ -237,16 +235,6 @@ def resolve_gbuffer(glc, mesh, camera, targets, imaged):
     glc.use_specular_albedo(program, RASTER_UNIT)
     set_uniforms(program, **gbuffer_uniforms(camera), g_triangles=1, g_image_colours=2)
     dispatch(program, *targets.size)
-
-
-def clear_depth_only(framebuffer):
-    """Clear the depth alone: every reader of the surface texels asks the depth first, so
-    a pixel no surface covers is never read (a colour clear of the G-buffer's two images
-    costs as much as the whole draw of a small scene)."""
-    masks = framebuffer.color_mask
-    framebuffer.color_mask = tuple((False,) * 4 for _ in masks)
-    framebuffer.clear(depth=1.0)
-    framebuffer.color_mask = masks
 
 
 def tint_seen_through(glc, mesh, targets, uniforms):
@@ -285,10 +273,10 @@ def render_glow(glc, mesh, camera, targets, point_emitters=None):
     them) and of the point emitters (a buffer of emitter rows with a count: glow_points),
     behind the G-buffer's depth, into the glow image."""
     gl = glc.gl
-    _, framebuffer = targets.glow_images()
+    glow, framebuffer = targets.glow_images()
+    glc.clear(glow)
     framebuffer.use()
     framebuffer.viewport = (0, 0, *targets.size)
-    framebuffer.clear(0.0, 0.0, 0.0, 0.0)
     gl.enable(moderngl.DEPTH_TEST)
     view_projection = camera.projection @ camera.view
     if mesh.emission is not None:

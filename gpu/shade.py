@@ -206,7 +206,7 @@ def render_gbuffer(glc, mesh, camera, targets, pattern=0):
     framebuffer = targets.image_colour_images()[1] if imaged else targets.framebuffer
     framebuffer.use()
     framebuffer.viewport = (0, 0, *targets.size)
-    clear_depth_only(framebuffer)
+    clear_depth_only(framebuffer)  # every reader of the surface texels asks the depth first
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
     uniforms = {"view_projection": camera.projection @ camera.view, "cut_out_pattern": pattern}

@@ -2,7 +2,8 @@
 // holding its emitters, or the last grid over the scene), its cell there in cells `octave`
 // octaves wider than the level's (cells indexed on the level's `size`-wide lattice) and its
 // normal's bin (main axis and sign, 6: none). A cluster emitter carries it, with its octave,
-// in position.w as the bits of a float of at least 2 (position.w > 0: valid).
+// in position.w as the bits of a float of at least 2 (position.w > 0: valid): 30 bits hold
+// it for grids of up to 128 cells and 5 levels (gpu/settings.py's bounds), 8 octaves.
 int cluster_key(int level, ivec3 cell, int bin, int size) {
     return (((level * size + cell.z) * size + cell.y) * size + cell.x) * 7 + bin;
 }

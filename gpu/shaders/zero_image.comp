@@ -1,7 +1,7 @@
 #version 450 core
 // Zeroes a float image on the GPU (gpu/context.py GLContext.clear): a framebuffer's
-// colour clear of RGBA32F images writes a few tens of GB/s on the H100, a compute pass
-// at the memory's speed (a light's six cube faces: 1.45 against 0.14 ms).
+// colour clear of RGBA32F images is several times slower on the H100
+// (docs/performance.md, "Clears").
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(FORMAT, binding = 0) writeonly uniform image2D image;
 

@@ -11,7 +11,6 @@ import os
 from .bounces import light_bounces
 from .emitter_bounce import RECEIVER_BYTES
 from .emitter_grid import CLUSTER_FLOATS, grid_resolution
-from .emitter_shadows import SHADOW_CLUSTER_CELLS
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .indirect import indirect_method
@@ -93,7 +92,7 @@ def emitter_bytes(s, scene, pixels, lamps):
     n = s.lpv_resolution
     shadows = (2 * s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL
                + occupancy_bytes(s.grid_levels * s.grid_phases, n, VOXELS_PER_CELL)
-               + scene.triangle_count * LARGE_TRIANGLE_BYTES + cluster_bytes(count, s, SHADOW_CLUSTER_CELLS)) \
+               + scene.triangle_count * LARGE_TRIANGLE_BYTES + cluster_bytes(count, s)) \
         if s.emitter_shadows else 0
     glow = pixels * 12 + scene.point_emitter_count * 4 if scene.point_emitter_count else 0
     return grid + shadows + 2 * pixels * 16 + glow + bounce

@@ -11,11 +11,6 @@ from .colour import LUMINANCE_WEIGHTS
 from .context import dispatch, set_uniforms
 from .light_grid import LightGrid, cluster_levels
 
-SHADOW_CLUSTER_CELLS = 2
-"""The emitters' finest clusters span this many cells: their shadows are a ratio smooth at
-the cells' scale, and a million particles fill a volume's cells (one cell wide, their
-gather took 5.1 ms against 3.1 on the H100)."""
-
 
 class EmitterShadows:
     """The light grid of the emitters over the frame's indirect grids, and a per-pixel image."""
@@ -33,8 +28,7 @@ class EmitterShadows:
         if self._built == key:
             return
         self.light_grid.occupancy.voxelise(mesh)
-        levels = cluster_levels(self.grids[::self.phases], scene_bounds, SHADOW_CLUSTER_CELLS)
-        self.light_grid.cluster(emitter_sets, flux_bound, levels)
+        self.light_grid.cluster(emitter_sets, flux_bound, cluster_levels(self.grids[::self.phases], scene_bounds))
         self.light_grid.gather(singularity_bound, range(0, len(self.grids), self.phases))
         self._built = key
 

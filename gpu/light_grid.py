@@ -5,8 +5,8 @@ centre the exact irradiance of every emitter, with visibility through a voxelisa
 the scene, as an ambient cube (the irradiance of six surfaces facing the axes: exact for
 them, and no SH ringing that lets a surface light itself). Emitters come as buffers of
 the VPL layout (shaders/emitter.glsl): the lights' VPLs now, emissive surfaces and
-particles next. They are first summed into clusters, one per cell of the finest level
-holding them (or per block of cells) and normal direction, so the gather's cost follows the
+particles next. They are first summed into clusters, one per block of CLUSTER_CELLS³ cells
+of the finest level holding them and normal direction, so the gather's cost follows the
 surfaces lit, not the emitter count; the clusters into clusters twice as wide, and so on
 up to one per level, and a cell centre gathers the widest ones that are far enough from it
 (a light cut), so the cost follows the cells' distance in octaves, not the clusters' count.
@@ -21,10 +21,10 @@ from .grids import fit_grid
 from .occupancy import VOXELS_PER_CELL, Occupancy, march_batch
 from .vpl import EMITTER_BYTES
 
-CLUSTER_CELLS = 1
-"""The finest cluster of the indirect light's emitters spans this many cells of its level
-along each side: one cell's disk bounds a VPL's light nearby less than two cells' did, and
-the light cut keeps the far ones few (docs/method.md)."""
+CLUSTER_CELLS = 2
+"""The finest cluster of emitters spans this many cells of its level along each side: one
+cell is closer to Cycles, but its eight times as many clusters cost llvmpipe's gather a
+quarter more a frame (docs/method.md)."""
 NEAR_SIZES = 1.5
 """A cluster stands for its emitters at cell centres farther than NEAR_SIZES times its width
 from its cell; nearer, the clusters half as wide inside it do (docs/method.md)."""
@@ -57,17 +57,16 @@ def cluster_tables(emitter_total, cluster_size, levels):
     return tables
 
 
-def cluster_bytes(emitter_total, settings, cells=CLUSTER_CELLS):
-    """What the clusters of `emitter_total` emitters, `cells` cells wide, take over the
-    grids of `settings`."""
-    return sum(cluster_tables(emitter_total, max(1, settings.lpv_resolution // cells),
+def cluster_bytes(emitter_total, settings):
+    """What the clusters of `emitter_total` emitters take over the grids of `settings`."""
+    return sum(cluster_tables(emitter_total, max(1, settings.lpv_resolution // CLUSTER_CELLS),
                               settings.grid_levels + 1)) * CLUSTER_BYTES
 
 
-def cluster_levels(levels, scene_bounds, cells=CLUSTER_CELLS):
+def cluster_levels(levels, scene_bounds):
     """The grids emitters are clustered over for `levels` (finest first): each level's
-    coarser by `cells`, and a last one over the scene that holds every emitter."""
-    grids = [grid.coarser(cells) for grid in levels]
+    coarser by CLUSTER_CELLS, and a last one over the scene that holds every emitter."""
+    grids = [grid.coarser(CLUSTER_CELLS) for grid in levels]
     return grids + [fit_grid(scene_bounds, grids[0].size)]
 
 

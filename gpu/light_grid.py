@@ -23,8 +23,11 @@ from .vpl import EMITTER_BYTES
 
 CLUSTER_CELLS = 2
 """The finest cluster of emitters spans this many cells of its level along each side: one
-cell is closer to Cycles, but its eight times as many clusters cost llvmpipe's gather a
-quarter more a frame (docs/method.md)."""
+cell is closer to Cycles, but its eight times as many clusters cost llvmpipe's gather more
+than the test suite's time allows (docs/method.md)."""
+CUT_GRID_CELLS = 32
+"""Grids of this many cells a side and more gather a light cut of wider clusters; smaller
+ones every finest cluster, which costs the H100 as little and llvmpipe less (docs/method.md)."""
 NEAR_SIZES = 1.5
 """A cluster stands for its emitters at cell centres farther than NEAR_SIZES times its width
 from its cell; nearer, the clusters half as wide inside it do (docs/method.md)."""
@@ -46,12 +49,14 @@ def cluster_capacity(emitter_total):
 
 
 def cluster_tables(emitter_total, cluster_size, levels):
-    """Slots of each octave's hash table, finest first, for `levels` cluster grids of
-    `cluster_size` cells a side: twice the clusters it can hold, which are no more than the
+    """Slots of each octave's hash table, finest first (the finest alone for grids under
+    CUT_GRID_CELLS), for `levels` cluster grids of `cluster_size` cells a side: twice the
+    clusters it can hold, which are no more than the
     emitters and no more than the cells times the normals' bins (a million particles in a
     16³ grid's levels make a few thousand clusters at most)."""
     tables = []
-    for octave in range(cluster_size.bit_length()):
+    octaves = cluster_size.bit_length() if cluster_size * CLUSTER_CELLS >= CUT_GRID_CELLS else 1
+    for octave in range(octaves):
         cells = levels * BINS * (((cluster_size - 1) >> octave) + 1) ** 3
         tables.append(min(cluster_capacity(emitter_total), 1 << max(6, math.ceil(math.log2(2 * cells)))))
     return tables

@@ -77,7 +77,9 @@ void main() {
     int last = min(first_emitter + batch, emitter_count);
     for (int j = first_emitter + lane; j < last; j += LANES) {
         Emitter e = emitters[j];
+#if DEPTH > 1  // one octave: every cluster is in the cut
         if (!in_cut(e, centre)) continue;
+#endif
         vec3 d = centre - e.position.xyz;
         vec3 light = shared_emitter_light(e, d, singularity_bound, singularity_bound);
         if (max(light.r, max(light.g, light.b)) <= 0.0) continue;

@@ -7,7 +7,7 @@ from lpv_preview.gpu.metrics import image_errors
 from lpv_preview.gpu.pipeline import render_once
 from lpv_preview.gpu.settings import Settings
 
-SMALL = dict(width=48, height=36, lpv_resolution=light_grid.CUT_GRID_CELLS, grid_phases=1, bounces=1)
+SMALL = dict(width=48, height=36, lpv_resolution=light_grid.CUT_GRID_CELLS, grid_levels=1, grid_phases=1, bounces=1)
 
 
 def indirect_light(near_sizes, monkeypatch):

@@ -89,6 +89,6 @@ def test_images_the_driver_cannot_make_are_refused_in_one_sentence(glc):
     if not glc.is_software:
         pytest.skip("llvmpipe refuses an image of 1.5 GiB; a GPU's limit lies elsewhere")
     with pytest.raises(LPVError) as error:
-        FrameTargets(glc.gl, 12000, 12000)
-    assert str(error.value) == (f"{glc.renderer} cannot make 12000 x 12000 images (GL_OUT_OF_MEMORY); lower the "
+        FrameTargets(glc.gl, 16384, 16384)
+    assert str(error.value) == (f"{glc.renderer} cannot make 16384 x 16384 images (GL_OUT_OF_MEMORY); lower the "
                                 f"resolution.")

@@ -7,6 +7,7 @@ import numpy as np
 from .context import clear_depth_only, dispatch, dispatch_row, set_uniforms, zero_buffer
 from .errors import LPVError
 from .grids import VIEW_LATTICE
+from .host_buffer import HostBuffer
 from .mesh_buffer import SURFACE_VERTICES_BINDING
 from .settings import INDIRECT_METHODS
 from .specular_albedo import RASTER_UNIT
@@ -125,8 +126,11 @@ class FrameTargets:
         return self.reflections
 
     def display_buffer(self):
+        """The viewport's rows: in the host's memory where the driver maps it
+        (gpu/host_buffer.py), else a buffer the driver reads back."""
         if self.display is None:
-            self.display = self.gl.buffer(reserve=self.size[0] * self.size[1] * DISPLAY_CHANNELS * 4)
+            size = self.size[0] * self.size[1] * DISPLAY_CHANNELS * 4
+            self.display = HostBuffer.make(self.gl, size) or self.gl.buffer(reserve=size)
         return self.display
 
     def read(self, name):
@@ -153,13 +157,15 @@ class FrameTargets:
         return np.frombuffer(out, dtype=np.float32).reshape(height, width, DISPLAY_CHANNELS)
 
     def resources(self):
-        """Every texture and buffer made so far (the display and debug ones on request)."""
+        """Every texture and buffer made so far in GPU memory (the display and debug ones on
+        request)."""
         return tuple(resource for resource in (self.depth, self.surface, self.triangles, self.image_colours,
                                                self.specular, self.direct, self.direct_mean, self.indirect,
                                                self.combined,
-                                               self.seen, self.display, self.vpl_splats, self.warp_status, self.glow,
+                                               self.seen, self.vpl_splats, self.warp_status, self.glow,
                                                self.glow_sums, self.glow_discs,
-                                               self.passing_tint, self.reflections)
+                                               self.passing_tint, self.reflections,
+                                               None if isinstance(self.display, HostBuffer) else self.display)
                      if resource is not None)
 
     def release(self):
@@ -170,6 +176,8 @@ class FrameTargets:
                 framebuffer.release()
         for resource in self.resources():
             resource.release()
+        if isinstance(self.display, HostBuffer):
+            self.display.release()
 
 
 def gbuffer_uniforms(camera):

@@ -22,14 +22,20 @@ CAMERA_STAGES = ("gbuffer_ms",) + SHADING_STAGES
 
 
 @pytest.fixture(scope="module")
-def cornell_scene():
-    """The Cornell box with the add-on registered and small settings."""
-    scene = demo.build("cornell")
+def registered():
+    """The add-on registered: a session reads the scene's properties."""
     lpv_preview.register()
+    yield
+    lpv_preview.unregister()
+
+
+@pytest.fixture(scope="module")
+def cornell_scene(registered):
+    """The Cornell box with small settings."""
+    scene = demo.build("cornell")
     settings = scene.lpv_preview
     settings.rsm_resolution, settings.vpls_per_light, settings.lpv_resolution = 64, 256, 16
-    yield scene
-    lpv_preview.unregister()
+    return scene
 
 
 @pytest.fixture(scope="module")
@@ -202,7 +208,7 @@ def test_overlay_data_follows_the_light_side_and_the_overlay_settings(cornell_sc
         session.release()
 
 
-def test_painting_an_image_reaches_the_next_frame():
+def test_painting_an_image_reaches_the_next_frame(registered):
     """An image edit that tags the image is a geometry update: the next frame reads the new
     pixels and the camera sees them."""
     from .test_textures import checker_image, floor_scene, image_material

@@ -11,7 +11,7 @@ ROOT = Path(__file__).parents[2]
 DOCS = ROOT / "docs"
 README = ROOT / "README.md"
 SET_UP_COMMANDS = ("bash scripts/setup.sh && .venv/bin/python -m lpv_preview demo",
-                   "bash scripts/setup.sh && .venv/bin/python -m pytest -q -n 2 tests")
+                   "bash scripts/setup.sh && .venv/bin/python -m pytest -q -n 2 --dist loadfile tests")
 """The README's two commands: .ci/run and the tests' instructions depend on them."""
 COVERAGE_HEADING = "## What the preview shows"
 COVERAGE_COLUMNS = ("renders", "approximates", "leaves out")

@@ -1,0 +1,46 @@
+"""The viewport's rows through a mapped buffer in the host's memory: what a shader wrote,
+every byte, in whatever parts the threads copy."""
+import numpy as np
+
+from lpv_preview.gpu.host_buffer import HostBuffer
+from lpv_preview.gpu.shade import DISPLAY_CHANNELS, FrameTargets
+
+WRITE_INDICES = """#version 450
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) writeonly buffer Rows { float rows[]; };
+uniform uint count;
+uniform float frame;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i < count) rows[i] = float(i) + frame;
+}
+"""
+
+
+def test_a_shaders_rows_reach_the_host_whole_frame_after_frame(glc):
+    count = 1_000_003  # parts of unequal sizes
+    host = HostBuffer.make(glc.gl, count * 4)
+    assert host is not None, f"{glc.renderer} maps no buffer of client storage"
+    program = glc.gl.compute_shader(WRITE_INDICES)
+    try:
+        out = bytearray(count * 4)
+        for frame in (0.0, 7.0):  # the second frame overwrites the first in place
+            host.bind_to_storage_buffer(0)
+            program["count"], program["frame"] = count, frame
+            program.run((count + 63) // 64)
+            host.read_into(out)
+            rows = np.frombuffer(out, dtype=np.float32)
+            np.testing.assert_array_equal(rows, np.arange(count, dtype=np.float32) + np.float32(frame))
+    finally:
+        program.release()
+        host.release()
+
+
+def test_the_frame_targets_keep_the_viewports_rows_in_the_host_buffer(glc):
+    targets = FrameTargets(glc.gl, 32, 24)
+    try:
+        assert isinstance(targets.display_buffer(), HostBuffer)
+        assert targets.display_buffer().size == 32 * 24 * DISPLAY_CHANNELS * 4
+        assert targets.display not in targets.resources()  # host memory, not the GPU's
+    finally:
+        targets.release()

@@ -21,7 +21,7 @@ SETTING_GROUPS = {
     "Indirect Light": ("indirect_method", "lpv_resolution", "grid_levels", "propagation_iterations", "occlusion",
                        "bounces", "singularity_bound", "indirect_intensity", "grid_phases", "grid_shift"),
     "Shadows": ("shadow_bias", "shadow_taps", "sun_cascade_resolution"),
-    "Convergence": ("viewport_vpl_sets", "converge_sets", "converge_seconds"),
+    "Convergence": ("viewport_vpl_sets", "converge_sets", "converge_seconds", "converged_lpv_resolution"),
     "Warping": ("warp_alpha", "warp_iterations", "warp_significant_figures"),
     "Tessellation": ("tessellation_unit", "tessellated_warp_alpha"),
     "Overlays": ("show_vpls", "vpl_point_size", "show_lpv_slice", "lpv_slice_axis", "lpv_slice_position",

@@ -131,7 +131,8 @@ class ViewportSession:
     def _render(self, job):
         """On the GL thread: the job's frame into the display's back rows, the overlays
         brought up to it."""
-        frame = self.pipeline.render(job.scene, job.settings, passes=(), display_into=self.display.target(job.size),
+        settings = job.settings.refined(self.pipeline.glc.is_software) if job.accumulate else job.settings
+        frame = self.pipeline.render(job.scene, settings, passes=(), display_into=self.display.target(job.size),
                                      vpl_set=self.pipeline.vpl_pattern + 1 if job.accumulate else None,
                                      accumulate=job.accumulate)
         self.overlays.update(self.pipeline, job.display)

@@ -424,6 +424,8 @@ class Pipeline:
         s = settings or self.settings
         start = time.perf_counter()
         single = s.converge_seconds <= 0 and s.converge_sets <= 1  # else the passes are read once, at the end
+        if not single:
+            s = s.refined(self.glc.is_software)
         frame = self.render(scene, s, passes=passes, display_settings=display_settings, vpl_set=0, read=single)
         spent = {key: value for key, value in frame.stats.items() if key.endswith("_ms")}
         if s.converge_seconds > 0:

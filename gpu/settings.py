@@ -58,6 +58,11 @@ class Validated:
         return replace(self, **changes)
 
 
+AUTO_CONVERGED_RESOLUTION = 32
+"""The light grid's cells a side in the sets a converging frame averages, on a GPU, when
+converged_lpv_resolution is 0 (automatic)."""
+
+
 @dataclass(frozen=True)
 class Settings(Validated):
     """All pipeline parameters; constructing one validates it."""
@@ -70,6 +75,12 @@ class Settings(Validated):
                                          "(light_grid), or every pixel gathering it with visibility (vpl_gather)",
                                   choices=INDIRECT_METHODS)
     lpv_resolution: int = _param(16, "Cells along each side of each grid of the indirect light", 4, 128)
+    converged_lpv_resolution: int = _param(0, "Cells along each side of the light grid's grids in the VPL sets a "
+                                              "frame averages beyond its first (a still viewport, a render of more "
+                                              "than one set): the first frame after an edit keeps lpv_resolution, "
+                                              "for speed; never coarser than it (0: 32 on a GPU, lpv_resolution on "
+                                              "a software rasterizer, which gathers 32³ several times slower)",
+                                           0, 128)
     grid_levels: int = _param(3, "Most nested grid levels around what the camera sees, each twice the size of "
                                  "the one before (cascades)", 1, 4, expert=True)
     propagation_iterations: int = _param(8, "Propagation steps through the volume", 1, 64)
@@ -138,6 +149,15 @@ class Settings(Validated):
                                          16, 4096)
     width: int = _param(640, "Image width in pixels", 1, 16384)
     height: int = _param(480, "Image height in pixels", 1, 16384)
+
+    def refined(self, software):
+        """The settings of the VPL sets a frame averages beyond its first: the light grid
+        at converged_lpv_resolution (docs/method.md, "Convergence"); `software`: whether
+        the GL driver is a software rasterizer."""
+        resolution = self.converged_lpv_resolution or (self.lpv_resolution if software else AUTO_CONVERGED_RESOLUTION)
+        if self.indirect_method != "light_grid" or resolution <= self.lpv_resolution:
+            return self
+        return self.with_changes(lpv_resolution=resolution)
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,8 @@ Cycles renders each scene's light passes (Diffuse and Glossy Direct, Diffuse Ind
 their colours) with the scene's own Light Paths, as F12 does: the bounces our default
 follows. Ours is a frame of the default settings at that size (with --lpv-resolution, the
 indirect grids of that many cells a side), once with one VPL set and
-once converged over --sets sets. Per scene the table gives the ratio of the direct
+once converged over --sets sets, those at a GPU's converged grids (AUTO_CONVERGED_RESOLUTION)
+on any driver. Per scene the table gives the ratio of the direct
 light's means (converged, against Diffuse and Glossy Direct times their colours: the
 lamps', emitters' and world's light on the surfaces, highlights included, as our Direct
 pass holds them) and
@@ -35,7 +36,7 @@ from lpv_preview.gpu.image_io import write_png
 from lpv_preview.gpu.metrics import figure_text, image_errors
 from lpv_preview.gpu.pipeline import render_once
 from lpv_preview.gpu.scene_file import save_scene
-from lpv_preview.gpu.settings import Settings
+from lpv_preview.gpu.settings import AUTO_CONVERGED_RESOLUTION, Settings
 
 ROOMS = ("cornell", *demo.GI_ROOMS, "sunlit_foliage", "area_room", "sky_interior", "particles")
 
@@ -78,7 +79,8 @@ def main():
             print(os.path.join(args.out, f"{name}.npz"), flush=True)
             continue
         direct, reference = cycles_light(bpy_scene, args.samples, size)
-        settings = Settings(width=size[0], height=size[1], lpv_resolution=args.lpv_resolution)
+        settings = Settings(width=size[0], height=size[1], lpv_resolution=args.lpv_resolution,
+                            converged_lpv_resolution=AUTO_CONVERGED_RESOLUTION)  # as on a GPU, on llvmpipe too
         frames = [render_once(scene, settings.with_changes(converge_sets=sets)) for sets in (1, args.sets)]
         cells = [f"{frames[1].passes['direct'].mean() / direct.mean():.3f}"]
         for frame in frames:

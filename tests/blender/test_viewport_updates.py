@@ -131,24 +131,30 @@ def test_a_redraw_with_nothing_changed_shows_the_last_frame_again(cornell_scene)
         session.release()
 
 
-def test_a_still_view_converges_set_by_set_and_a_move_starts_again(cornell_scene):
+def test_a_still_view_converges_set_by_set_at_finer_grids_and_a_move_starts_again(cornell_scene):
     cornell_scene.lpv_preview.viewport_vpl_sets = 3
+    cornell_scene.lpv_preview.converged_lpv_resolution = 20  # automatic keeps 16³ on llvmpipe; 20³ gathers fast
     session = ViewportSession()
     try:
         def draw():
             depsgraph = bpy.context.evaluated_depsgraph_get()
             return session.frame_to_draw(depsgraph, extract_camera(depsgraph, (48, 48)), (48, 48))
 
-        sets = [draw().stats["vpl_sets"] for _ in range(3)]
-        assert sets == [1, 2, 3] and not session.converging(session_display(cornell_scene))
+        frames = [draw() for _ in range(4)]
+        # The first frame at the scene's 16³, then the average starts again at the finer grids.
+        assert [(f.stats["vpl_sets"], f.stats["lpv_resolution"]) for f in frames] == [(1, 16), (1, 20), (2, 20),
+                                                                                    (3, 20)]
+        assert not session.converging(session_display(cornell_scene))
         last = draw()
-        assert draw() is last and last.stats["accumulated_vpls"] == 3 * last.stats["vpl_count"]
+        assert last is frames[-1] and last.stats["accumulated_vpls"] == 3 * last.stats["vpl_count"]
         session.note_updates(recorded_updates(move_camera))
         moved = draw()
-        assert moved.stats["vpl_sets"] == 1 and session.converging(session_display(cornell_scene))
+        assert moved.stats["vpl_sets"] == 1 and moved.stats["lpv_resolution"] == 16
+        assert session.converging(session_display(cornell_scene))
         assert not any(stage in moved.stats for stage in ("rsm_ms", "vpl_ms"))  # the pattern it had stays
     finally:
         cornell_scene.lpv_preview.property_unset("viewport_vpl_sets")
+        cornell_scene.lpv_preview.property_unset("converged_lpv_resolution")
         session.release()
 
 

@@ -18,7 +18,7 @@ from ..gpu.shade import DISPLAY_CHANNELS
 from . import frame_stats, overlay
 from .properties import (correction_settings_from_properties, display_settings_from_properties,
                          settings_from_properties)
-from .sync import EVERYTHING, SceneSync, changed_parts, edits_cycles_sees
+from .sync import CAMERA, EVERYTHING, SceneSync, changed_parts, edits_cycles_sees
 from .viewport_corrections import ViewportCorrections, corrected_size
 
 
@@ -75,12 +75,13 @@ class FrameJob:
     size, whether it adds a VPL set to the last one, and what it depends on."""
 
     scene: object
-    settings: object
+    settings: object  # the frame's own: the view's, or refined (Settings.refined)
     display: object  # DisplaySettings
     size: tuple
     accumulate: bool
     depends_on: tuple
     extract_ms: float
+    refined: bool = False
     future: object = None
 
 
@@ -102,6 +103,7 @@ class ViewportSession:
         self.scene = None  # the Scene last extracted
         self._shown = None  # (what the last drawn frame depends on, that frame)
         self._job = None  # the FrameJob the GL thread renders now
+        self._refined = False  # whether the frame shown gathered at the finer grids
 
     def note_updates(self, updates):
         parts = changed_parts(updates)
@@ -122,17 +124,22 @@ class ViewportSession:
     def _job_for(self, depsgraph, camera, size, view3d, settings, display, accumulate):
         """The scene extracted for a frame (on Blender's thread: bpy), as a FrameJob."""
         start = time.perf_counter()
+        # A still view refines its grids; once refined, a move of the view alone keeps the
+        # finer grids (built already, so nothing on the light side is made again), and an
+        # edit goes back to the coarser ones for speed.
+        finer = settings.refined(self.pipeline.glc.is_software)
+        edited = bool(self.pending - {CAMERA})
+        refined = finer is not settings and not edited and (accumulate or self._refined)
         scene = self.sync.scene(depsgraph, self.pending, camera, view3d)
         self.scene = scene
         self.pending = set()
-        return FrameJob(scene, settings, display, size, accumulate, (camera.key(), settings),
-                        (time.perf_counter() - start) * 1000.0)
+        return FrameJob(scene, finer if refined else settings, display, size, accumulate, (camera.key(), settings),
+                        (time.perf_counter() - start) * 1000.0, refined)
 
     def _render(self, job):
         """On the GL thread: the job's frame into the display's back rows, the overlays
         brought up to it."""
-        settings = job.settings.refined(self.pipeline.glc.is_software) if job.accumulate else job.settings
-        frame = self.pipeline.render(job.scene, settings, passes=(), display_into=self.display.target(job.size),
+        frame = self.pipeline.render(job.scene, job.settings, passes=(), display_into=self.display.target(job.size),
                                      vpl_set=self.pipeline.vpl_pattern + 1 if job.accumulate else None,
                                      accumulate=job.accumulate)
         self.overlays.update(self.pipeline, job.display)
@@ -141,6 +148,7 @@ class ViewportSession:
     def _finish(self, job, frame):
         """On Blender's thread: the job's frame is done, and shown from now on."""
         self.display.present()
+        self._refined = job.refined
         frame.stats["extract_ms"] = job.extract_ms
         frame.stats["extracted"] = list(self.sync.extracted)
         frame_stats.remember(frame.stats)

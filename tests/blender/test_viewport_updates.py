@@ -131,7 +131,7 @@ def test_a_redraw_with_nothing_changed_shows_the_last_frame_again(cornell_scene)
         session.release()
 
 
-def test_a_still_view_converges_set_by_set_at_finer_grids_and_a_move_starts_again(cornell_scene):
+def test_a_still_view_converges_at_finer_grids_a_move_keeps_them_and_an_edit_starts_again(cornell_scene):
     cornell_scene.lpv_preview.viewport_vpl_sets = 3
     cornell_scene.lpv_preview.converged_lpv_resolution = 20  # automatic keeps 16³ on llvmpipe; 20³ gathers fast
     session = ViewportSession()
@@ -148,10 +148,13 @@ def test_a_still_view_converges_set_by_set_at_finer_grids_and_a_move_starts_agai
         last = draw()
         assert last is frames[-1] and last.stats["accumulated_vpls"] == 3 * last.stats["vpl_count"]
         session.note_updates(recorded_updates(move_camera))
-        moved = draw()
-        assert moved.stats["vpl_sets"] == 1 and moved.stats["lpv_resolution"] == 16
+        moved = draw()  # keeps the finer grids, which still fit: nothing on the light side is made again
+        assert moved.stats["vpl_sets"] == 1 and moved.stats["lpv_resolution"] == 20
         assert session.converging(session_display(cornell_scene))
-        assert not any(stage in moved.stats for stage in ("rsm_ms", "vpl_ms"))  # the pattern it had stays
+        assert not any(stage in moved.stats for stage in ("rsm_ms", "vpl_ms", "inject_ms", "gather_ms"))
+        session.note_updates(recorded_updates(move_light))
+        lit = draw()  # an edit goes back to the coarser grids, for speed
+        assert lit.stats["vpl_sets"] == 1 and lit.stats["lpv_resolution"] == 16
     finally:
         cornell_scene.lpv_preview.property_unset("viewport_vpl_sets")
         cornell_scene.lpv_preview.property_unset("converged_lpv_resolution")

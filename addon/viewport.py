@@ -7,7 +7,7 @@ Blender's GPU buffer and draws it. Nothing here draws, so it runs and is tested 
 background mode.
 """
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -128,8 +128,11 @@ class ViewportSession:
         # finer grids (built already, so nothing on the light side is made again), and an
         # edit goes back to the coarser ones for speed.
         finer = settings.refined(self.pipeline.glc.is_software)
-        edited = bool(self.pending - {CAMERA})
-        refined = finer is not settings and not edited and (accumulate or self._refined)
+        shown = self._shown[0][1] if self._shown is not None else None
+        edited = bool(self.pending - {CAMERA}) or shown is None or \
+            replace(shown, width=settings.width, height=settings.height) != settings  # the panel's settings
+        corrected = correction_settings_from_properties(depsgraph.scene.lpv_preview).viewport_corrections
+        refined = finer is not settings and not edited and not corrected and (accumulate or self._refined)
         scene = self.sync.scene(depsgraph, self.pending, camera, view3d)
         self.scene = scene
         self.pending = set()

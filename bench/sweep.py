@@ -143,6 +143,8 @@ def run_sweep(name, sweep, load_scene, log=print, cycles_indirect=None):
         if not own_lights:
             scene = with_lights(scene, int(point.get("lights", 1)), point.get("light_kind", "point"))
         settings = preset_settings(point.get("preset"), **{k: v for k, v in point.items() if k in PARAMETERS})
+        if "converged_lpv_resolution" not in point:  # a row's sets gather at the grid it names
+            settings = settings.with_changes(converged_lpv_resolution=settings.lpv_resolution)
         cycles_reference = None
         if cycles_samples and cycles_indirect is not None and own_lights:
             cycles_key = (point["scene"], settings.width, settings.height)

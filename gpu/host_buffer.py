@@ -1,18 +1,20 @@
 """A storage buffer in the host's memory, mapped for good, that a shader writes and the
 host copies out with several threads: the viewport's rows without the driver's
-single-threaded read (docs/performance.md, "Readback")."""
+single-threaded read (docs/performance.md, "The readback")."""
 import ctypes
 import os
+import threading
 from concurrent.futures import ThreadPoolExecutor
 
 MAP_READ, MAP_PERSISTENT, MAP_COHERENT, CLIENT_STORAGE = 0x1, 0x40, 0x80, 0x200
 CLIENT_MAPPED_BUFFER_BARRIER = 0x4000
 COPY_THREADS = min(4, os.cpu_count() or 1)
-"""Threads that copy the rows out: one core copies about 10 GB/s, and four reach the
-memory's bandwidth (a 1080p frame 2.1 -> 0.7 ms on the H200's host)."""
+"""Threads that copy the rows out: one core does not reach the memory's bandwidth, four
+do (docs/performance.md, "The readback")."""
 COPY_ALIGNMENT = 64
 
 _copy_pool = None
+_copy_pool_made = threading.Lock()
 
 
 def _functions(gl):
@@ -75,21 +77,25 @@ class HostBuffer:
         global _copy_pool
         self.gl.memory_barrier(CLIENT_MAPPED_BUFFER_BARRIER)
         self.gl.finish()
-        target = ctypes.addressof((ctypes.c_char * self.size).from_buffer(out))
+        view = (ctypes.c_char * self.size).from_buffer(out)  # holds `out`'s buffer while the threads copy
+        target = ctypes.addressof(view)
         part = -(-self.size // COPY_THREADS // COPY_ALIGNMENT) * COPY_ALIGNMENT
         starts = range(0, self.size, part)
         if len(starts) == 1:
             ctypes.memmove(target, self._address, self.size)
             return
-        if _copy_pool is None:
-            _copy_pool = ThreadPoolExecutor(COPY_THREADS, thread_name_prefix="lpv-readback")
+        with _copy_pool_made:  # GL threads of several contexts may read at once
+            if _copy_pool is None:
+                _copy_pool = ThreadPoolExecutor(COPY_THREADS, thread_name_prefix="lpv-readback")
         # ctypes lets go of the GIL in memmove, so the parts copy at once.
         list(_copy_pool.map(lambda start: ctypes.memmove(target + start, self._address + start,
                                                          min(part, self.size - start)), starts))
 
     def release(self):
+        if self._name is None:  # released already: GL may have given the name to another buffer
+            return
         if self._address:
             self._functions["glUnmapNamedBuffer"](self._name)
             self._address = None
         self._functions["glDeleteBuffers"](1, ctypes.byref(self._name))
-        self.buffer = None
+        self._name = self.buffer = None

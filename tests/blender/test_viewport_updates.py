@@ -155,9 +155,13 @@ def test_a_still_view_converges_at_finer_grids_a_move_keeps_them_and_an_edit_sta
         session.note_updates(recorded_updates(move_light))
         lit = draw()  # an edit goes back to the coarser grids, for speed
         assert lit.stats["vpl_sets"] == 1 and lit.stats["lpv_resolution"] == 16
+        assert draw().stats["lpv_resolution"] == 20  # still again: refined again
+        cornell_scene.lpv_preview.vpls_per_light = 128  # an edit in the panel
+        assert draw().stats["lpv_resolution"] == 16
     finally:
         cornell_scene.lpv_preview.property_unset("viewport_vpl_sets")
         cornell_scene.lpv_preview.property_unset("converged_lpv_resolution")
+        cornell_scene.lpv_preview.vpls_per_light = 256
         session.release()
 
 

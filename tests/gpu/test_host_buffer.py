@@ -44,3 +44,26 @@ def test_the_frame_targets_keep_the_viewports_rows_in_the_host_buffer(glc):
         assert targets.display not in targets.resources()  # host memory, not the GPU's
     finally:
         targets.release()
+
+
+def test_without_a_mapped_buffer_the_rows_are_read_back_the_same(glc, monkeypatch):
+    """Where the driver maps no buffer, the composite's rows come through an ordinary one."""
+    from lpv_preview.bench.synthetic import room_scene
+    from lpv_preview.gpu.pipeline import Pipeline
+    from lpv_preview.gpu.settings import Settings
+    settings = Settings(width=32, height=24, rsm_resolution=64, vpls_per_light=128, lpv_resolution=8)
+    scene = room_scene(4)
+    rows = []
+    for mapped in (True, False):
+        if not mapped:
+            monkeypatch.setattr(HostBuffer, "make", classmethod(lambda cls, gl, size: None))
+        pipeline = Pipeline(settings, glc)
+        try:
+            out = np.empty(32 * 24 * DISPLAY_CHANNELS, np.float32)
+            pipeline.render(scene, passes=(), display_into=out)
+            assert isinstance(pipeline.targets.display, HostBuffer) == mapped
+            rows.append(out)
+        finally:
+            pipeline.release()
+    assert rows[0].max() > 0
+    np.testing.assert_array_equal(rows[0], rows[1])

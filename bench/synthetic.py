@@ -1,7 +1,10 @@
 """Scenes made of arrays, for measurements and tests that need no Blender."""
+import dataclasses
+
 import numpy as np
 
 from ..gpu.scene import Camera, Light, Scene
+from ..gpu.scene_file import load_scene
 
 
 def room_scene(quads_per_side, scale=1.0, light_position=(0.4, -0.3, 2.0), offset=(0.0, 0.0, 0.0)):
@@ -74,3 +77,20 @@ def particles_in_a_box(count=2000, seed=0):
     triangles = np.concatenate([room.triangles, walls])
     albedo = np.concatenate([room.albedo, np.full((len(walls), 3), 0.6, np.float32)])
     return Scene(triangles, np.zeros_like(triangles), albedo, [], room.camera, point_emitters=emitters).sanitize()
+
+
+def glossy(scene):
+    """`scene` with the Principled BSDF's default glossy layer on every surface (F0 0.04,
+    roughness 0.5), as an artist's scene has it."""
+    return dataclasses.replace(scene, specular=np.tile(np.float32([0.04, 0.04, 0.04, 0.5, 0.0]),
+                                                       (len(scene.triangles), 1)))
+
+
+NAMED_SCENES = {"room1200k": lambda: room_scene(320), "room1200k_glossy": lambda: glossy(room_scene(320))}
+"""The scenes the GPU timing scripts make by name: a closed room of 1,228,800 triangles
+around a point light, and the same with a glossy layer everywhere."""
+
+
+def scene_by_name(folder, name):
+    """NAMED_SCENES' scene `name`, else the export `folder`/`name`.npz."""
+    return NAMED_SCENES[name]() if name in NAMED_SCENES else load_scene(f"{folder}/{name}.npz")

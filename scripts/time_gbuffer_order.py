@@ -1,28 +1,26 @@
 """Whether a 1.2M-triangle room's G-buffer draw depends on the room or on what was drawn
-before it in the process, on the GPU: for each room in the order given (time_viewport_work.py's
-synthetic rooms), twelve camera moves then twelve light edits at 1920×1080, and per case
+before it in the process, on the GPU: for each room in the order given (bench/synthetic.py
+NAMED_SCENES), twelve camera moves then twelve light edits at 1920×1080, and per case
 the median GPU milliseconds of the frame's G-buffer and of the same draw made again right
 after the frame (same view, a view 0.1° on, after 20 ms idle, after every texture unit
 is rebound to a dummy texture).
 
     python scripts/time_gbuffer_order.py [room1200k room1200k_glossy]
 """
-import dataclasses
-import os
 import statistics
 import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from time_viewport_work import SIZE, SYNTHETIC  # noqa: E402
-from lpv_preview.bench.viewport_work import edited_frames  # noqa: E402
+from lpv_preview.bench.synthetic import NAMED_SCENES
+from lpv_preview.bench.viewport_work import edited_frames
+from lpv_preview.gpu.pipeline import Pipeline
+from lpv_preview.gpu.scene_edits import camera_path
+from lpv_preview.gpu.settings import preset_settings
+from lpv_preview.gpu.shade import DISPLAY_CHANNELS, render_gbuffer
 
-from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
-from lpv_preview.gpu.scene_edits import camera_path  # noqa: E402
-from lpv_preview.gpu.settings import preset_settings  # noqa: E402
-from lpv_preview.gpu.shade import DISPLAY_CHANNELS, render_gbuffer  # noqa: E402
+SIZE = (1920, 1080)
 
 FRAMES = 12
 
@@ -39,7 +37,7 @@ def gbuffer_ms(pipeline, camera):
 def main():
     names = sys.argv[1:] or ["room1200k", "room1200k_glossy"]
     for name in names:
-        scene = SYNTHETIC[name]()
+        scene = NAMED_SCENES[name]()
         pipeline = Pipeline(preset_settings(None, width=SIZE[0], height=SIZE[1]))
         display = np.zeros(SIZE[0] * SIZE[1] * DISPLAY_CHANNELS, np.float32)
         dummy = pipeline.glc.gl.texture((1, 1), 4)

@@ -15,11 +15,10 @@ import time
 import moderngl
 import numpy as np
 
-from lpv_preview.bench.synthetic import room_scene
+from lpv_preview.bench.synthetic import scene_by_name
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.rsm import cube_faces, render_rsm
 from lpv_preview.gpu.scene import look_at_view, perspective
-from lpv_preview.gpu.scene_file import load_scene
 from lpv_preview.gpu.settings import Settings
 from lpv_preview.gpu.shade import render_gbuffer
 
@@ -53,7 +52,7 @@ def main():
     parser.add_argument("--repeats", type=int, default=30)
     args = parser.parse_args()
     for name in args.names:
-        scene = room_scene(320) if name == "room1200k" else load_scene(f"{args.folder}/{name}.npz")
+        scene = scene_by_name(args.folder, name)
         pipeline = Pipeline(Settings(width=SIZE[0], height=SIZE[1]))
         pipeline.render(scene, passes=())
         glc, gl, mesh, targets = pipeline.glc, pipeline.glc.gl, pipeline._mesh.value, pipeline.targets

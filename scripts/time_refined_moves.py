@@ -8,17 +8,16 @@ after refining had it gone back to the coarser grids (their light made again).
     python scripts/time_refined_moves.py DIR NAME [NAME ...]
 
 NAME is DIR/NAME.npz (`scripts/full_gi_rooms.py DIR --export`) or `room1200k`
-(bench/synthetic.py room_scene). Prints the figures as JSON.
+(bench/synthetic.py NAMED_SCENES). Prints the figures as JSON.
 """
 import argparse
 import json
 import statistics
 import time
 
-from lpv_preview.bench.synthetic import room_scene
+from lpv_preview.bench.synthetic import scene_by_name
 from lpv_preview.bench.viewport_work import display_buffer, edited_frames
 from lpv_preview.gpu.pipeline import Pipeline
-from lpv_preview.gpu.scene_file import load_scene
 from lpv_preview.gpu.settings import Settings
 
 ROUNDS = 10
@@ -40,7 +39,7 @@ def main():
     settings = Settings(width=1920, height=1080)
     report = {}
     for name in args.names:
-        scene = room_scene(320) if name == "room1200k" else load_scene(f"{args.folder}/{name}.npz")
+        scene = scene_by_name(args.folder, name)
         moves = edited_frames(scene, "camera move", 4 * ROUNDS)
         pipeline, display = Pipeline(settings), display_buffer(settings)
         fine = settings.refined(pipeline.glc.is_software)

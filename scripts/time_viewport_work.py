@@ -7,7 +7,7 @@ stages' medians beside it.
         [--presets defaults,fast,balanced,accurate] [--emitters 1048576]
 
 NAME is DIR/NAME.npz (`python -m lpv_preview export NAME`) or `room1200k`, a closed room of
-1,228,800 triangles around a point light (bench/synthetic.py room_scene), made here, or
+1,228,800 triangles around a point light (bench/synthetic.py NAMED_SCENES), made here, or
 `room1200k_glossy`, the same with the Principled BSDF's default glossy layer everywhere. Every
 frame is one `Pipeline.render` of one VPL set at 1920×1080 with the combined image read
 into a float buffer, as a viewport redraw does (`display_into`), after a frame of the
@@ -18,26 +18,14 @@ seed), once per preset.
 Prints the report as JSON.
 """
 import argparse
-import dataclasses
 import json
 
-import numpy as np
-
-from lpv_preview.bench.synthetic import particle_room, room_scene
+from lpv_preview.bench.synthetic import particle_room, scene_by_name
 from lpv_preview.bench.viewport_work import EDITS, display_buffer, edited_frames, timed_redraws
 from lpv_preview.gpu.pipeline import Pipeline
-from lpv_preview.gpu.scene_file import load_scene
 from lpv_preview.gpu.settings import preset_settings
 
 SIZE = (1920, 1080)
-SYNTHETIC = {"room1200k": lambda: room_scene(320), "room1200k_glossy": lambda: glossy(room_scene(320))}
-
-
-def glossy(scene):
-    """`scene` with the Principled BSDF's default glossy layer on every surface (F0 0.04,
-    roughness 0.5), as an artist's scene has it."""
-    return dataclasses.replace(scene, specular=np.tile(np.float32([0.04, 0.04, 0.04, 0.5, 0.0]),
-                                                       (len(scene.triangles), 1)))
 
 
 def main():
@@ -52,7 +40,7 @@ def main():
     runs, renderer = {}, None
     presets = args.presets.split(",")
     for name in args.names:
-        scene = SYNTHETIC[name]() if name in SYNTHETIC else load_scene(f"{args.folder}/{name}.npz")
+        scene = scene_by_name(args.folder, name)
         for preset in presets:
             settings = preset_settings(None if preset == "defaults" else preset, width=SIZE[0], height=SIZE[1])
             for edit in EDITS:

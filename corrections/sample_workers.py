@@ -8,6 +8,7 @@ loopback address only; `SampleWorkers(blend, open_renderer, scheduler="tls://HOS
 security=...)` joins a studio's cluster, over TLS only: a Dask scheduler runs whatever
 code it is sent, so it is never reached in the clear (README, "Cycles sample workers").
 """
+import logging
 import shutil
 
 from ..gpu.errors import LPVError, first_line
@@ -82,8 +83,11 @@ class SampleWorkers:
                 if scheduler is not None:
                     self.client = Client(scheduler, security=security, timeout="20s")
                 else:
+                    # silence_logs: a worker that heartbeats after the scheduler closed (a close
+                    # under load, as on Ctrl-C) would print Dask's traceback on the user's terminal;
+                    # the workers' errors come back through their futures
                     self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                                host="127.0.0.1", dashboard_address=None,
+                                                host="127.0.0.1", dashboard_address=None, silence_logs=logging.CRITICAL,
                                                 env={name: self.folder for name in ("TMPDIR", "TEMP", "TMP")})
                     self.client = Client(self.cluster)
             except (OSError, RuntimeError, TimeoutError) as error:

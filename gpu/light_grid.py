@@ -32,8 +32,13 @@ NEAR_SIZES = 1.5
 """A cluster stands for its emitters at cell centres farther than NEAR_SIZES times its width
 from its cell; nearer, the clusters half as wide inside it do (docs/method.md)."""
 BINS = 7  # a cluster's normal: the main axis and its sign, or none
-CLUSTER_INTS = 11  # flux rgb, weighted place xyz, weighted normal xyz, weight, weight whose bound is held
+CLUSTER_INTS = 12  # flux rgb, weighted place xyz, weighted normal xyz, weight, weight whose bound is held, area
 FIXED_POINT_RANGE = 2.0 ** 30
+AREA_UNITS = 1 << 16
+"""Fixed-point units of a cluster's area sum per area of a finest cluster cell."""
+MEMBER_AREA_CAP = 256
+"""The most finest cluster cells' area one emitter adds to a cluster's: 2^31 units hold 128
+such emitters, and no light map's VPL stands for that much of one cell."""
 DIRECTIONS = 6  # +x, -x, +y, -y, +z, -z
 GATHER_LANES = 64  # invocations sharing one cell's emitters (shaders/light_grid_gather.comp)
 LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16
@@ -128,7 +133,8 @@ class LightGrid:
         size = cluster_grids[0].size
         tables = cluster_tables(sum(count for _, count in emitter_sets), size, len(cluster_grids))
         self._cluster_buffers(tables)
-        defines = {"LEVELS": len(cluster_grids), "CLUSTER_INTS": CLUSTER_INTS, "DEPTH": len(tables)}
+        defines = {"LEVELS": len(cluster_grids), "CLUSTER_INTS": CLUSTER_INTS, "DEPTH": len(tables),
+                   "AREA_UNITS": AREA_UNITS, "MEMBER_AREA_CAP": MEMBER_AREA_CAP}
         levels = {"level_origins": np.array([g.origin for g in cluster_grids]),
                   "level_cells": np.array([g.cell_size for g in cluster_grids]), "grid_size": size,
                   "flux_scale": FIXED_POINT_RANGE / flux_bound if flux_bound > 0 else 1.0}

@@ -131,7 +131,9 @@ class Settings(Validated):
                                            "for over pi: added to r² for the lights' VPLs in the pixel gather (1: as "
                                            "a disk of that area lights its axis; the n-th VPL set of a converging "
                                            "frame takes 1/n of it), r² held at least there elsewhere (1: within that "
-                                           "disk's radius its exitance); 0: unbounded, exact on average but spiky",
+                                           "disk's radius its exitance; the light grid's clusters of emitters "
+                                           "with a normal are squares of their area and take none); 0: unbounded, "
+                                           "exact on average but spiky",
                                       0.0, 16.0, expert=True)
     converge_sets: int = _param(1, "VPL sets a rendered frame averages, each another Poisson pattern over the "
                                    "light maps seen through another point of the pixels: its light converges "

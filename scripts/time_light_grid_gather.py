@@ -2,7 +2,7 @@
 are meaningless), on demo scenes at the defaults.
 
     .venv/bin/python scripts/time_light_grid_gather.py [default_cube,cornell,area_room,atrium] [--frames 3]
-        [--exports DIR]
+        [--exports DIR] [--resolution 16]
 
 prints per scene the emitter clusters, the grids and the median gather over the frames (each
 frame a new VPL set, so the clusters are gathered again), with its least and most. The
@@ -12,6 +12,8 @@ where there is no Blender, as on the GPU machine.
 import argparse
 import statistics
 import time
+
+import numpy as np
 
 from lpv_preview.gpu import light_grid
 from lpv_preview.gpu.pipeline import Pipeline
@@ -25,6 +27,7 @@ def main():
     parser = argparse.ArgumentParser(description="the light grid's gather alone")
     parser.add_argument("scenes", nargs="?", default="default_cube,cornell,area_room,atrium")
     parser.add_argument("--frames", type=int, default=3)
+    parser.add_argument("--resolution", type=int, default=Settings().lpv_resolution, help="cells a grid side")
     parser.add_argument("--exports", help="read the scenes from this folder's NAME.npz files")
     args = parser.parse_args()
     timed = []
@@ -35,7 +38,8 @@ def main():
         began = time.perf_counter()
         gather(self, *arguments)
         self.glc.gl.finish()
-        timed.append((time.perf_counter() - began, self.emitter_count, len(self.grids), self.grids[0].size))
+        clusters = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
+        timed.append((time.perf_counter() - began, clusters, len(self.grids), self.grids[0].size))
 
     light_grid.LightGrid.gather = timed_gather
     for name in args.scenes.split(","):
@@ -44,7 +48,7 @@ def main():
         else:
             from lpv_preview import demo
             scene = demo.extracted(name, resolution=SIZE)
-        pipeline = Pipeline(Settings(width=SIZE[0], height=SIZE[1]))
+        pipeline = Pipeline(Settings(width=SIZE[0], height=SIZE[1], lpv_resolution=args.resolution))
         timed.clear()
         try:
             for frame in range(args.frames):
@@ -53,8 +57,9 @@ def main():
             pipeline.release()
         seconds = [entry[0] for entry in timed]
         _, clusters, grids, size = timed[-1]
-        print(f"{name}: {clusters} clusters, {grids} grids of {size}³: gather median {statistics.median(seconds):.3f} s "
-              f"({min(seconds):.3f}-{max(seconds):.3f}, {len(seconds)} gathers)", flush=True)
+        print(f"{name}: {clusters} clusters, {grids} grids of {size}³: gather median "
+              f"{1000 * statistics.median(seconds):.2f} ms ({1000 * min(seconds):.2f}-{1000 * max(seconds):.2f}, "
+              f"{len(seconds)} gathers)", flush=True)
 
 
 if __name__ == "__main__":

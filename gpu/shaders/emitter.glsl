@@ -33,3 +33,75 @@ vec3 emitter_light(Emitter e, vec3 d) { return bounded_emitter_light(e, d, singu
 vec3 shared_emitter_light(Emitter e, vec3 d, float grown, float held) {
     return bounded_emitter_light(e, d, grown, held, held_share(e));
 }
+
+// Lambert's edge integral of the polygon edge from unit direction a to b over 2 pi: the angle
+// between them times their normalised cross product, with Heitz et al.'s fit of
+// theta / (2 pi sin(theta)).
+vec3 edge_integral(vec3 a, vec3 b) {
+    float x = dot(a, b);
+    float y = abs(x);
+    float v = (0.8543985 + (0.4965155 + 0.0145206 * y) * y) / (3.4175940 + (4.1616724 + y) * y);
+    float theta_over_sine = x > 0.0 ? v : 0.5 * inversesqrt(max(1.0 - x * x, 1e-7)) - v;
+    return cross(a, b) * theta_over_sine;
+}
+
+// The irradiance at p of a cosine emitter spread evenly over a square of the area it stands
+// for, facing its normal, on surfaces facing +x, +y, +z (`plus`) and -x, -y, -z (`minus`),
+// times `colour` (its radiance, flux / (pi A)): per face the projected solid angle of the
+// part of the square before it (Lambert's formula on the square cut by the face's plane).
+// Squares tiling a lit plane give a point near it the plane's light wherever it falls,
+// where points with a bounded 1/r^2 swing from far too little to far too much
+// (docs/method.md, "Light grid"); beyond SQUARE_SIDES sides a point's light.
+const float SQUARE_SIDES = 2.0;
+void square_faces(Emitter e, vec3 p, out vec3 colour, out vec3 plus, out vec3 minus) {
+    vec3 d = p - e.position.xyz;
+    vec3 n = e.normal.xyz;
+    float r2 = dot(d, d), area = max(e.normal.w, 0.0);
+    float facing = dot(d, n);
+    colour = e.flux.rgb / (PI * max(area, 1e-30));
+    plus = minus = vec3(0.0);
+    if (facing <= 0.0 || r2 <= 0.0) return;
+    if (r2 > SQUARE_SIDES * SQUARE_SIDES * area) {
+        vec3 toward = -d * (area * facing / (r2 * r2));
+        plus = max(toward, 0.0);
+        minus = max(-toward, 0.0);
+        return;
+    }
+    float s = n.z >= 0.0 ? 1.0 : -1.0;  // an orthonormal basis around n (Duff et al. 2017)
+    float a = -1.0 / (s + n.z), b = n.x * n.y * a;
+    vec3 t = 0.5 * sqrt(area) * vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+    vec3 u = 0.5 * sqrt(area) * vec3(b, s + n.y * n.y * a, -n.y);
+    vec3 q[4] = vec3[4](-d - t - u, -d + t - u, -d + t + u, -d - t + u);  // the corners, seen from p
+    vec3 corner[4], edge[4];
+    for (int i = 0; i < 4; ++i) corner[i] = normalize(q[i]);
+    for (int i = 0; i < 4; ++i) edge[i] = edge_integral(corner[i], corner[(i + 1) & 3]);
+    float winding = dot(edge[0] + edge[1] + edge[2] + edge[3], n) < 0.0 ? PI : -PI;  // toward the square
+    vec3 whole = winding * (edge[0] + edge[1] + edge[2] + edge[3]);
+    for (int axis = 0; axis < 3; ++axis) {
+        float low = min(min(q[0][axis], q[1][axis]), min(q[2][axis], q[3][axis]));
+        float high = max(max(q[0][axis], q[1][axis]), max(q[2][axis], q[3][axis]));
+        float before = high <= 0.0 ? 0.0 : whole[axis];  // the light from the part on the axis' + side
+        if (low < 0.0 && high > 0.0) {  // the square's edges on that side, and the cut between where it leaves and comes back
+            vec3 part = vec3(0.0), leaves = vec3(0.0), returns = vec3(0.0);
+            for (int i = 0; i < 4; ++i) {
+                vec3 from = q[i], to = q[(i + 1) & 3];
+                bool from_before = from[axis] >= 0.0, to_before = to[axis] >= 0.0;
+                if (from_before && to_before) {
+                    part += edge[i];
+                } else if (from_before || to_before) {
+                    vec3 cut = normalize(mix(from, to, from[axis] / (from[axis] - to[axis])));
+                    if (from_before) {
+                        leaves = cut;
+                        part += edge_integral(corner[i], cut);
+                    } else {
+                        returns = cut;
+                        part += edge_integral(cut, corner[(i + 1) & 3]);
+                    }
+                }
+            }
+            before = winding * (part + edge_integral(leaves, returns))[axis];
+        }
+        plus[axis] = max(before, 0.0);
+        minus[axis] = max(before - whole[axis], 0.0);
+    }
+}

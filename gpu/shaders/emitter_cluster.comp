@@ -2,8 +2,8 @@
 // Emitters into clusters: the finest level whose box holds an emitter decides its cluster
 // cell, and its normal's main axis and sign (or "no normal") the bin; a hash table finds
 // the cluster, which sums the flux and the flux-weighted place in its cell, normal and
-// share whose bound is held (emitter.glsl held_share) in fixed-point integer atomics (the
-// same sums whatever order the emitters come in). With WIDER, the emitters are the clusters
+// share whose bound is held (emitter.glsl held_share), and the area its emitters stand for,
+// in fixed-point integer atomics (the same sums whatever order the emitters come in). With WIDER, the emitters are the clusters
 // of the octave before (emitter_compact.comp's list) and each goes into the cell twice as
 // wide that holds its own, by its name (cluster_key.glsl), not its place.
 #include "common.glsl"
@@ -73,4 +73,6 @@ void main() {
     }
     atomicAdd(sums[base + 9], int(round(weight)));
     atomicAdd(sums[base + 10], int(round(weight * held_share(e))));
+    float cell_area = level_cells[level] * level_cells[level];
+    atomicAdd(sums[base + 11], int(round(min(e.normal.w / cell_area, float(MEMBER_AREA_CAP)) * float(AREA_UNITS))));
 }

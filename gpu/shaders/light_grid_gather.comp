@@ -80,22 +80,29 @@ void main() {
 #if DEPTH > 1  // one octave: every cluster is in the cut
         if (!in_cut(e, centre)) continue;
 #endif
-        vec3 d = centre - e.position.xyz;
-        vec3 light = shared_emitter_light(e, d, singularity_bound, singularity_bound);
-        if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
-        vec3 w = normalize(d);
+        vec3 light, plus, minus;  // the light on surfaces facing +axis and -axis: light * plus, light * minus
+        if (dot(e.normal.xyz, e.normal.xyz) > 0.5) {
+            square_faces(e, centre, light, plus, minus);
+        } else {
+            vec3 d = centre - e.position.xyz;
+            light = shared_emitter_light(e, d, singularity_bound, singularity_bound);
+            vec3 w = normalize(d);
+            plus = max(-w, 0.0);
+            minus = max(w, 0.0);
+        }
+        if (max(light.r, max(light.g, light.b)) <= 0.0 || max(dot(plus, plus), dot(minus, minus)) <= 0.0) continue;
 #if UNSHADOWED
         for (int axis = 0; axis < 3; ++axis) {
-            facing[6 + 2 * axis] += light * max(0.0, -w[axis]);
-            facing[6 + 2 * axis + 1] += light * max(0.0, w[axis]);
+            facing[6 + 2 * axis] += light * plus[axis];
+            facing[6 + 2 * axis + 1] += light * minus[axis];
         }
 #endif
         if (levels_blocked(e.position.xyz + EMITTER_OFFSET * level_voxels[first_level] * e.normal.xyz, centre,
                            e.position.xyz))
             continue;
         for (int axis = 0; axis < 3; ++axis) {
-            facing[2 * axis] += light * max(0.0, -w[axis]);
-            facing[2 * axis + 1] += light * max(0.0, w[axis]);
+            facing[2 * axis] += light * plus[axis];
+            facing[2 * axis + 1] += light * minus[axis];
         }
     }
     for (int k = 0; k < SUMS; ++k) sums[k][lane] = facing[k];

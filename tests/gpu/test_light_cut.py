@@ -25,4 +25,4 @@ def test_the_cut_gives_the_light_of_every_finest_cluster(monkeypatch):
     assert finest.mean() > 0
     assert abs(errors["mean"] / errors["reference_mean"] - 1) < 0.015  # each emitter counted once
     assert errors["psnr"] > 38
-    assert widest_errors["psnr"] < errors["psnr"] - 10  # the cut is not the widest clusters alone
+    assert widest_errors["psnr"] < errors["psnr"] - 5  # the cut is not the widest clusters alone

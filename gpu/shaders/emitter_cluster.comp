@@ -2,9 +2,9 @@
 // Emitters into clusters: the finest level whose box holds an emitter decides its cluster
 // cell, and its normal's main axis and sign (or "no normal") the bin; a hash table finds
 // the cluster, which sums the flux and the flux-weighted place in its cell, normal and
-// share whose bound is held (emitter.glsl held_share), and the area its emitters stand for,
-// in fixed-point integer atomics (the same sums whatever order the emitters come in). With WIDER, the emitters are the clusters
-// of the octave before (emitter_compact.comp's list) and each goes into the cell twice as
+// share whose bound is held (emitter.glsl held_share), and the area its emitters stand
+// for, in fixed-point integer atomics (the same sums whatever order the emitters come in).
+// With WIDER, the emitters are the clusters of the octave before (emitter_compact.comp's list) and each goes into the cell twice as
 // wide that holds its own, by its name (cluster_key.glsl), not its place.
 #include "common.glsl"
 #include "emitter.glsl"

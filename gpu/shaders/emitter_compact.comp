@@ -2,9 +2,10 @@
 // Each filled cluster of emitter_cluster.comp becomes one emitter at the flux-weighted mean
 // of its emitters' places, with their mean normal, summed flux and share of it whose bound
 // is held, and its name and octave in position.w (cluster_key.glsl). A cluster with a
-// normal stands for the area its emitters stand for (emitter.glsl square_irradiance); one
-// without, for a disk as wide as the finest clusters' cell. The list keeps the hash table's slot order, so
-// a frame's sums come out the same every time: STAGE 0 counts each block of 64 slots,
+// normal stands for the area its emitters stand for, at most its cell's face (a square:
+// emitter.glsl square_faces); one without, for a disk as wide as the finest clusters'
+// cell. The list keeps the hash table's slot order, so a frame's sums come out the same
+// every time: STAGE 0 counts each block of 64 slots,
 // STAGE 1 (one invocation) turns the counts into offsets after the octaves listed before
 // and the total into `emitter_total`, STAGE 2 writes each cluster at its block's offset
 // plus its rank in the block.
@@ -71,7 +72,8 @@ void main() {
     vec3 n = vec3(sums[base + 6], sums[base + 7], sums[base + 8]) / weight;
     vec3 normal = bin < 6 && dot(n, n) > 1e-12 ? normalize(n) : vec3(0.0);
     float cell_area = level_cells[level] * level_cells[level];
-    float area = dot(normal, normal) > 0.5 ? min(float(uint(sums[base + 11])) / float(AREA_UNITS) * cell_area, size * size) : PI * 0.25 * cell_area;
+    float area = dot(normal, normal) > 0.5 ? min(float(uint(sums[base + 11])) / float(AREA_UNITS) * cell_area, size * size)
+                                           : PI * 0.25 * cell_area;
     emitters[blocks[block] + rank] = Emitter(vec4(level_origins[level] + (vec3(cell) + clamp(place, 0.0, 1.0)) * size,
                                                   cluster_word(key, octave)),
                                              vec4(normal, area),

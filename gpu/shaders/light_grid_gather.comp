@@ -7,7 +7,8 @@
 // The emitters are clusters of every octave (emitter_compact.comp); a cell takes a light cut
 // of them: each cluster where it stands far enough from the cell centre and the one twice
 // as wide holding it does not (gpu/light_grid.py NEAR_SIZES), so every emitter is counted
-// once, near ones in the finest clusters and far ones in wide ones.
+// once, near ones in the finest clusters and far ones in wide ones. A cluster with a normal
+// lights the six faces as a square (emitter.glsl square_faces), one without as a point.
 // A workgroup is one cell, its lanes share the emitters and add up their sums at the end:
 // cells alone are too few to fill a GPU. One dispatch adds the emitters [first_emitter,
 // first_emitter + batch) to what the ones before left: llvmpipe ends a loop nest after

@@ -48,25 +48,28 @@ vec3 edge_integral(vec3 a, vec3 b) {
 // The irradiance at p of a cosine emitter spread evenly over a square of the area it stands
 // for, facing its normal, on surfaces facing +x, +y, +z (`plus`) and -x, -y, -z (`minus`),
 // times `colour` (its radiance, flux / (pi A)): per face the projected solid angle of the
-// part of the square before it (Lambert's formula on the square cut by the face's plane).
+// part of the square before it (Lambert's formula on the square cut by the face's plane);
+// beyond SQUARE_SIDES sides, or of no area, a point's flux / pi times cos / r^2.
 // Squares tiling a lit plane give a point near it the plane's light wherever it falls,
 // where points with a bounded 1/r^2 swing from far too little to far too much
-// (docs/method.md, "Light grid"); beyond SQUARE_SIDES sides a point's light.
+// (docs/method.md, "Light grid").
 const float SQUARE_SIDES = 2.0;
 void square_faces(Emitter e, vec3 p, out vec3 colour, out vec3 plus, out vec3 minus) {
     vec3 d = p - e.position.xyz;
     vec3 n = e.normal.xyz;
     float r2 = dot(d, d), area = max(e.normal.w, 0.0);
     float facing = dot(d, n);
-    colour = e.flux.rgb / (PI * max(area, 1e-30));
     plus = minus = vec3(0.0);
+    colour = vec3(0.0);
     if (facing <= 0.0 || r2 <= 0.0) return;
-    if (r2 > SQUARE_SIDES * SQUARE_SIDES * area) {
-        vec3 toward = -d * (area * facing / (r2 * r2));
+    if (r2 > SQUARE_SIDES * SQUARE_SIDES * area) {  // a point: its intensity flux cos / pi over r^2
+        colour = e.flux.rgb / PI;
+        vec3 toward = -d * (facing / max(r2 * r2, 1e-30));
         plus = max(toward, 0.0);
         minus = max(-toward, 0.0);
         return;
     }
+    colour = e.flux.rgb / (PI * area);
     float s = n.z >= 0.0 ? 1.0 : -1.0;  // an orthonormal basis around n (Duff et al. 2017)
     float a = -1.0 / (s + n.z), b = n.x * n.y * a;
     vec3 t = 0.5 * sqrt(area) * vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x);

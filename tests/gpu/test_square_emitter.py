@@ -11,6 +11,14 @@ Emitter square(vec3 normal) { return Emitter(vec4(0.0, 0.0, 0.0, 1.0), vec4(norm
 // +x, +y, +z and -x, -y, -z of the unit square facing +z (radiance 1) at p
 vec4 plus_at(vec3 p) { vec3 light, plus, minus; square_faces(square(vec3(0, 0, 1)), p, light, plus, minus); return vec4(light.r * plus, 0.0); }
 vec4 minus_at(vec3 p) { vec3 light, plus, minus; square_faces(square(vec3(0, 0, 1)), p, light, plus, minus); return vec4(light.r * minus, 0.0); }
+// the unit square's flux standing for no area
+vec4 no_area_down(vec3 p) {
+    Emitter e = square(vec3(0, 0, 1));
+    e.normal.w = 0.0;
+    vec3 light, plus, minus;
+    square_faces(e, p, light, plus, minus);
+    return vec4(light.r * minus.z, 0.0, 0.0, 0.0);
+}
 // the unit area's flux as a point with r^2 grown by the area of its cluster's disk (emitter.glsl emitter_light)
 vec4 disk_down(vec3 p, float disk_area) {
     Emitter e = square(vec3(0, 0, 1));
@@ -57,6 +65,14 @@ def test_far_squares_are_points(glc):
     net = plus[:, :3] - minus[:, :3]
     expected_net = expected[:, :3] - expected[:, 3:]
     assert (np.abs(net - expected_net) < 0.03 * expected.max(axis=1, keepdims=True)).all()
+
+
+def test_a_cluster_of_no_area_is_a_point(glc):
+    receivers = np.column_stack([np.linspace(-1e-3, 2.0, 64), np.zeros(64), np.linspace(1e-4, 1.0, 64)])
+    lit = evaluate(glc, INCLUDES, ["no_area_down(x.xyz)"], receivers, FACES)[0]
+    r2 = (receivers ** 2).sum(axis=1)
+    np.testing.assert_allclose(lit[:, 0], receivers[:, 2] ** 2 / r2 ** 2, rtol=1e-4)  # pi cos cos / (pi r^2)
+    assert np.isfinite(lit).all()
 
 
 def integrated_region(p, half_width, step=0.02):

@@ -118,11 +118,12 @@ class ViewportSession:
         if settings is None:
             settings = settings_from_properties(properties, width=size[0], height=size[1])
         job = self._job_for(depsgraph, camera, size, view3d, settings, display_settings_from_properties(properties),
-                            accumulate)
+                            accumulate, correction_settings_from_properties(properties).viewport_corrections)
         return self._finish(job, self.gl.call(self._render, job))
 
-    def _job_for(self, depsgraph, camera, size, view3d, settings, display, accumulate):
-        """The scene extracted for a frame (on Blender's thread: bpy), as a FrameJob."""
+    def _job_for(self, depsgraph, camera, size, view3d, settings, display, accumulate, corrected):
+        """The scene extracted for a frame (on Blender's thread: bpy), as a FrameJob;
+        `corrected`: whether the view is corrected toward Cycles (it never refines)."""
         start = time.perf_counter()
         # A still view refines its grids; once refined, a move of the view alone keeps the
         # finer grids (built already, so nothing on the light side is made again), and an
@@ -131,7 +132,6 @@ class ViewportSession:
         shown = self._shown[0][1] if self._shown is not None else None
         edited = bool(self.pending - {CAMERA}) or shown is None or \
             replace(shown, width=settings.width, height=settings.height) != settings  # the panel's settings
-        corrected = correction_settings_from_properties(depsgraph.scene.lpv_preview).viewport_corrections
         refined = finer is not settings and not edited and not corrected and (accumulate or self._refined)
         scene = self.sync.scene(depsgraph, self.pending, camera, view3d)
         self.scene = scene
@@ -165,9 +165,11 @@ class ViewportSession:
         settings = settings_from_properties(properties, width=size[0], height=size[1])
         display = display_settings_from_properties(properties)
         if self._shown is None or self._shown[0] != (camera.key(), settings):
-            return self._job_for(depsgraph, camera, size, view3d, settings, display, False)
+            return self._job_for(depsgraph, camera, size, view3d, settings, display, False,
+                                 correction.viewport_corrections)
         if self.pending or self.converging(display, correction):  # the pipeline starts again if the scene changed
-            return self._job_for(depsgraph, camera, size, view3d, settings, display, True)
+            return self._job_for(depsgraph, camera, size, view3d, settings, display, True,
+                                 correction.viewport_corrections)
         return None
 
     def _view_size(self, properties, size):

@@ -164,6 +164,10 @@ class LightGrid:
         self.cluster_uniforms = {"cluster_origins": levels["level_origins"], "cluster_cells": levels["level_cells"],
                                  "cluster_grid_size": size}
 
+    def cluster_count(self):
+        """The clusters of every octave the last `cluster` listed (a read that waits for it)."""
+        return int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
+
     def _mark_receiving(self, mesh):
         """Mark the cells within reach of the lookups at `mesh`'s surfaces, in every grid."""
         self.receiving.write(self._no_cells)
@@ -193,7 +197,7 @@ class LightGrid:
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
         if self.glc.is_software:  # llvmpipe ends long loop nests: batches its limit allows, as many as there are
-            count = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
+            count = self.cluster_count()
             batch = march_batch(self.occupancy.voxels, len(layers), GATHER_LANES)
         else:  # one dispatch, which stops at the count: the host does not wait for it
             count = batch = max(sum(self.tables), 1)

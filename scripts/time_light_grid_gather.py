@@ -13,8 +13,6 @@ import argparse
 import statistics
 import time
 
-import numpy as np
-
 from lpv_preview.gpu import light_grid
 from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.scene_file import load_scene
@@ -38,8 +36,7 @@ def main():
         began = time.perf_counter()
         gather(self, *arguments)
         self.glc.gl.finish()
-        clusters = int(np.frombuffer(self.count.read(size=4), dtype=np.int32)[0])
-        timed.append((time.perf_counter() - began, clusters, len(self.grids), self.grids[0].size))
+        timed.append((time.perf_counter() - began, self.cluster_count(), len(self.grids), self.grids[0].size))
 
     light_grid.LightGrid.gather = timed_gather
     for name in args.scenes.split(","):

@@ -82,10 +82,13 @@ def render_cycles_passes(scene, passes=("Combined", "DiffDir", "DiffCol"), sampl
 
 
 PART_SECONDS = 1.5
-"""About how long each part of a Cycles render takes. Blender's render call cannot be
-stopped from Python, so a render is split into consecutive subsets of its samples (Cycles'
-sample subsets, whose mean weighted by their sample counts is the whole render): Ctrl-C,
-Esc or closing the generator stop it after the part under way."""
+"""About how long each part of a Cycles render spends sampling. Blender's render call
+cannot be stopped from Python, so a render is split into consecutive subsets of its
+samples (Cycles' sample subsets, whose mean weighted by their sample counts is the whole
+render): Ctrl-C, Esc or closing the generator stop it after the part under way."""
+PART_GROWTH = 4
+"""How many times longer than the last a part may be: a part's time is mostly the scene's
+synchronisation (a world's importance map) until its samples are long enough to time."""
 
 
 def cycles_passes_in_parts(scene, passes=("Combined", "DiffDir", "DiffCol"), samples=64, resolution=None,
@@ -115,9 +118,14 @@ def f12_combined_in_parts(scene, samples, resolution, seed=0):
 
 def _render_in_parts(scene, passes, samples, set_up):
     """The parts of a render of `passes` at `samples`, each of a copy of the scene that
-    `set_up(copy, view layer, exr path, sample range)` sets up (`cycles_passes_in_parts`)."""
+    `set_up(copy, view layer, exr path, sample range)` sets up (`cycles_passes_in_parts`).
+
+    A part's seconds are taken as a fixed cost (the first part's, of one sample) plus its
+    samples' own; each next part is as many samples as the longest part so far says fit
+    in `PART_SECONDS`, at most `PART_GROWTH` times the last."""
     enable_cycles()
     sums, settings, seconds, done, length = {}, None, 0.0, 0, 1
+    first_seconds, longest = None, (1, 0.0)  # (samples, seconds) of the longest part
     while done < samples:
         left = samples - done
         length = left if left < 1.5 * length else length  # no short part at the end
@@ -131,7 +139,13 @@ def _render_in_parts(scene, passes, samples, set_up):
         seconds += part_settings["render_seconds"]
         done += length
         yield done, seconds
-        length = max(1, int(length * PART_SECONDS / max(part_settings["render_seconds"], 1e-3)))
+        if first_seconds is None:
+            first_seconds = part_settings["render_seconds"]
+        if length >= longest[0]:
+            longest = (length, part_settings["render_seconds"])
+        sample_seconds = (longest[1] - first_seconds) / (longest[0] - 1) if longest[0] > 1 else 0.0
+        grown = PART_GROWTH * length
+        length = max(1, min(int(PART_SECONDS / sample_seconds), grown) if sample_seconds > 0.0 else grown)
     images = {name: (total / samples).astype(np.float32) for name, total in sums.items()}
     return {**images, "settings": {**settings, "render_seconds": seconds}}
 

@@ -22,7 +22,7 @@ void main() {
     if (any(greaterThanEqual(pixel, imageSize(irradiance)))) return;
     vec3 p, n, albedo;
     if (!gbuffer_surface(pixel, p, n, albedo)) return;
-    float light = dot(levels_irradiance(p, n), luminance_weights);
+    float light = dot(levels_irradiance(p, n, gbuffer_view(pixel, p)), luminance_weights);
 #if STAGE == 0
     imageStore(shadowed, pixel, vec4(light));
 #else

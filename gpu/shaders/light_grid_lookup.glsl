@@ -1,20 +1,34 @@
 // Irradiance from a light grid (light_grid_gather.comp): the ambient cube of the eight cell
-// centres around p + n cell/2, each weighted by its trilinear weight if it lies in front of
-// the surface, and by whether the surface sees it through the occupancy (no light
+// centres around q = p + n cell/2, each weighted by its trilinear weight if it lies in front
+// of the surface, and by whether the surface sees it through the occupancy (no light
 // through a wall thinner than a cell, none from the inside of a closed box); a centre on a
-// surface is left out. A march that counts no voxel near p as passable keeps a wall that
-// meets the surface at an inner edge from letting through the cells beyond it; where it
-// finds every centre hidden (the surface's own voxels around a convex edge), the voxels
-// within EDGE_RADIUS of p are passed. The fourth component is 1 where any centre
-// counts, else 0: such a grid abstains (light_grid_levels.glsl) instead of answering black.
+// surface is left out. Where every centre is hidden, q lies in a wall's voxels: a surface
+// within a voxel of a wall it meets (a floor at the wall's foot) or its own voxels around a
+// convex edge. The march is then made again from q moved a voxel along each axis toward
+// whoever sees p (`toward`, the camera or a reflecting point): out of the wall's voxels on
+// p's own side, which its viewer is on. Where that finds every centre hidden too, the
+// voxels within EDGE_RADIUS of p are passed (a march passing them every time lets a wall
+// that meets the surface at an inner edge let through the cells beyond it). The fourth
+// component is 1 where any centre counts, else 0: such a grid abstains
+// (light_grid_levels.glsl) instead of answering black.
 #include "occupancy.glsl"
 uniform sampler3D light_grid[GRIDS];
 #include "occupancy_volumes.glsl"
 const float EDGE_RADIUS = 1.5;  // voxels around the surface point a second march passes
 
+// Whether the voxel at x (voxel units of `grid`) holds a surface; not outside the grid.
+bool voxel_occupied(int grid, vec3 x) {
+    int voxels = textureSize(coarse, 0).x * voxels_per_cell;
+    ivec3 v = ivec3(floor(x));
+    return all(greaterThanEqual(v, ivec3(0))) && all(lessThan(v, ivec3(voxels)))
+        && texelFetch(occupancy, v + ivec3(0, 0, grid * voxels), 0).r != 0u;
+}
+
 // The weighted sum of the visible centres' irradiance and the sum of their weights, the
-// march passing the voxels within `radius` of p.
-vec4 visible_centres(int grid, vec3 p, vec3 n, float radius) {
+// march starting `shift` voxels from q and passing the voxels within `radius` of p. A march
+// passing nothing sees nothing from a start in a wall's voxels (a march skips the voxel it
+// starts in, and from there it would reach either side of the wall).
+vec4 visible_centres(int grid, vec3 p, vec3 n, vec3 shift, float radius) {
     float cell = cell_sizes[grid];
     vec3 origin = grid_origins[grid];
     vec3 q = p + 0.5 * cell * n;
@@ -22,11 +36,12 @@ vec4 visible_centres(int grid, vec3 p, vec3 n, float radius) {
     ivec3 base = ivec3(floor(g));
     vec3 f = g - vec3(base);
     float voxel = cell / float(voxels_per_cell);
-    vec3 q_voxels = (q - origin) / voxel;
+    vec3 start_voxels = (q - origin) / voxel + shift;
     vec3 surface_voxels = (p - origin) / voxel;
     vec3 n2 = n * n;
     ivec3 side = ivec3(n.x < 0.0 ? 1 : 0, n.y < 0.0 ? 1 : 0, n.z < 0.0 ? 1 : 0);  // +axis block or -axis
     vec4 sum = vec4(0.0);
+    if (radius <= 0.0 && voxel_occupied(grid, start_voxels)) return sum;
     for (int corner = 0; corner < 8; ++corner) {
         ivec3 step = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
         ivec3 c = clamp(base + step, ivec3(0), ivec3(grid_size - 1));
@@ -34,7 +49,7 @@ vec4 visible_centres(int grid, vec3 p, vec3 n, float radius) {
         vec3 centre_voxels = (vec3(c) + 0.5) * float(voxels_per_cell);
         vec3 to = (vec3(c) + 0.5) * cell + origin - p;
         float weight = dot(to, n) > 0.0 ? w3.x * w3.y * w3.z : 0.0;
-        if (weight <= 0.0 || segment_blocked(occupancy, coarse, voxels_per_cell, grid, q_voxels, centre_voxels, surface_voxels,
+        if (weight <= 0.0 || segment_blocked(occupancy, coarse, voxels_per_cell, grid, start_voxels, centre_voxels, surface_voxels,
                                                 radius, false))
             continue;
         vec3 e = n2.x * texelFetch(light_grid[grid], ivec3(c.xy, c.z + side.x * grid_size), 0).rgb
@@ -45,8 +60,11 @@ vec4 visible_centres(int grid, vec3 p, vec3 n, float radius) {
     return sum;
 }
 
-vec4 grid_irradiance(int grid, vec3 p, vec3 n) {
-    vec4 sum = visible_centres(grid, p, n, 0.0);
-    if (sum.a <= 1e-8) sum = visible_centres(grid, p, n, EDGE_RADIUS);
+vec4 grid_irradiance(int grid, vec3 p, vec3 n, vec3 toward) {
+    vec4 sum = visible_centres(grid, p, n, vec3(0.0), 0.0);
+    vec3 across = toward - dot(toward, n) * n;  // toward the viewer along the surface
+    vec3 shift = sign(across) * step(0.1 * length(across), abs(across));
+    if (sum.a <= 1e-8 && any(notEqual(shift, vec3(0.0)))) sum = visible_centres(grid, p, n, shift, 0.0);
+    if (sum.a <= 1e-8) sum = visible_centres(grid, p, n, vec3(0.0), EDGE_RADIUS);
     return sum.a > 1e-8 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0);
 }

@@ -49,13 +49,13 @@ uniform bool add_world;  // the world seen where no surface is
 uniform sampler2D world_background;
 layout(rgba32f, binding = 5) uniform image2D reflections;
 
-// The irradiance at the surface point p (normal n) seen at `pixel`; with a VPL gather the
-// pixel's own whatever n is (it knows no other).
-vec3 surface_irradiance(ivec2 pixel, vec3 p, vec3 n) {
+// The irradiance at the surface point p (normal n) seen at `pixel` from the unit direction
+// `toward`; with a VPL gather the pixel's own whatever n is (it knows no other).
+vec3 surface_irradiance(ivec2 pixel, vec3 p, vec3 n, vec3 toward) {
 #if INDIRECT == 2
     return texelFetch(gathered, pixel, 0).rgb;
 #else
-    return levels_irradiance(p, n);
+    return levels_irradiance(p, n, toward);
 #endif
 }
 #ifdef REFLECTIONS
@@ -101,7 +101,8 @@ void main() {
     }
 #endif
     for (int k = 0; k < lookups; ++k) {
-        vec3 irradiance = surface_irradiance(pixels[k], points[k], normals[k]);
+        vec3 toward = k == 0 ? gbuffer_view(pixel, p) : normalize(p - points[1]);  // from the camera, the mirror
+        vec3 irradiance = surface_irradiance(pixels[k], points[k], normals[k], toward);
         if (k == 0) {
             light = weights[0] * irradiance;
             reflected += own_reflected * irradiance;

@@ -7,8 +7,6 @@ Unlike VPLs lit by one another, the points lie wherever the surfaces are, so the
 bounce reaches what no light's map sees (the shadowed side of a sunlit room), and light
 that several lights bring to one surface bounces once (docs/method.md, "Bounces").
 """
-import numpy as np
-
 from .context import dispatch, set_uniforms
 from .emitter_bounce import light_receivers
 
@@ -33,14 +31,13 @@ def generation_seed(pattern, bounce):
     return (pattern + 1) * 65536 + bounce
 
 
-def thinned(points, factor):
-    """Every `factor`-th of the points, each standing for `factor` times the area: a later
-    generation carries less light, so fewer points draw it as well."""
-    if factor <= 1 or len(points) < 2 * factor:
-        return points
-    kept = points[::factor].copy()
-    kept[:, 1, 3] *= len(points) / len(kept)
-    return kept
+def generation_points(samples, bounce):
+    """The points of bounce `bounce`'s generation: `samples` over 2^bounce (at least
+    `samples` over 2^bounce rounded up, all of them where that leaves fewer than two), each
+    standing for as much more area: a later generation carries less light, so fewer
+    points draw it as well."""
+    factor = 2 ** bounce
+    return samples if samples < 2 * factor else -(-samples // factor)
 
 
 def conserve(glc, totals, generation, senders, largest_albedo):
@@ -75,19 +72,20 @@ class Generations:
     def flux_bound(self):
         return sum(generation.flux_bound for generation in self.made)
 
-    def build(self, first, first_bound, bounces, receivers, occupancy, singularity_bound, pattern):
+    def build(self, first, first_bound, bounces, receivers, samples, occupancy, singularity_bound, pattern):
         """Generations 2 to `bounces` from the `first` one's (buffer, count) sets, whose flux
-        no channel's total exceeds `first_bound`, each on the points `receivers(seed)`
-        gives, marching `occupancy`'s grids; returns their (buffer, count) sets.
-        Nothing is read back: a generation's bound is the one before's times its points'
-        largest albedo, which `conserve` holds it to."""
+        no channel's total exceeds `first_bound`, each on the points `receivers.draw` gives
+        (gpu/emitter_bounce.py Receivers: `generation_points(samples, bounce)` of them, drawn
+        on the GPU), marching `occupancy`'s grids; returns their (buffer, count) sets.
+        Nothing is read back: a generation's bound is the one before's times the largest
+        albedo of the surfaces its points lie on, which `conserve` holds it to."""
         self._drop()
         if self.totals is None:
             self.totals = self.glc.gl.buffer(reserve=2 * 16)
         senders, bound = list(first), first_bound
+        largest_albedo = receivers.largest_albedo
         for bounce in range(1, bounces):
-            points = thinned(receivers(generation_seed(pattern, bounce)), 2 ** bounce)
-            largest_albedo = points[:, 2, :3].max(axis=0) if len(points) else np.zeros(3)
+            points = receivers.draw(generation_points(samples, bounce), generation_seed(pattern, bounce))
             bound *= float(largest_albedo.max())
             generation = light_receivers(self.glc, points, senders, occupancy, singularity_bound,
                                          pattern * MAX_BOUNCES + bounce, LATER_SENDERS, flux_bound=bound)

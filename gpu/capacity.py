@@ -9,7 +9,7 @@ so there the GPU bytes count against it too.
 import os
 
 from .bounces import light_bounces
-from .emitter_bounce import RECEIVER_BYTES
+from .emitter_bounce import RECEIVER_BYTES, RECEIVER_TRIANGLE_BYTES
 from .emitter_grid import CLUSTER_FLOATS, grid_resolution
 from .errors import LPVError
 from .grids import VIEW_LATTICE
@@ -122,9 +122,11 @@ def frame_bytes(settings, scene, passes=PASS_NAMES, display=False):
     lit_by_world = world_lights(scene, s)
     method = indirect_method(s)
     later_bounces = method.more_bounces and light_bounces(s, scene) > 1
-    if not method.gathers_per_pixel and (scene.point_emitter_count or scene.emission is not None or lit_by_world
-                                         or len(scene.lights) > len(mapped) or later_bounces):
+    bouncing = scene.point_emitter_count or scene.emission is not None or lit_by_world or len(scene.lights) > len(mapped)
+    if not method.gathers_per_pixel and (bouncing or later_bounces):
         indirect += pixel_gather_bytes(s, scene, pixels)  # the method's pixel gather: the emitters' light, bounces
+    if bouncing or later_bounces:  # the surfaces the bounces' points are drawn on
+        indirect += scene.triangle_count * RECEIVER_TRIANGLE_BYTES
     if scene.emission is not None:  # emitters, the glow and the triangles' radiances
         indirect += 2 * s.emission_samples * EMITTER_BYTES
         indirect += pixels * 16 + scene.triangle_count * 16

@@ -9,9 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .closed_meshes import OPEN
-from .context import run_workgroups, set_uniforms
+from .context import dispatch, run_workgroups, set_uniforms
 from .occupancy import march_batch
-from .surface_emitters import TrianglePoints
 from .vpl import EMITTER_BYTES
 
 RECEIVER_SENDERS = 256
@@ -20,6 +19,7 @@ this many marches a receiver, whatever the sender count; converging frames chang
 subset."""
 LANES = 64  # invocations sharing one receiver's senders (shaders/emitter_bounce.comp)
 RECEIVER_BYTES = 2 * EMITTER_BYTES + 32  # a receiver's row, its VPL and its irradiance while lit
+RECEIVER_TRIANGLE_BYTES = 20  # a light triangle's cumulative area share and bounce colour (Receivers)
 
 
 @dataclass
@@ -36,45 +36,63 @@ class EmitterVPLs:
 
 
 class Receivers:
-    """The triangles the lights see, ready to be sampled in proportion to area."""
+    """The triangles the lights see, held on the GPU to be sampled in proportion to area
+    (shaders/receiver_draw.comp): their cumulative area shares and the colours they bounce,
+    RECEIVER_TRIANGLE_BYTES a triangle; `mesh` (gpu/mesh_buffer.py, of the scene) holds their
+    corners and the sides of them light reaches."""
 
-    def __init__(self, scene):
+    def __init__(self, glc, scene, mesh):
         first, total = scene.light_triangles
-        self.first = first
-        self.albedo = scene.surface_colours(first, total)
-        self.points = None if total == 0 else TrianglePoints(
-            scene.triangles[first:first + total].astype(np.float64), lambda doubled: doubled)
+        self.glc, self.mesh, self.first, self.total = glc, mesh, first, total
+        colours = scene.surface_colours(first, total)
+        self.largest_albedo = colours.max(axis=0) if total else np.zeros(3, dtype=np.float32)
+        corners = scene.triangles[first:first + total].astype(np.float64)
+        doubled = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
+        self.area = float(doubled.sum()) / 2
+        self.cumulative = self.colours = None
+        if self.area > 0:
+            self.cumulative = glc.gl.buffer((np.cumsum(doubled) / doubled.sum()).astype(np.float32).tobytes())
+            padded = np.zeros((total, 4), dtype=np.float32)
+            padded[:, :3] = colours
+            self.colours = glc.gl.buffer(padded.tobytes())
 
-    def rows(self, count, pattern, sides=None):
-        """(count, 3, 4) float32 receiver rows (shaders/emitter_bounce.comp Receiver) drawn
-        with the random numbers of `pattern` (none when the lights see no surface):
-        position, face normal and the area each stands for, and the triangle's mean colour
-        (its texture's too) with the sides of it light can reach (gpu/closed_meshes.py, of
-        the scene's triangles `sides`; None: both)."""
-        if self.points is None:
-            return np.zeros((0, 3, 4), dtype=np.float32)
-        picked, positions = self.points.draw(count, pattern)
-        rows = np.zeros((count, 3, 4), dtype=np.float32)
-        rows[:, 0, :3], rows[:, 0, 3] = positions, 1.0
-        rows[:, 1, :3] = self.points.cross[picked] / self.points.doubled_area[picked, None]
-        rows[:, 1, 3] = self.points.doubled_area.sum() / 2 / count
-        rows[:, 2, :3] = self.albedo[picked]
-        rows[:, 2, 3] = OPEN if sides is None else sides[self.first + picked]
-        return rows
+    def draw(self, count, pattern):
+        """(buffer, count) of `count` receivers (shaders/emitter_bounce.comp Receiver) drawn
+        with the random numbers of `pattern`, light reaching the sides the mesh's
+        `open_sides` hold now; (None, 0) where the lights see no surface."""
+        mesh = self.mesh
+        if self.cumulative is None or count < 1:
+            return None, 0
+        buffer = self.glc.gl.buffer(reserve=count * EMITTER_BYTES)  # a Receiver is as long as an Emitter
+        program = self.glc.compute("receiver_draw", OPEN=OPEN)
+        sides = mesh.open_sides if mesh.open_sides is not None else self.cumulative  # bound, not read
+        for binding, source in enumerate((mesh.positions, self.cumulative, self.colours, sides, buffer)):
+            source.bind_to_storage_buffer(binding)
+        set_uniforms(program, count=count, triangles=self.total, first=self.first, seed=pattern & 0xFFFFFFFF,
+                     area_each=self.area / count, sides_known=mesh.open_sides is not None)
+        dispatch(program, count, local=(64,))
+        return buffer, count
+
+    def resources(self):
+        return tuple(b for b in (self.cumulative, self.colours) if b is not None)
+
+    def release(self):
+        for buffer in self.resources():
+            buffer.release()
+        self.cumulative = self.colours = None
 
 
 def light_receivers(glc, receivers, emitter_sets, occupancy, singularity_bound, pattern,
                     senders_per_receiver=RECEIVER_SENDERS, flux_bound=None):
-    """The receivers (rows of `Receivers.rows`) lit by the emitter sets ((buffer,
-    count) pairs), each receiver gathering a strided subset of `senders_per_receiver` of
-    each set, marching every grid of `occupancy`: an EmitterVPLs whose flux bound is
-    `flux_bound` where given, else their flux read back and summed."""
+    """The receivers ((buffer, count) of `Receivers.draw`, the buffer released here) lit by
+    the emitter sets ((buffer, count) pairs), each receiver gathering a strided subset of
+    `senders_per_receiver` of each set, marching every grid of `occupancy`: an EmitterVPLs
+    whose flux bound is `flux_bound` where given, else their flux read back and summed."""
     gl = glc.gl
     layers = occupancy.every_grid_layers()
-    count = max(len(receivers), 1)
-    if not len(receivers):
-        receivers = np.zeros((1, 3, 4), dtype=np.float32)
-    receiver_buffer = gl.buffer(receivers.tobytes())
+    receiver_buffer, count = receivers
+    if not count:
+        receiver_buffer, count = gl.buffer(np.zeros((1, 3, 4), dtype=np.float32).tobytes()), 1
     irradiance = gl.buffer(reserve=count * 32)
     lit = gl.buffer(reserve=count * EMITTER_BYTES)
     program = glc.compute("emitter_bounce", MARCH_LEVELS=len(layers), LANES=LANES)

@@ -64,10 +64,11 @@ class IndirectMethod:
 
     def build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources=(), receivers=None):
         """Fill the grids from the lights' maps (gpu/light_maps.py LightMaps), timing each
-        stage; from the emitter sets `sources` ((buffer, count) pairs) through the points
-        `receivers(seed)` gives (gpu/emitter_bounce.py); and with `settings.bounces` above 1
-        (gathering methods) from the later generations (gpu/bounces.py), on points that
-        `receivers` gives too, their senders' subsets following the VPL `pattern`."""
+        stage; from the emitter sets `sources` ((buffer, count) pairs) through points drawn
+        on the surfaces by `receivers()` (the scene's gpu/emitter_bounce.py Receivers, made
+        on first use); and with `settings.bounces` above 1 (gathering methods) from the
+        later generations (gpu/bounces.py), on points it draws too, their senders' subsets
+        following the VPL `pattern`."""
         if self.emitter_vpls is not None:
             self.emitter_vpls.release()
             self.emitter_vpls = None
@@ -100,10 +101,11 @@ class IndirectMethod:
         return occupancy
 
     def _bounce_emitters(self, mesh, settings, stats, pattern, sources, receivers):
-        """The emitters' bounce: `sources`' light on the points `receivers` gives, marched
+        """The emitters' bounce: `sources`' light on points `receivers()` draws, marched
         through the pixel gather's occupancy; adds it to the flux bound it returns."""
         with self.glc.timed(stats, "emitter_bounce_ms"):
-            self.emitter_vpls = light_receivers(self.glc, receivers(pattern), sources, self._bounce_occupancy(mesh),
+            points = receivers().draw(settings.emitter_bounce_samples, pattern)
+            self.emitter_vpls = light_receivers(self.glc, points, sources, self._bounce_occupancy(mesh),
                                                 settings.singularity_bound, pattern)
         return self.emitter_vpls.flux_bound
 
@@ -236,7 +238,8 @@ class GatheringMethod(IndirectMethod):
             emitters = emitters + [(self.emitter_vpls.buffer, self.emitter_vpls.count)]
         if settings.bounces > 1 and emitters:
             with self.glc.timed(stats, "bounce_ms"):
-                emitters = emitters + self.generations.build(emitters, flux_bound, settings.bounces, receivers,
+                emitters = emitters + self.generations.build(emitters, flux_bound, settings.bounces, receivers(),
+                                                             settings.emitter_bounce_samples,
                                                              self._bounce_occupancy(mesh),
                                                              settings.singularity_bound, pattern)
             flux_bound += self.generations.flux_bound

@@ -91,7 +91,7 @@ class Pipeline:
         self._emitter_grid = KeyedCache(releases=True)     # resolution -> EmitterGrid of the point emitters
         self._emitter_shadows = KeyedCache(releases=True)  # grids -> EmitterShadows of the point emitters
         self._frame_lights = KeyedCache()  # what it depends on -> the last frame's FrameLights
-        self._receivers = KeyedCache()     # geometry key -> Receivers of the emitters' bounce
+        self._receivers = KeyedCache(releases=True)  # geometry key -> Receivers of the bounces' points
         self._closed_meshes = KeyedCache()  # geometry key -> ClosedMeshes
         self._open_sides = KeyedCache()    # geometry and emitters' keys -> the sides of faces light reaches
         self._targets = KeyedCache(releases=True)    # image size -> FrameTargets
@@ -289,9 +289,9 @@ class Pipeline:
             if indirect is None or type(indirect) is not method or indirect.grids != grids:
                 self._indirect.clear()
                 indirect = method(self.glc, grids, s.grid_phases)
-            receivers = lambda: self._receivers.get(scene.geometry_key(), lambda: Receivers(scene))  # noqa: E731
-            indirect.build(maps, self._mesh.value, scene.bounds(), s, stats, self.vpl_pattern, sources,
-                           lambda seed: receivers().rows(s.emitter_bounce_samples, seed, self._sides(scene)))
+            mesh = self._mesh.value
+            indirect.build(maps, mesh, scene.bounds(), s, stats, self.vpl_pattern, sources,
+                           lambda: self._receivers.get(scene.geometry_key(), lambda: Receivers(self.glc, scene, mesh)))
             self._indirect.put(key, indirect)
         return self._indirect.value
 
@@ -515,7 +515,7 @@ class Pipeline:
     def gpu_bytes(self):
         """GPU memory the pipeline holds now: mesh, light maps, VPLs, LPV, camera images."""
         held = [*self.vpl_sampler.resources()]
-        for cache in (self._mesh, self._indirect, self._emitter_grid, self._emitter_shadows):
+        for cache in (self._mesh, self._indirect, self._emitter_grid, self._emitter_shadows, self._receivers):
             held += cache.value.resources() if cache.value is not None else ()
         held += self._emission.resources() if self._emission is not None else ()
         held += self._world.resources() if self._world is not None else ()

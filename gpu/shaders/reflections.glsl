@@ -9,6 +9,7 @@
 // trust the screen less and the prefiltered lookups more. Times the split sum's DFG term.
 // Needs common.glsl, gbuffer.glsl, specular.glsl, the method's lookup and, with
 // MARCH_ESCAPE, levels_march.glsl.
+#include "hash.glsl"
 uniform mat4 view_projection;
 uniform vec4 view_z_row;             // the view matrix's third row: a point's view-space z
 uniform vec4 projection_z;           // the projection's (2,2), (2,3), (3,2), (3,3): view z from a window depth
@@ -23,11 +24,6 @@ const float TRACE_THICKNESS = 0.03;  // a surface's assumed thickness behind its
 const float MARCH_CLEARANCE = 1.5;   // finest voxels the ray rises off its surface before the march looks
 const vec2 SCREEN_ALPHA = vec2(0.12, 0.35);  // GGX alpha over which the screen's share falls from 1 to 0
 const float SCREEN_EDGE = 0.1;       // share of the screen's half-width over which a hit fades out
-
-uint reflection_hash(uint x) {
-    x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
-    return x;
-}
 
 // A direction drawn from the GGX distribution of visible-ish normals around `n` (alpha
 // `alpha`) reflecting the view direction `v`; the mirror direction where it would go below.
@@ -170,17 +166,17 @@ Reflection trace_reflection(ivec2 pixel, vec3 p, vec3 n, vec4 gloss, float metal
     reflection.seen = false;
     vec3 v = gbuffer_view(pixel, p);
     float alpha = specular_alpha(gloss.a, 0.0);
-    uint h = reflection_hash(uint(pixel.x) * 1973u + reflection_hash(uint(pixel.y) * 9277u
+    uint h = hash32(uint(pixel.x) * 1973u + hash32(uint(pixel.y) * 9277u
                                                                      + uint(reflection_pattern) * 26699u));
     // the first set traces the mirror direction (a still, noiseless frame); the others draw from the lobe
     vec2 u = reflection_pattern == 0 ? vec2(0.0)
-                                     : vec2(reflection_hash(h) & 0xffffu, reflection_hash(h + 1u) & 0xffffu) / 65536.0;
+                                     : vec2(hash32(h) & 0xffffu, hash32(h + 1u) & 0xffffu) / 65536.0;
     vec3 r = reflect(-v, n);
     vec3 d = lobe_direction(n, v, alpha, u);
     float screen = 1.0 - smoothstep(SCREEN_ALPHA.x, SCREEN_ALPHA.y, alpha);
     float fade = 0.0;
     if (screen > 0.0) {
-        float jitter = float(reflection_hash(h + 2u) & 0xffffu) / 65536.0;
+        float jitter = float(hash32(h + 2u) & 0xffffu) / 65536.0;
         vec3 start = p + n * (1e-3 * max(distance(p, gbuffer_unproject(pixel, 0.0)), 1e-3));
         ivec2 hit;
         if (screen_trace(start, d, jitter, hit, fade)) add_seen(reflection, hit, screen * fade);

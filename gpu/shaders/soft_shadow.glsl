@@ -4,6 +4,7 @@
 // one filter works in every projection (cube faces, paraboloids, a sun's ortho map) and
 // across cube faces. Needs light.glsl, rsm_lookup.glsl and `rsm_position`.
 // Uniforms come from gpu/soft_shadows.py shadow_uniforms().
+#include "hash.glsl"
 #define SHADOW_HARD 0
 #define SHADOW_ROUND 1    // a sphere's or sun's disc, a disk or ellipse area light
 #define SHADOW_SQUARE 2   // a square or rectangle area light
@@ -18,11 +19,6 @@ uniform float shadow_search_scale; // local light: how far the blocker search re
 uniform int shadow_taps;           // filter taps; the blocker search takes half
 uniform vec2 shadow_pattern[MAX_SHADOW_TAPS];  // a Poisson set in [-1, 1]^2 (concentric square of a disc)
 uniform uint shadow_seed;          // the VPL set: converging frames average other rotations
-
-uint shadow_hash(uint x) {
-    x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
-    return x;
-}
 
 // Shirley and Chiu's concentric map of [-1, 1]^2 onto the unit disc (gpu/vpl.py concentric_disk).
 vec2 shadow_concentric_disc(vec2 a) {
@@ -82,9 +78,9 @@ float soft_visibility(vec3 p, vec3 n, vec3 w, float dist, ivec2 pixel) {
     vec3 ex, ey;
     shadow_extent(w, ex, ey);
     float cos_theta = max(dot(n, -w), 0.05);
-    uint h = shadow_hash(uint(pixel.x) * 1973u + shadow_hash(uint(pixel.y) * 9277u + shadow_seed * 26699u));
+    uint h = hash32(uint(pixel.x) * 1973u + hash32(uint(pixel.y) * 9277u + shadow_seed * 26699u));
     vec2 shift = vec2(h & 0xffffu, h >> 16) / 65536.0 * 2.0;
-    uint h2 = shadow_hash(h);
+    uint h2 = hash32(h);
     vec2 shift_search = vec2(h2 & 0xffffu, h2 >> 16) / 65536.0 * 2.0;
     // Blocker search: the region whose blockers can hide part of the light from p.
     float search = light_kind == LIGHT_SUN ? dist : shadow_search_scale;

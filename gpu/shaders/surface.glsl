@@ -2,6 +2,7 @@
 // surface_images.py, docs/method.md "Alpha and transmission"). `albedo` is the vertex
 // albedo and alpha, a SurfacePoint where its images are read, `transmission` the tint and
 // the share transmitted of what is not cut out.
+#include "hash.glsl"
 uniform sampler2DArray surface_images;
 uniform uint cut_out_pattern;  // the VPL pattern: hashed cut-outs differ from one pattern to the next
 
@@ -64,19 +65,10 @@ float surface_alpha(vec4 albedo, SurfacePoint s) {
     return albedo.a * surface_texel(s, s.coord.w).a;
 }
 
-uint cut_out_hash(uint x) {
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
-
 // The hashed cut-out's threshold in (0, 1): fixed per pixel (or map texel) and pattern.
 float cut_out_threshold(vec2 frag_coord) {
     uvec2 p = uvec2(frag_coord);
-    uint h = cut_out_hash(p.x ^ cut_out_hash(p.y ^ cut_out_hash(cut_out_pattern + 0x9e3779b9u)));
+    uint h = hash32(p.x ^ hash32(p.y ^ hash32(cut_out_pattern + 0x9e3779b9u)));
     return (float(h >> 8) + 0.5) / 16777216.0;
 }
 

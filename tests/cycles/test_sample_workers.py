@@ -246,9 +246,11 @@ def test_a_corrected_render_comes_closer_to_cycles(tmp_path, capsys):
     passes = read_exr(str(tmp_path / "passes.exr"))
     reference = cycles_reference(bpy.context.scene, "full_gi", 256, 0, SIZE).combined_pass
     preview_error = relative_mse(passes["preview"], reference)
-    # Measured: 0.0110 against the preview's 0.0268 (0.0112 against 0.0362 while the
-    # preview's later bounces lost light to a grown 1/r² bound, docs/method.md "Bounces").
-    assert relative_mse(passes["combined"], reference) < 0.5 * preview_error
+    # Measured: 0.0110 against the preview's 0.0214 (0.0268 while the light grid's lookup
+    # read cells across walls, 0.0362 while the preview's later bounces lost light to a
+    # grown 1/r² bound, docs/method.md "Bounces"); the corrected image's error is mostly the
+    # 256-sample reference's and the corrections' noise.
+    assert relative_mse(passes["combined"], reference) < 0.6 * preview_error
     assert math.isfinite(preview_error)
 
 
@@ -280,9 +282,10 @@ def test_each_frame_of_an_animation_is_corrected_toward_its_own_cycles_render(tm
     for index, frame in enumerate((1, 2)):
         passes = read_exr(str(out / f"frame_000{frame}.exr"))
         own, other = references[index], references[1 - index]
-        # Measured: 0.0113 against the preview's 0.0268 (the preview was further before its
-        # later bounces kept their light, docs/method.md "Bounces").
-        assert relative_mse(passes["combined"], own) < 0.5 * relative_mse(passes["preview"], own)
+        # Measured: 0.0111 against the preview's 0.0214 (0.0268 while the light grid's
+        # lookup read cells across walls; further still before its later bounces kept their
+        # light, docs/method.md "Bounces"), the corrected error mostly noise.
+        assert relative_mse(passes["combined"], own) < 0.6 * relative_mse(passes["preview"], own)
         assert relative_mse(passes["combined"], own) < 0.4 * relative_mse(passes["combined"], other)
     assert main(argv[:-4]) == 0  # without corrections, the corrected frames are not the ones asked for
     assert "made 2 corrected for another time (2 s)" in capsys.readouterr().err

@@ -13,14 +13,13 @@ from .light_grid import LightGrid, cluster_levels
 
 
 class EmitterShadows:
-    """The light grid of the emitters over the frame's indirect grids, and a per-pixel image."""
+    """The light grid of the emitters over the frame's indirect grids."""
 
     def __init__(self, glc, grids, phases):
         self.glc = glc
         self.grids = tuple(grids)
         self.phases = phases
         self.light_grid = LightGrid(glc, self.grids, unshadowed=True)
-        self.shadowed = None
         self._built = None
 
     def build(self, mesh, emitter_sets, flux_bound, scene_bounds, singularity_bound, key):
@@ -35,26 +34,16 @@ class EmitterShadows:
     def apply(self, targets, uniforms, irradiance):
         """Scale the emitters' `irradiance` image by the share that reaches each pixel.
         `uniforms` are the G-buffer's, its textures bound."""
-        if self.shadowed is None or self.shadowed.size != targets.size:
-            if self.shadowed is not None:
-                self.shadowed.release()
-            self.shadowed = self.glc.gl.texture(targets.size, 4, dtype="f4")
         grids = {"grid_origins": np.array([grid.origin for grid in self.grids]),
                  "cell_sizes": np.array([grid.cell_size for grid in self.grids]), "grid_size": self.grids[0].size,
                  "luminance_weights": tuple(LUMINANCE_WEIGHTS)}
         irradiance.bind_to_image(0, read=True, write=True)
-        self.shadowed.bind_to_image(1, read=True, write=True)
-        for stage in range(2):
-            program = self.glc.compute("emitter_visibility", LEVELS=len(self.grids) // self.phases,
-                                       PHASES=self.phases, STAGE=stage)
-            units = self.light_grid.lookup_uniforms(first_unit=2, unshadowed=stage == 1)
-            set_uniforms(program, **uniforms, **units, **grids)
-            dispatch(program, *targets.size)
+        program = self.glc.compute("emitter_visibility", LEVELS=len(self.grids) // self.phases, PHASES=self.phases)
+        set_uniforms(program, **uniforms, **self.light_grid.lookup_uniforms(first_unit=2, paired=True), **grids)
+        dispatch(program, *targets.size)
 
     def resources(self):
-        return (*self.light_grid.resources(), *((self.shadowed,) if self.shadowed is not None else ()))
+        return self.light_grid.resources()
 
     def release(self):
         self.light_grid.release()
-        if self.shadowed is not None:
-            self.shadowed.release()

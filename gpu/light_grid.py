@@ -216,17 +216,21 @@ class LightGrid:
                 set_uniforms(program, first_emitter=first)
                 dispatch(program, grid.size ** 3, local=(1,))  # a workgroup per cell
 
-    def lookup_uniforms(self, first_unit, unshadowed=False):
-        """Bind the volumes (the unshadowed ones, when asked) for shaders/
-        light_grid_lookup.glsl from texture unit `first_unit` on."""
+    def lookup_uniforms(self, first_unit, paired=False):
+        """Bind the volumes for shaders/light_grid_lookup.glsl from texture unit `first_unit`
+        on; `paired`, the unshadowed ones too (its PAIRED lookup)."""
         units = len(self.grids)
-        for i, volume in enumerate(self.unshadowed if unshadowed else self.irradiance):
+        volumes = [*self.irradiance, *(self.unshadowed if paired else ())]
+        for i, volume in enumerate(volumes):
             volume.use(location=first_unit + i)
-        self.occupancy.occupancy.use(location=first_unit + units)
-        self.occupancy.coarse.use(location=first_unit + units + 1)
-        return {"light_grid": np.arange(first_unit, first_unit + units), "occupancy": first_unit + units,
-                "coarse": first_unit + units + 1,
-                "voxels_per_cell": VOXELS_PER_CELL}
+        after = first_unit + len(volumes)
+        self.occupancy.occupancy.use(location=after)
+        self.occupancy.coarse.use(location=after + 1)
+        uniforms = {"light_grid": np.arange(first_unit, first_unit + units), "occupancy": after, "coarse": after + 1,
+                    "voxels_per_cell": VOXELS_PER_CELL}
+        if paired:
+            uniforms["unshadowed_grid"] = np.arange(first_unit + units, after)
+        return uniforms
 
     def read_irradiance(self, index):
         """Grid `index`'s irradiance as (direction, z, y, x, rgb) float32, the directions

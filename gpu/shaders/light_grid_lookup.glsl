@@ -10,11 +10,24 @@
 // voxels within EDGE_RADIUS of p are passed (a march passing them every time lets a wall
 // that meets the surface at an inner edge let through the cells beyond it). The fourth
 // component is 1 where any centre counts, else 0: such a grid abstains
-// (light_grid_levels.glsl) instead of answering black.
+// (light_grid_levels.glsl) instead of answering black. With PAIRED, each centre gives the
+// luminances (`luminance_weights`, declared before) of two grids' light instead: the
+// light grid's in r and `unshadowed_grid`'s in g, through the same marches.
 #include "occupancy.glsl"
 uniform sampler3D light_grid[GRIDS];
+#ifdef PAIRED
+uniform sampler3D unshadowed_grid[GRIDS];
+#endif
 #include "occupancy_volumes.glsl"
 const float EDGE_RADIUS = 1.5;  // voxels around the surface point a second march passes
+
+// The irradiance of the ambient cube of `volume`'s cell c on a surface whose normal has
+// the squares n2 and faces the +axis (0) or -axis (1) block of each axis (`side`).
+vec3 ambient_cube(sampler3D volume, ivec3 c, vec3 n2, ivec3 side) {
+    return n2.x * texelFetch(volume, ivec3(c.xy, c.z + side.x * grid_size), 0).rgb
+         + n2.y * texelFetch(volume, ivec3(c.xy, c.z + (2 + side.y) * grid_size), 0).rgb
+         + n2.z * texelFetch(volume, ivec3(c.xy, c.z + (4 + side.z) * grid_size), 0).rgb;
+}
 
 // Whether the voxel at x (voxel units of `grid`) holds a surface; not outside the grid.
 bool voxel_occupied(int grid, vec3 x) {
@@ -52,9 +65,12 @@ vec4 visible_centres(int grid, vec3 p, vec3 n, vec3 shift, float radius) {
         if (weight <= 0.0 || segment_blocked(occupancy, coarse, voxels_per_cell, grid, start_voxels, centre_voxels, surface_voxels,
                                                 radius, false))
             continue;
-        vec3 e = n2.x * texelFetch(light_grid[grid], ivec3(c.xy, c.z + side.x * grid_size), 0).rgb
-               + n2.y * texelFetch(light_grid[grid], ivec3(c.xy, c.z + (2 + side.y) * grid_size), 0).rgb
-               + n2.z * texelFetch(light_grid[grid], ivec3(c.xy, c.z + (4 + side.z) * grid_size), 0).rgb;
+#ifdef PAIRED
+        vec3 e = vec3(dot(ambient_cube(light_grid[grid], c, n2, side), luminance_weights),
+                      dot(ambient_cube(unshadowed_grid[grid], c, n2, side), luminance_weights), 0.0);
+#else
+        vec3 e = ambient_cube(light_grid[grid], c, n2, side);
+#endif
         sum += weight * vec4(e, 1.0);
     }
     return sum;

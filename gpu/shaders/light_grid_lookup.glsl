@@ -2,17 +2,17 @@
 // centres around q = p + n cell/2, each weighted by its trilinear weight if it lies in front
 // of the surface, and by whether the surface sees it through the occupancy (no light
 // through a wall thinner than a cell, none from the inside of a closed box); a centre on a
-// surface is left out. Where every centre is hidden, q lies in a wall's voxels: a surface
-// within a voxel of a wall it meets (a floor at the wall's foot) or its own voxels around a
-// convex edge. The march is then made again from q moved a voxel along each axis toward
-// whoever sees p (`toward`, the camera or a reflecting point): out of the wall's voxels on
-// p's own side, which its viewer is on. Where that finds every centre hidden too, the
-// voxels within EDGE_RADIUS of p are passed (a march passing them every time lets a wall
-// that meets the surface at an inner edge let through the cells beyond it). The fourth
-// component is 1 where any centre counts, else 0: such a grid abstains
-// (light_grid_levels.glsl) instead of answering black. With PAIRED, each centre gives the
-// luminances (`luminance_weights`, declared before) of two grids' light instead: the
-// light grid's in r and `unshadowed_grid`'s in g, through the same marches.
+// surface is left out. Where q lies in a wall's voxels (p within a voxel of a wall it meets,
+// such as a floor at the wall's foot), the march starts instead from q moved a voxel along
+// each axis toward whoever sees p (`toward`, the camera or a reflecting point): out of the
+// wall's voxels on p's own side, which its viewer is on. Where every centre is hidden
+// either way (the surface's own voxels around a convex edge), the voxels within
+// EDGE_RADIUS of p are passed (a march passing them every time lets a wall that meets the
+// surface at an inner edge let through the cells beyond it). The fourth component is 1
+// where any centre counts, else 0: such a grid abstains (light_grid_levels.glsl) instead of
+// answering black. With PAIRED, each centre gives the luminances (`luminance_weights`,
+// declared before) of two grids' light instead: the light grid's in r and
+// `unshadowed_grid`'s in g, through the same marches.
 #include "occupancy.glsl"
 uniform sampler3D light_grid[GRIDS];
 #ifdef PAIRED
@@ -38,9 +38,7 @@ bool voxel_occupied(int grid, vec3 x) {
 }
 
 // The weighted sum of the visible centres' irradiance and the sum of their weights, the
-// march starting `shift` voxels from q and passing the voxels within `radius` of p. A march
-// passing nothing sees nothing from a start in a wall's voxels (a march skips the voxel it
-// starts in, and from there it would reach either side of the wall).
+// march starting `shift` voxels from q and passing the voxels within `radius` of p.
 vec4 visible_centres(int grid, vec3 p, vec3 n, vec3 shift, float radius) {
     float cell = cell_sizes[grid];
     vec3 origin = grid_origins[grid];
@@ -54,7 +52,6 @@ vec4 visible_centres(int grid, vec3 p, vec3 n, vec3 shift, float radius) {
     vec3 n2 = n * n;
     ivec3 side = ivec3(n.x < 0.0 ? 1 : 0, n.y < 0.0 ? 1 : 0, n.z < 0.0 ? 1 : 0);  // +axis block or -axis
     vec4 sum = vec4(0.0);
-    if (radius <= 0.0 && voxel_occupied(grid, start_voxels)) return sum;
     for (int corner = 0; corner < 8; ++corner) {
         ivec3 step = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
         ivec3 c = clamp(base + step, ivec3(0), ivec3(grid_size - 1));
@@ -76,11 +73,17 @@ vec4 visible_centres(int grid, vec3 p, vec3 n, vec3 shift, float radius) {
     return sum;
 }
 
+// A march skips the voxel it starts in: from a start in a wall's voxels it would reach
+// either side of the wall, so such a start sees nothing.
 vec4 grid_irradiance(int grid, vec3 p, vec3 n, vec3 toward) {
-    vec4 sum = visible_centres(grid, p, n, vec3(0.0), 0.0);
+    vec3 q_voxels = (p + 0.5 * cell_sizes[grid] * n - grid_origins[grid]) * float(voxels_per_cell) / cell_sizes[grid];
     vec3 across = toward - dot(toward, n) * n;  // toward the viewer along the surface
     vec3 shift = sign(across) * step(0.1 * length(across), abs(across));
-    if (sum.a <= 1e-8 && any(notEqual(shift, vec3(0.0)))) sum = visible_centres(grid, p, n, shift, 0.0);
+    vec4 sum = vec4(0.0);
+    if (!voxel_occupied(grid, q_voxels))
+        sum = visible_centres(grid, p, n, vec3(0.0), 0.0);
+    else if (any(notEqual(shift, vec3(0.0))) && !voxel_occupied(grid, q_voxels + shift))
+        sum = visible_centres(grid, p, n, shift, 0.0);
     if (sum.a <= 1e-8) sum = visible_centres(grid, p, n, vec3(0.0), EDGE_RADIUS);
     return sum.a > 1e-8 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0);
 }

@@ -78,7 +78,7 @@ class Generations:
         (gpu/emitter_bounce.py Receivers: `generation_points(samples, bounce)` of them, drawn
         on the GPU), marching `occupancy`'s grids; returns their (buffer, count) sets.
         Nothing is read back: a generation's bound is the one before's times the largest
-        albedo of the surfaces its points lie on, which `conserve` holds it to."""
+        albedo of the surfaces its points are drawn on, which `conserve` holds it to."""
         self._drop()
         if self.totals is None:
             self.totals = self.glc.gl.buffer(reserve=2 * 16)

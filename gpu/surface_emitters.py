@@ -14,7 +14,8 @@ from .shade import add_irradiance
 class TrianglePoints:
     """Points drawn on fixed triangles (`corners`, (T, 3, 3) float64) by stratified
     sampling of the weights `weight_of(twice each triangle's area)` and uniformly within
-    each triangle: the emitters' and the receivers' sampling. The cross products and the
+    each triangle: the emissive surfaces' sampling (the bounces' points are drawn alike on
+    the GPU, shaders/receiver_draw.comp). The cross products and the
     weights' cumulative sum are made once; each pattern draws its own points."""
 
     def __init__(self, corners, weight_of):

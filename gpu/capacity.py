@@ -80,7 +80,7 @@ def emitter_bytes(s, scene, pixels, lamps):
     """The emitter grid (gpu/emitter_grid.py: clusters of every level, three textures,
     the emitters twice, an irradiance image), the emitters' shadows (a light grid with
     unshadowed volumes, its occupancy and clusters), the scene's emitters' glow
-    (gpu/shade.py glow_points: three floats a pixel, a list entry an emitter) and the
+    (gpu/shade.py glow_points: four floats a pixel, a list entry an emitter) and the
     receivers of their bounce, for the scene's point emitters and `lamps` point lights
     beyond the budget."""
     count = scene.point_emitter_count + lamps
@@ -94,7 +94,7 @@ def emitter_bytes(s, scene, pixels, lamps):
                + occupancy_bytes(s.grid_levels * s.grid_phases, n, VOXELS_PER_CELL)
                + scene.triangle_count * LARGE_TRIANGLE_BYTES + cluster_bytes(count, s)) \
         if s.emitter_shadows else 0
-    glow = pixels * 12 + scene.point_emitter_count * 4 if scene.point_emitter_count else 0
+    glow = pixels * 16 + scene.point_emitter_count * 4 if scene.point_emitter_count else 0
     return grid + shadows + pixels * 16 + glow + bounce
 
 

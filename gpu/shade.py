@@ -96,11 +96,11 @@ class FrameTargets:
         return self.glow, self.glow_framebuffer
 
     def point_glow_buffers(self, count):
-        """The sums of the point emitters' glow (three floats a pixel) and the list of
-        `count` emitters' discs headed by its draw command (shaders/point_glow.comp), made on
-        first use and grown to `count`."""
+        """The sums of the point emitters' glow and the share of each pixel they cover (four
+        floats a pixel) and the list of `count` emitters' discs headed by its draw command
+        (shaders/point_glow.comp), made on first use and grown to `count`."""
         if self.glow_sums is None:
-            self.glow_sums = self.gl.buffer(reserve=self.size[0] * self.size[1] * 3 * 4)
+            self.glow_sums = self.gl.buffer(reserve=self.size[0] * self.size[1] * 4 * 4)
         if self.glow_discs is None or self.glow_discs.size < len(DISC_COMMAND_START) + 4 * count:
             if self.glow_discs is not None:
                 self.glow_discs.release()

@@ -1,5 +1,5 @@
 #version 450 core
-// A point emitter's disc (emitter_glow.vert); overlapping ones add up.
+// A point emitter's disc (emitter_glow.vert), covering the pixel (alpha 1); overlapping ones add up.
 in vec3 glow_radiance_out;
 in float glow_radius_out;
 layout(location = 0) out vec4 out_glow;

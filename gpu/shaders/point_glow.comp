@@ -4,8 +4,9 @@
 // H100, whose raster units are few): STAGE 0 adds a speck's radiance into the pixel it
 // falls in, and a disc's into each pixel whose centre it covers (as emitter_glow.frag
 // draws it), where it lies in front of the G-buffer's depth (the point's own depth test),
-// and lists the discs wider than LARGEST_SPLAT pixels for emitter_glow.vert, whose
-// indirect draw command heads the list; STAGE 1 adds the sums into the glow image.
+// with the share of the pixel it covers (a speck's disc, or all of it), and lists the discs
+// wider than LARGEST_SPLAT pixels for emitter_glow.vert, whose indirect draw command heads
+// the list; STAGE 1 adds the sums into the glow image, the covered share in its alpha.
 #extension GL_NV_shader_atomic_float : require
 #include "common.glsl"
 #include "emitter.glsl"
@@ -13,7 +14,7 @@
 #if STAGE == 0
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
-layout(std430, binding = 1) buffer Sums { float sums[]; };  // rgb a pixel, rows of image_size.x
+layout(std430, binding = 1) buffer Sums { float sums[]; };  // rgb and covered share a pixel, rows of image_size.x
 layout(std430, binding = 2) buffer Discs { uint disc_command[5]; uint discs[]; };  // count, 1, 0, 0, 0; indices
 uniform sampler2D g_depth;
 uniform mat4 view_projection;
@@ -21,9 +22,10 @@ uniform int emitter_count;
 uniform int first_emitter;  // this dispatch's first (a dispatch reaches 65,535 workgroups)
 const float LARGEST_SPLAT = 4.0;  // the radius in pixels of the largest disc added here (81 pixels at most)
 
-void add(ivec2 pixel, int width, vec3 radiance) {
-    int at = 3 * (pixel.y * width + pixel.x);
+void add(ivec2 pixel, int width, vec3 radiance, float covered) {
+    int at = 4 * (pixel.y * width + pixel.x);
     for (int c = 0; c < 3; ++c) atomicAdd(sums[at + c], radiance[c]);
+    atomicAdd(sums[at + 3], covered);
 }
 
 void main() {
@@ -47,7 +49,7 @@ void main() {
     if (radius < 0.5) {
         if (any(greaterThan(abs(ndc.xy), vec2(1.0)))) return;
         ivec2 pixel = min(ivec2(floor(centre)), size - 1);
-        if (depth < texelFetch(g_depth, pixel, 0).r) add(pixel, size.x, radiance);
+        if (depth < texelFetch(g_depth, pixel, 0).r) add(pixel, size.x, radiance, PI * radius * radius);
         return;
     }
     float side = ceil(2.0 * radius + 1.0);  // the point emitter_glow.vert would draw
@@ -57,7 +59,7 @@ void main() {
         for (int x = low.x; x <= high.x; ++x) {
             ivec2 pixel = ivec2(x, y);
             if (length(vec2(pixel) + 0.5 - centre) <= radius && depth < texelFetch(g_depth, pixel, 0).r)
-                add(pixel, size.x, radiance);
+                add(pixel, size.x, radiance, 1.0);
         }
 }
 #else
@@ -69,8 +71,8 @@ void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(glow);
     if (any(greaterThanEqual(pixel, size))) return;
-    int at = 3 * (pixel.y * size.x + pixel.x);
-    vec3 summed = vec3(sums[at], sums[at + 1], sums[at + 2]);
-    if (any(greaterThan(summed, vec3(0.0)))) imageStore(glow, pixel, imageLoad(glow, pixel) + vec4(summed, 0.0));
+    int at = 4 * (pixel.y * size.x + pixel.x);
+    vec4 summed = vec4(sums[at], sums[at + 1], sums[at + 2], sums[at + 3]);
+    if (any(greaterThan(summed, vec4(0.0)))) imageStore(glow, pixel, imageLoad(glow, pixel) + summed);
 }
 #endif

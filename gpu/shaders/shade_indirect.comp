@@ -43,7 +43,7 @@ layout(std430, binding = 0) writeonly buffer Display { float display_rows[]; }; 
 uniform bool write_display;
 uniform float intensity;
 uniform int accumulated;
-uniform bool add_glow;   // the emissive surfaces' own radiance (shade.py render_glow)
+uniform bool add_glow;   // the emissive surfaces' and point emitters' own radiance, and the share they cover (shade.py render_glow)
 layout(rgba32f, binding = 3) uniform readonly image2D glow;
 uniform bool add_world;  // the world seen where no surface is
 uniform sampler2D world_background;
@@ -110,6 +110,11 @@ void main() {
             reflected += weights[1] * irradiance;
         }
     }
+    // the share of the pixel point emitters cover in front of its surface (shade.py render_glow)
+    float shown = add_glow ? 1.0 - clamp(imageLoad(glow, pixel).a, 0.0, 1.0) : 1.0;
+    light *= shown;
+    reflected *= shown;
+    direct_light.rgb *= shown;
     float weight = 1.0 / float(accumulated + 1);  // this set's in the mean
 #ifdef REFLECTIONS
     imageStore(reflections, pixel, vec4(accumulated > 0 ? mix(imageLoad(reflections, pixel).rgb, reflected, weight)
@@ -123,7 +128,7 @@ void main() {
     vec4 composite = vec4(direct_light.rgb + light + reflected, 1.0);
     float coverage = surface ? 1.0 : 0.0;
     if (!surface && add_world)
-        composite.rgb += world_radiance(normalize(gbuffer_unproject(pixel, 1.0) - gbuffer_unproject(pixel, 0.0)));
+        composite.rgb += shown * world_radiance(normalize(gbuffer_unproject(pixel, 1.0) - gbuffer_unproject(pixel, 0.0)));
     if (add_glow) {
         vec3 glowing = imageLoad(glow, pixel).rgb;
         composite.rgb += glowing;

@@ -110,8 +110,9 @@ void main() {
             reflected += weights[1] * irradiance;
         }
     }
-    // the share of the pixel point emitters cover in front of its surface (shade.py render_glow)
-    float shown = add_glow ? 1.0 - clamp(imageLoad(glow, pixel).a, 0.0, 1.0) : 1.0;
+    // the glow the pixel sees, and the share of it point emitters cover in front of its surface
+    vec4 glowing = add_glow ? imageLoad(glow, pixel) : vec4(0.0);
+    float shown = 1.0 - clamp(glowing.a, 0.0, 1.0);
     light *= shown;
     reflected *= shown;
     direct_light.rgb *= shown;
@@ -129,11 +130,8 @@ void main() {
     float coverage = surface ? 1.0 : 0.0;
     if (!surface && add_world)
         composite.rgb += shown * world_radiance(normalize(gbuffer_unproject(pixel, 1.0) - gbuffer_unproject(pixel, 0.0)));
-    if (add_glow) {
-        vec3 glowing = imageLoad(glow, pixel).rgb;
-        composite.rgb += glowing;
-        if (any(greaterThan(glowing, vec3(0.0)))) coverage = 1.0;
-    }
+    composite.rgb += glowing.rgb;
+    if (any(greaterThan(glowing.rgb, vec3(0.0)))) coverage = 1.0;
     vec4 mean = vec4(composite.rgb, coverage);
     if (accumulated > 0) mean = mix(imageLoad(combined, pixel), mean, weight);
     imageStore(combined, pixel, mean);

@@ -13,7 +13,7 @@ import pytest
 import addon_utils  # on the path only once bpy is imported
 
 from lpv_preview.addon.cycles_reference import (PART_GROWTH, cycles_passes_in_parts, describe_reference_settings,
-                                               render_cycles_passes)
+                                               render_cycles_passes, run_to_end)
 from lpv_preview.gpu.errors import LPVError
 
 ALBEDO = 0.5
@@ -130,14 +130,8 @@ def test_a_render_whose_samples_cost_little_goes_in_few_parts(scene, temp_root):
     """Each part pays the scene's synchronisation again. Under load (a second process
     busy on both cores) that alone took more than PART_SECONDS, and a 32-sample render
     of the forest world went in 32 parts of one sample, 44.7 s where 3.6 s sufficed."""
-    steps = cycles_passes_in_parts(scene, ("Combined",), 256, (SIZE, SIZE))
     parts = []
-    while True:
-        try:
-            parts.append(next(steps))
-        except StopIteration as finished:
-            result = finished.value
-            break
+    result = run_to_end(cycles_passes_in_parts(scene, ("Combined",), 256, (SIZE, SIZE)), parts.append)
     print(f"\n256 samples at {SIZE}x{SIZE} in {len(parts)} parts: {[done for done, _ in parts]}")
     assert parts[-1][0] == 256 and result["Combined"].shape == (SIZE, SIZE, 3)
     assert len(parts) <= 2 + math.ceil(math.log(256, PART_GROWTH))

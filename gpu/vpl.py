@@ -1,8 +1,9 @@
 """Virtual point lights sampled from an RSM by Poisson-disk cells (METHOD §6).
 
 Each face of the atlas gets a Poisson-disk point set; every texel joins its nearest
-point's cell, and the cell's VPL carries the summed flux of all its texels, placed at the
-valid texel nearest the point. The VPLs' fluxes therefore add up to the RSM's flux.
+point's cell, and the cell's VPL lies at one of its texels drawn in proportion to its
+flux, carrying that texel's flux over the chance of drawing it: the VPLs' fluxes add up
+to the RSM's in expectation, and no cell moves one surface's light onto another.
 Pattern k > 0 is the same set moved by a random toroidal shift, so a still image that
 averages the VPL sets of patterns 0, 1, 2, ... converges toward every texel's light.
 """
@@ -219,7 +220,8 @@ class VPLSampler:
             texture.use(location=unit)
         low, high = exclude if exclude is not None else ((0.0,) * 3, (0.0,) * 3)
         set_uniforms(program, rsm_position=0, rsm_normal=1, rsm_flux=2, cell_ids=3, cell_count=cells.count,
-                     exclude=exclude is not None, exclude_low=tuple(low), exclude_high=tuple(high))
+                     exclude=exclude is not None, exclude_low=tuple(low), exclude_high=tuple(high),
+                     pattern=pattern)
         cells.samples.bind_to_storage_buffer(0)
         cells.bounds.bind_to_storage_buffer(1)
         output.bind_to_storage_buffer(2)

@@ -6,13 +6,13 @@ reads DIR/NAME.npz (`scripts/full_gi_rooms.py DIR --export`) and times 1920×108
 the default settings with every stage redone: one VPL set, and converged over 16 sets (the
 full-GI table's converged column), and the same with one bounce (what the later bounces
 cost). Prints per scene and case the bounces, the median frame's wall milliseconds with
-its least and most, and the median stages of the indirect light (its lookup: indirect_ms) and the
-world's, as JSON.
+its least and most, and the median stages of the indirect light (its lookup: indirect_ms), the
+world's and the VPLs' draw from the maps (vpl_ms), as JSON.
 """
 from lpv_preview.bench.timing import time_cases_command
 from lpv_preview.gpu.settings import Settings
 
-STAGES = ("bounce_ms", "emitter_bounce_ms", "gather_ms", "indirect_ms", "inject_ms", "world_ms")
+STAGES = ("bounce_ms", "emitter_bounce_ms", "gather_ms", "indirect_ms", "inject_ms", "vpl_ms", "world_ms")
 CONVERGED_SETS = 16
 
 

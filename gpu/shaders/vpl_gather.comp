@@ -1,9 +1,15 @@
 #version 450 core
-// One VPL per Poisson cell: the flux of every texel in the cell summed (so the VPLs carry
-// exactly the RSM's flux), placed at the valid texel nearest the cell's sample point.
+// One VPL per Poisson cell, standing for the flux of every texel in the cell: it lies at
+// one of them, drawn in proportion to its flux (luminance) by weighted reservoir sampling
+// seeded by the cell and the VPL pattern, and carries that texel's flux over the chance
+// of drawing it. Over patterns each texel's light so stays where its surface is: a cell
+// that straddles a silhouette (a sunlit wall outside a window and the floor seen through
+// it) does not move the wall's light onto the floor. A cell of no flux lies at its valid
+// texel nearest the cell's sample point.
 // With `exclude`, texels whose surface lies in the box [exclude_low, exclude_high] count
 // for nothing (a sun's far field, whose near part another map samples).
 #define GROUP 64
+#include "hash.glsl"
 layout(local_size_x = GROUP) in;
 uniform sampler2D rsm_position;
 uniform sampler2D rsm_normal;
@@ -15,12 +21,14 @@ struct VPL { vec4 position; vec4 normal; vec4 flux; };  // w: valid, surfel area
 layout(std430, binding = 2) writeonly buffer VPLs { VPL vpls[]; };
 
 shared vec4 partial_flux[GROUP];   // rgb flux, a surfel area
-shared vec2 partial_best[GROUP];   // squared distance, texel index
+shared vec2 partial_best[GROUP];   // squared distance, texel index (the fallback of no flux)
+shared vec2 partial_drawn[GROUP];  // summed luminance, texel index drawn
 
 uniform int cell_count;
 uniform bool exclude;
 uniform vec3 exclude_low;
 uniform vec3 exclude_high;
+uniform uint pattern;
 
 void main() {
     int cell = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);
@@ -32,6 +40,8 @@ void main() {
     vec2 target = sample_texel[cell];
     vec4 sum = vec4(0.0);
     vec2 best = vec2(1e30, -1.0);
+    vec2 drawn = vec2(0.0, -1.0);
+    uint seed = hash32(uint(cell) ^ hash32(pattern + 0x68bc21ebu));
     for (int i = lane; i < count; i += GROUP) {
         ivec2 texel = ivec2(box.x + i % width, box.y + i / width);
         if (texelFetch(cell_ids, texel, 0).r != cell) continue;
@@ -39,29 +49,46 @@ void main() {
         if (position.w <= 0.0) continue;
         if (exclude && all(greaterThanEqual(position.xyz, exclude_low)) && all(lessThanEqual(position.xyz, exclude_high)))
             continue;
-        sum += vec4(texelFetch(rsm_flux, texel, 0).rgb, texelFetch(rsm_normal, texel, 0).w);
+        vec3 flux = texelFetch(rsm_flux, texel, 0).rgb;
+        sum += vec4(flux, texelFetch(rsm_normal, texel, 0).w);
+        float weight = flux.r + flux.g + flux.b;
+        drawn.x += weight;
+        if (weight > 0.0 && hash_unit(hash32(seed ^ uint(i))) * drawn.x < weight) drawn.y = float(i);
         vec2 d = vec2(texel) + 0.5 - target;
         float dd = dot(d, d);
         if (dd < best.x) best = vec2(dd, float(i));
     }
     partial_flux[lane] = sum;
     partial_best[lane] = best;
+    partial_drawn[lane] = drawn;
     barrier();
     for (int stride = GROUP / 2; stride > 0; stride /= 2) {
         if (lane < stride) {
             partial_flux[lane] += partial_flux[lane + stride];
             if (partial_best[lane + stride].x < partial_best[lane].x) partial_best[lane] = partial_best[lane + stride];
+            vec2 other = partial_drawn[lane + stride];
+            float total = partial_drawn[lane].x + other.x;
+            uint u = hash32(seed ^ hash32(uint(lane * GROUP + stride) + 0x1b873593u));
+            if (other.x > 0.0 && hash_unit(u) * total < other.x) partial_drawn[lane].y = other.y;
+            partial_drawn[lane].x = total;
         }
         barrier();
     }
     if (lane == 0) {
         VPL v = VPL(vec4(0.0), vec4(0.0, 0.0, 1.0, 0.0), vec4(0.0));
-        if (partial_best[0].y >= 0.0) {
+        vec2 chosen = partial_drawn[0];
+        if (chosen.y >= 0.0) {
+            int i = int(chosen.y);
+            ivec2 texel = ivec2(box.x + i % width, box.y + i / width);
+            vec3 flux = texelFetch(rsm_flux, texel, 0).rgb;
+            v.position = vec4(texelFetch(rsm_position, texel, 0).xyz, 1.0);
+            v.normal = vec4(texelFetch(rsm_normal, texel, 0).xyz, partial_flux[0].a);
+            v.flux = vec4(flux * (chosen.x / (flux.r + flux.g + flux.b)), 0.0);
+        } else if (partial_best[0].y >= 0.0) {
             int i = int(partial_best[0].y);
             ivec2 texel = ivec2(box.x + i % width, box.y + i / width);
             v.position = vec4(texelFetch(rsm_position, texel, 0).xyz, 1.0);
             v.normal = vec4(texelFetch(rsm_normal, texel, 0).xyz, partial_flux[0].a);
-            v.flux = vec4(partial_flux[0].rgb, 0.0);
         }
         vpls[cell] = v;
     }

@@ -117,9 +117,11 @@ class VPLSet:
 
 
 LAID_OUT = OrderedDict()
-"""The cells of the layouts made last in this process, as bytes (cell ids, bounds, sample
-points) by layout: a new pipeline (a batch render's next frame, a benchmark's next case)
-uploads them instead of assigning every texel again."""
+"""The cells of pattern 0 of the layouts made last in this process, as bytes (cell ids,
+bounds, sample points) by layout: a new pipeline's first VPL set (a batch render's next
+frame, a benchmark's next case) uploads them instead of assigning every texel again. The
+later patterns of converging sets are assigned anew: reading each back cost more than
+assigning it (its cell ids are a GPU-stalling read of the whole atlas)."""
 LAID_OUT_KEPT = 8
 
 
@@ -142,10 +144,11 @@ class PoissonCells:
             self.bounds, self.samples = gl.buffer(bounds), gl.buffer(samples)
             return
         self._assign(glc, face_origins, resolution, per_face, in_disk, pattern)
-        gl.memory_barrier()
-        LAID_OUT[key] = (self.cell_ids.read(), self.bounds.read(), self.samples.read())
-        while len(LAID_OUT) > LAID_OUT_KEPT:
-            LAID_OUT.popitem(last=False)
+        if pattern == 0:
+            gl.memory_barrier()
+            LAID_OUT[key] = (self.cell_ids.read(), self.bounds.read(), self.samples.read())
+            while len(LAID_OUT) > LAID_OUT_KEPT:
+                LAID_OUT.popitem(last=False)
 
     def _assign(self, glc, face_origins, resolution, per_face, in_disk, pattern):
         gl = glc.gl

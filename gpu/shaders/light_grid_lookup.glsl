@@ -3,12 +3,14 @@
 // of the surface, and by whether the surface sees it through the occupancy (no light
 // through a wall thinner than a cell, none from the inside of a closed box); a centre on a
 // surface is left out. Where q lies in a wall's voxels (p within a voxel of a wall it meets,
-// such as a floor at the wall's foot), the march starts instead from q moved a voxel along
-// each axis toward whoever sees p (`toward`, the camera or a reflecting point): out of the
-// wall's voxels on p's own side, which its viewer is on. Where every centre is hidden
-// either way (the surface's own voxels around a convex edge), the voxels within
-// EDGE_RADIUS of p are passed (a march passing them every time lets a wall that meets the
-// surface at an inner edge let through the cells beyond it). The fourth component is 1
+// such as a floor at the wall's foot), the march starts instead from q moved a voxel (or
+// two: a thin wall's voxels) along each axis toward whoever sees p (`toward`, the camera
+// or a reflecting point): out of the wall's voxels on p's own side, which its viewer is
+// on; with no such start the grid sees nothing. Where every centre is hidden (the
+// surface's own voxels around a convex edge), a second march from the same start passes
+// the voxels within EDGE_RADIUS of p (a march passing them every time lets a wall that
+// meets the surface at an inner edge let through the cells beyond it; one from inside a
+// wall's voxels crosses a thin wall). The fourth component is 1
 // where any centre counts, else 0: such a grid abstains (light_grid_levels.glsl) instead of
 // answering black. With PAIRED, each centre gives the luminances (`luminance_weights`,
 // declared before) of two grids' light instead: the light grid's in r and
@@ -80,10 +82,15 @@ vec4 grid_irradiance(int grid, vec3 p, vec3 n, vec3 toward) {
     vec3 across = toward - dot(toward, n) * n;  // toward the viewer along the surface
     vec3 shift = sign(across) * step(0.1 * length(across), abs(across));
     vec4 sum = vec4(0.0);
-    if (!voxel_occupied(grid, q_voxels))
-        sum = visible_centres(grid, p, n, vec3(0.0), 0.0);
-    else if (any(notEqual(shift, vec3(0.0))) && !voxel_occupied(grid, q_voxels + shift))
-        sum = visible_centres(grid, p, n, shift, 0.0);
-    if (sum.a <= 1e-8) sum = visible_centres(grid, p, n, vec3(0.0), EDGE_RADIUS);
+    vec3 start = vec3(0.0);
+    bool free_start = !voxel_occupied(grid, q_voxels);
+    for (int k = 1; k <= 2 && !free_start && any(notEqual(shift, vec3(0.0))); ++k) {
+        start = float(k) * shift;
+        free_start = !voxel_occupied(grid, q_voxels + start);
+    }
+    if (free_start) {
+        sum = visible_centres(grid, p, n, start, 0.0);
+        if (sum.a <= 1e-8) sum = visible_centres(grid, p, n, start, EDGE_RADIUS);
+    }
     return sum.a > 1e-8 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0);
 }

@@ -117,6 +117,7 @@ def test_more_bounces_add_less_and_less_light(rooms, method):
         # faces, which the occupancy cannot tell apart, would carry more: gpu/bounces.py conserve)
         assert np.all(later[0] > 0.05 * first) and np.all(later[0] <= 0.8 * first * (1 + 1e-4))
         assert np.all(later[1] > later[0]) and np.all(later[1] - later[0] <= 0.8 * later[0] * (1 + 1e-4))
+        print(f"\n{method}: indirect means {means}")
         assert means[0] * 1.05 < means[1] < means[2]
     finally:
         pipeline.release()

@@ -133,11 +133,10 @@ class PoissonCells:
         faces = len(face_origins)
         per_face = [vpl_count // faces + (f < vpl_count % faces) for f in range(faces)]
         self.count = sum(per_face)
-        key = (tuple(atlas_size), tuple(map(tuple, np.asarray(face_origins).tolist())), resolution, vpl_count, in_disk,
-               pattern)
+        key = (tuple(atlas_size), tuple(map(tuple, np.asarray(face_origins).tolist())), resolution, vpl_count, in_disk)
         self.cell_ids = gl.texture(atlas_size, 1, dtype="i4")
         self.cell_ids.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        if key in LAID_OUT:
+        if pattern == 0 and key in LAID_OUT:
             LAID_OUT.move_to_end(key)
             cell_ids, bounds, samples = LAID_OUT[key]
             self.cell_ids.write(cell_ids)

@@ -77,18 +77,13 @@ void main() {
     if (lane == 0) {
         VPL v = VPL(vec4(0.0), vec4(0.0, 0.0, 1.0, 0.0), vec4(0.0));
         vec2 chosen = partial_drawn[0];
-        if (chosen.y >= 0.0) {
-            int i = int(chosen.y);
+        int i = int(chosen.y >= 0.0 ? chosen.y : partial_best[0].y);
+        if (i >= 0) {
             ivec2 texel = ivec2(box.x + i % width, box.y + i / width);
+            v.position = vec4(texelFetch(rsm_position, texel, 0).xyz, 1.0);
+            v.normal = vec4(texelFetch(rsm_normal, texel, 0).xyz, partial_flux[0].a);
             vec3 flux = texelFetch(rsm_flux, texel, 0).rgb;
-            v.position = vec4(texelFetch(rsm_position, texel, 0).xyz, 1.0);
-            v.normal = vec4(texelFetch(rsm_normal, texel, 0).xyz, partial_flux[0].a);
-            v.flux = vec4(flux * (chosen.x / (flux.r + flux.g + flux.b)), 0.0);
-        } else if (partial_best[0].y >= 0.0) {
-            int i = int(partial_best[0].y);
-            ivec2 texel = ivec2(box.x + i % width, box.y + i / width);
-            v.position = vec4(texelFetch(rsm_position, texel, 0).xyz, 1.0);
-            v.normal = vec4(texelFetch(rsm_normal, texel, 0).xyz, partial_flux[0].a);
+            if (chosen.y >= 0.0) v.flux = vec4(flux * (chosen.x / (flux.r + flux.g + flux.b)), 0.0);
         }
         vpls[cell] = v;
     }

@@ -57,7 +57,8 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     camera = extract_camera(depsgraph, resolution)
     geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
     scene = Scene(**geometry, lights=[], **render_settings_of(depsgraph.scene_eval))
-    return scene.in_local_frame(lights, camera, world_of(depsgraph.scene_eval)).sanitize()
+    world, suns = world_of(depsgraph.scene_eval)
+    return scene.in_local_frame([*lights, *suns], camera, world).sanitize()
 
 
 def render_settings_of(scene, viewport=False):

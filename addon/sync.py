@@ -99,7 +99,11 @@ class SceneSync:
             self._scene = self._scene.in_local_frame(camera=camera)
             return self._scene
         geometry, lights = extract_parts(depsgraph, view3d, read_geometry, read_lights)
-        world = world_of(depsgraph.scene_eval) if read_lights else self._scene.world  # the world goes with the lights
+        if read_lights:  # the world goes with the lights, its Sky Textures' suns among them
+            world, suns = world_of(depsgraph.scene_eval)
+            lights = [*lights, *suns]
+        else:
+            world = self._scene.world
         if read_geometry:
             lights = lights if read_lights else self._scene.world_lights()
             settings = render_settings_of(depsgraph.scene_eval, viewport=True)

@@ -4,12 +4,14 @@ strength, mixed and added; colours from RGB nodes, Environment Textures (equirec
 and mirror ball) at the direction a Mapping node turns, the Sky Texture's models
 (sky_models.py; Hosek / Wilkie by Preetham's), Mix Color and Light Path's Is Camera Ray
 (the camera's map and the lighting's differ). Anything else takes its socket's own value
-and is named as approximated."""
+and is named as approximated. A Sky Texture's sun disc lights the scene as a sun light
+of its size, colour and irradiance, not through the lighting map."""
 import math
 
 import numpy as np
 from mathutils import Euler
 
+from ..gpu.scene import Light
 from ..gpu.world import World, directions_of, map_coordinates
 from .image_pixels import linear_pixels
 from .materials import linked_node, linked_output
@@ -26,22 +28,47 @@ MAGENTA = (1.0, 0.0, 1.0)
 
 
 def world_of(scene):
-    """The World of a bpy scene, None when it has no world that emits anything."""
+    """The World of a bpy scene (None when it has no world that emits anything) and the
+    sun lights its Sky Textures' sun discs make (`sky_suns`)."""
     world = scene.world
     if world is None:
-        return None
+        return None, []
     output = _output_node(world)
     if output is None:
         colour = np.array(world.color, dtype=np.float32)
-        return World.uniform(colour) if np.any(colour > 0) else None
+        return (World.uniform(colour) if np.any(colour > 0) else None), []
     evaluation = WorldEvaluation()
     size = evaluation.map_size(output.inputs["Surface"])
-    background = evaluation.radiance(output.inputs["Surface"], directions_of(*size), camera=True)
-    lighting = evaluation.radiance(output.inputs["Surface"], directions_of(*size), camera=False)
-    if not np.any(lighting > 0) and not np.any(background > 0):
-        return None
-    return World(_downsampled(lighting, LIGHTING_SIZE), background.astype(np.float32),
-                 tuple(dict.fromkeys(evaluation.approximated)))
+    directions = directions_of(*size)
+    background = evaluation.radiance(output.inputs["Surface"], directions, camera=True)
+    lighting = evaluation.radiance(output.inputs["Surface"], directions, camera=False)
+    sunless = WorldEvaluation(evaluation.sky_models, sun_discs=False).radiance(output.inputs["Surface"], directions,
+                                                                             camera=False)
+    suns = sky_suns(evaluation.sun_texels, lighting - sunless)
+    if not np.any(sunless > 0) and not np.any(background > 0) and not suns:
+        return None, []
+    return World(_downsampled(sunless, LIGHTING_SIZE), background.astype(np.float32),
+                 tuple(dict.fromkeys(evaluation.approximated))), suns
+
+
+def sky_suns(sun_texels, disc_radiance):
+    """A sun light for each Sky Texture's sun disc that lights anything: its direction,
+    its disc's angle, and the irradiance its texel of `disc_radiance` (the lighting map
+    with the discs less the map without them: the disc through the node tree after the
+    texture, strength and mixes included) carries over the texel's solid angle. As
+    EEVEE does with a world's sun, its light then has a shadow map and a light map of its
+    own; the rest of the sky stays in the map."""
+    suns = []
+    height, width = disc_radiance.shape[:2]
+    for name, (row, column, direction, angle) in sun_texels.items():
+        irradiance = np.maximum(disc_radiance[row, column], 0.0) * texel_solid_angle(row, height, width)
+        power = float(irradiance.max())
+        if power <= 0.0:
+            continue
+        up = np.array([0.0, 0.0, 1.0]) if abs(direction[2]) < 0.999 else np.array([1.0, 0.0, 0.0])
+        suns.append(Light("SUN", np.zeros(3), -direction, up - direction * float(up @ direction), irradiance / power,
+                          power, name=f"{name} sun", angle=float(angle)))
+    return suns
 
 
 def _output_node(world):
@@ -69,9 +96,11 @@ def _downsampled(image, size):
 class WorldEvaluation:
     """One evaluation of a world's node tree over many directions at once."""
 
-    def __init__(self):
+    def __init__(self, sky_models=None, sun_discs=True):
         self.approximated = []
-        self.sky_models = {}
+        self.sky_models = {} if sky_models is None else sky_models
+        self.sun_discs = sun_discs  # put each Sky Texture's sun disc into its texel
+        self.sun_texels = {}  # Sky Texture name -> (row, column, direction, disc angle) on a map's grid
 
     def map_size(self, socket):
         """The map size the tree needs: its widest Environment Texture's (at most
@@ -180,7 +209,8 @@ class WorldEvaluation:
     def sky(self, node, directions, camera):
         """A Sky Texture's colour: its model (sky_models.py) at the vectors it reads; on a
         map's grid of directions the sun disc, far smaller than a texel, is put into the
-        texel holding it with its power."""
+        texel holding it with its power (`sun_discs`), and the texel and the disc are
+        noted (`sun_texels`)."""
         vector = self.vector(node.inputs.get("Vector"), directions, camera)
         vector = vector / np.maximum(np.linalg.norm(vector, axis=-1, keepdims=True), 1e-30)
         model = self.sky_model(node)
@@ -189,7 +219,12 @@ class WorldEvaluation:
         if vector.ndim != 3 or vector.shape[1] != 2 * vector.shape[0]:
             return model.radiance(vector)
         radiance = model.radiance(vector, sun=False)
-        _add_to_nearest_texel(radiance, vector, model.sun_direction, model.sun_power())
+        row, column = np.unravel_index(np.argmax(vector @ model.sun_direction), vector.shape[:2])
+        if not camera:  # a sky with a sun disc reads no vector: its sun lies where the model says
+            self.sun_texels[node.name] = (row, column, model.sun_direction, model.angular_diameter)
+        if self.sun_discs:
+            height, width = radiance.shape[:2]
+            radiance[row, column] += model.sun_power() / texel_solid_angle(row, height, width)
         return radiance
 
     def sky_model(self, node):
@@ -209,16 +244,9 @@ class WorldEvaluation:
         return self.sky_models[key]
 
 
-def _add_to_nearest_texel(radiance, vectors, direction, power):
-    """Adds `power` (radiance integrated over solid angle) along `direction` to the texel of
-    an equirectangular map (`radiance` and its texels' `vectors`, (height, width, ...))
-    whose centre is nearest, divided by that texel's solid angle."""
-    if not np.any(power > 0):
-        return
-    height, width = radiance.shape[:2]
-    row, column = np.unravel_index(np.argmax(vectors @ direction), (height, width))
-    solid_angle = 2 * math.pi / width * (math.cos(math.pi * row / height) - math.cos(math.pi * (row + 1) / height))
-    radiance[row, column] += power / solid_angle
+def texel_solid_angle(row, height, width):
+    """The solid angle of a texel in row `row` of an equirectangular map."""
+    return 2 * math.pi / width * (math.cos(math.pi * row / height) - math.cos(math.pi * (row + 1) / height))
 
 
 def _upstream_nodes(socket, depth=32):

@@ -14,7 +14,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from lpv_preview.addon.cycles_render import enable_cycles, read_exr_channels  # noqa: E402
-from lpv_preview.addon.world import WorldEvaluation, world_of  # noqa: E402
+from lpv_preview.addon.world import WorldEvaluation, texel_solid_angle, world_of  # noqa: E402
 from lpv_preview.gpu.world import directions_of  # noqa: E402
 
 PANORAMA_ROTATION = (math.pi / 2, 0.0, -math.pi / 2)
@@ -122,7 +122,7 @@ def cycles_sun_power(scene, path, size=(1024, 2048), window=24, samples=16):
 
 def map_sun_power(scene):
     """The sun's power in our camera's map: its radiance over the sky's, by solid angle."""
-    world = world_of(scene)
+    world, _ = world_of(scene)
     height, width = world.background.shape[:2]
     model = WorldEvaluation().sky_model(sky_node(scene))
     rows = np.arange(height)
@@ -148,8 +148,23 @@ def test_the_sun_disc_carries_cycles_power(tmp_path, sky_type):
     scene = sky_world_scene(sky_type, 35.0)
     theirs = cycles_sun_power(scene, str(tmp_path / "sun.exr"))
     np.testing.assert_allclose(map_sun_power(scene), theirs, rtol=SUN_TOLERANCE)
+    # it lights the scene as a sun light of its irradiance, direction and size, and no
+    # longer through the lighting map, which holds the sky alone
+    world, (sun,) = world_of(scene)
+    model = WorldEvaluation().sky_model(sky_node(scene))
+    np.testing.assert_allclose(sun.color * sun.power, theirs, rtol=SUN_TOLERANCE)
+    np.testing.assert_allclose(-sun.direction, model.sun_direction, atol=1e-9)
+    assert sun.kind == "SUN" and sun.angle == pytest.approx(sky_node(scene).sun_size)
+    height, width = world.lighting.shape[:2]
+    assert world.lighting.max() < 0.01 * sun.power / texel_solid_angle(0, height, width)
+
+
+def test_a_sky_without_its_sun_disc_makes_no_sun_light():
+    scene = sky_world_scene("MULTIPLE_SCATTERING", 35.0, sun_disc=False)
+    world, suns = world_of(scene)
+    assert suns == [] and world.lights_anything
 
 
 def test_hosek_wilkie_is_named_approximated():
     scene = sky_world_scene("HOSEK_WILKIE", 35.0)
-    assert any("Hosek" in name for name in world_of(scene).approximated)
+    assert any("Hosek" in name for name in world_of(scene)[0].approximated)

@@ -7,10 +7,12 @@ and mirror ball) at the direction a Mapping node turns, the Sky Texture's models
 and is named as approximated. A Sky Texture's sun disc lights the scene as a sun light
 of its size, colour and irradiance, not through the lighting map."""
 import math
+from dataclasses import replace
 
 import numpy as np
 from mathutils import Euler
 
+from ..gpu.colour import LUMINANCE_WEIGHTS
 from ..gpu.scene import Light
 from ..gpu.world import World, directions_of, map_coordinates
 from .image_pixels import linear_pixels
@@ -69,6 +71,41 @@ def sky_suns(sun_texels, disc_radiance):
         suns.append(Light("SUN", np.zeros(3), -direction, up - direction * float(up @ direction), irradiance / power,
                           power, name=f"{name} sun", angle=float(angle)))
     return suns
+
+
+MERGED_SUNS_APART = math.radians(0.1)
+"""Suns of no size merge within half of this."""
+
+
+def with_sky_suns(lamps, suns):
+    """The scene's `lamps` and its Sky Textures' `suns`, a sun light merged into a Sun lamp
+    that points within half the wider disc's angle of it (an artist's lamp set along the
+    sky's sun): one light of their summed irradiance, along their mean direction and of
+    their mean angle (weighted by luminance), whose light map and shadows are made once."""
+    lamps = list(lamps)
+    for sun in suns:
+        for index, lamp in enumerate(lamps):
+            if lamp.kind != "SUN":
+                continue
+            apart = math.acos(float(np.clip(lamp.direction @ sun.direction, -1.0, 1.0)))
+            if apart <= max(lamp.angle, sun.angle, MERGED_SUNS_APART) / 2:
+                lamps[index] = merged_sun(lamp, sun)
+                break
+        else:
+            lamps.append(sun)
+    return lamps
+
+
+def merged_sun(lamp, sun):
+    """One sun light of both's irradiance, named as the lamp, along and as wide as their
+    luminance-weighted means."""
+    irradiance = lamp.color * lamp.power + sun.color * sun.power
+    weights = np.array([lamp.color @ LUMINANCE_WEIGHTS * lamp.power, sun.color @ LUMINANCE_WEIGHTS * sun.power])
+    weights = weights / weights.sum() if weights.sum() > 0 else np.array([0.5, 0.5])
+    power = float(irradiance.max())
+    direction = weights[0] * lamp.direction + weights[1] * sun.direction
+    return replace(lamp, direction=direction, color=irradiance / power if power > 0 else lamp.color, power=power,
+                   angle=float(weights[0] * lamp.angle + weights[1] * sun.angle))
 
 
 def _output_node(world):

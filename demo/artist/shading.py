@@ -220,10 +220,11 @@ def colour_world(colour, strength=1.0):
 
 def towards_sky_sun(sun_elevation_degrees, sun_rotation_degrees):
     """The unit direction from the ground to the Sky Texture's sun: rotation 0 puts it
-    along +Y, rotation turns it about +Z (Cycles' geographical_to_direction of elevation
-    and rotation + 90°)."""
+    along +Y, rotation turns it clockwise seen from above (Cycles turns the rotation
+    around, 2π - rotation, and takes geographical_to_direction of elevation and that
+    + 90°: addon/sky_models.py sun_direction)."""
     elevation, rotation = math.radians(sun_elevation_degrees), math.radians(sun_rotation_degrees)
-    return (-math.sin(rotation) * math.cos(elevation), math.cos(rotation) * math.cos(elevation),
+    return (math.sin(rotation) * math.cos(elevation), math.cos(rotation) * math.cos(elevation),
             math.sin(elevation))
 
 

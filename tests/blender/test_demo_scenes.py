@@ -134,7 +134,7 @@ def test_unknown_scene_is_a_clear_error():
 
 
 @pytest.mark.parametrize("name, lights", [("window_room", {"SUN": 1}),
-                                          ("sunlit_courtyard", {"SUN": 2}),  # its Sun lamp and its Sky Texture's sun
+                                          ("sunlit_courtyard", {"SUN": 1}),  # its Sun lamp, along its Sky Texture's sun
                                           ("furnished_room", {"POINT": 1, "AREA": 1}),
                                           ("small_lights_room", {"POINT": 60})])
 def test_the_full_gi_rooms_are_lit_as_described(name, lights):

@@ -14,7 +14,8 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from lpv_preview.addon.cycles_render import enable_cycles, read_exr_channels  # noqa: E402
-from lpv_preview.addon.world import WorldEvaluation, texel_solid_angle, world_of  # noqa: E402
+from lpv_preview.addon.world import WorldEvaluation, texel_solid_angle, with_sky_suns, world_of  # noqa: E402
+from lpv_preview.gpu.scene import Light  # noqa: E402
 from lpv_preview.gpu.world import directions_of  # noqa: E402
 
 PANORAMA_ROTATION = (math.pi / 2, 0.0, -math.pi / 2)
@@ -168,3 +169,16 @@ def test_a_sky_without_its_sun_disc_makes_no_sun_light():
 def test_hosek_wilkie_is_named_approximated():
     scene = sky_world_scene("HOSEK_WILKIE", 35.0)
     assert any("Hosek" in name for name in world_of(scene)[0].approximated)
+
+
+def test_a_sun_lamp_along_the_skys_sun_takes_its_light():
+    """A Sun lamp set along the sky's sun becomes one light of both's irradiance (one light
+    map, one shadow); a lamp elsewhere stays a light of its own."""
+    _, (sun,) = world_of(sky_world_scene("MULTIPLE_SCATTERING", 35.0))
+    along = Light("SUN", (0, 0, 0), sun.direction, (0, 0, 1), (1.0, 0.5, 0.25), 4.0, name="Sun", angle=0.05)
+    (merged,) = with_sky_suns([along], [sun])
+    np.testing.assert_allclose(merged.color * merged.power, sun.color * sun.power + along.color * along.power)
+    np.testing.assert_allclose(merged.direction, sun.direction, atol=1e-9)
+    assert merged.name == "Sun" and sun.angle < merged.angle < along.angle
+    away = Light("SUN", (0, 0, 0), (0, 0, -1), (0, 1, 0), (1, 1, 1), 4.0, name="Sun", angle=0.05)
+    assert with_sky_suns([away], [sun]) == [away, sun]

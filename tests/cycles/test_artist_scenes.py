@@ -12,6 +12,7 @@ bpy = pytest.importorskip("bpy")
 from lpv_preview import demo  # noqa: E402
 from lpv_preview.__main__ import main  # noqa: E402
 from lpv_preview.addon.render_scene import scene_to_render  # noqa: E402
+from lpv_preview.addon.world import WorldEvaluation  # noqa: E402
 from lpv_preview.gpu.pipeline import render_once  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 
@@ -73,11 +74,9 @@ def test_sky_scenes_have_a_sky_texture(name, elevation):
     else:
         (sun,) = lamps(scene)
         assert sun.data.type == "SUN"
-        from lpv_preview.demo.artist.shading import towards_sky_sun
-        # a sun lamp shines along its -Z axis: its +Z points to the sky's sun
-        np.testing.assert_allclose(np.array(sun.matrix_world.col[2].xyz),
-                                   towards_sky_sun(math.degrees(sky.sun_elevation), math.degrees(sky.sun_rotation)),
-                                   atol=1e-5)
+        # a sun lamp shines along its -Z axis: its +Z points to the sky's sun (as Cycles places it)
+        towards = WorldEvaluation().sky_model(sky).sun_direction
+        np.testing.assert_allclose(np.array(sun.matrix_world.col[2].xyz), towards, atol=1e-5)
 
 
 def test_world_only_is_lit_by_its_world_alone():

@@ -14,7 +14,6 @@ whose frames a software rasterizer rendered warns of it in one line.
 This file is the entry point only: the flags and the commands are in cli/, the work in
 the packages they call; bpy and the GPU are imported by the commands that need them.
 """
-import faulthandler
 import json
 import sys
 
@@ -48,5 +47,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    faulthandler.enable()  # a crash in a library prints every thread's stack for a bug report
     sys.exit(main())

@@ -50,7 +50,7 @@ class LightMaps:
     """One light's RSM (warped for WDPM), its VPLs, the method that made them, for the
     warped methods the warp status, and for a sun whose map spans far more than the camera
     sees, the map of the region it sees (`region`, the box `region_box`) that the VPLs come
-    from, with `far_vpls` from the whole map outside it; and the VPL pattern of the
+    from, with `far_vpls` from the whole map outside it; and the Poisson pattern of the
     VPLs (gpu/vpl.py); for a sun, the cascade of maps its direct light looks up where the
     camera looks (`view_maps` of the boxes `view_boxes`: fit_view_maps)."""
 
@@ -94,7 +94,7 @@ class LightMaps:
         return self.region if self.region is not None else self.rsm
 
     def sample_vpls(self, sampler, count, pattern):
-        """(Re)sample the VPLs (and a sun's far field) in VPL pattern `pattern`."""
+        """(Re)sample the VPLs (and a sun's far field) in Poisson pattern `pattern`."""
         for vpls in (self.vpls, self.far_vpls):
             if vpls is not None:
                 vpls.release()
@@ -178,7 +178,7 @@ def sun_region(levels, bounds):
 
 
 def render_light_maps(glc, mesh, light, settings, bounds, stats, sampler, pattern, region=None):
-    """A light's LightMaps by the settings' method, its VPLs in VPL pattern `pattern`;
+    """A light's LightMaps by the settings' method, its VPLs in Poisson pattern `pattern`;
     `auto` tessellates where its first choice leaves too many texels unresolved."""
     if settings.method != "auto":
         return _render_with(settings.method, glc, mesh, light, settings, bounds, stats, sampler, pattern, region)

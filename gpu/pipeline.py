@@ -102,7 +102,7 @@ class Pipeline:
         self._gbuffer_drawn = None  # what the G-buffer in the targets was drawn of (_gbuffer)
         self._fits = None          # what the last frame that fitted the machine depended on
         self.last_origin = np.zeros(3)  # the world point the last frame's positions are relative to
-        self.vpl_pattern = 0       # the VPL pattern: the seed each Poisson cell draws its texel by (gpu/vpl.py)
+        self.vpl_pattern = 0       # the Poisson pattern of the VPLs (gpu/vpl.py)
         self._accumulated = None   # (the last frame's view, scene and settings, VPL sets in it, VPLs in it)
 
     @property
@@ -175,7 +175,7 @@ class Pipeline:
         the driver's limits or the memory free cannot hold is refused before anything of
         it is allocated (capacity.py).
 
-        `vpl_set` picks the VPLs' pattern (None: the one the last frame used). With
+        `vpl_set` picks the VPLs' Poisson pattern (None: the one the last frame used). With
         `read` false the passes are made but not read back (the Frame has none): a caller
         that averages more sets reads them once, at the end.
         With `accumulate`, a frame of the same view, scene and settings as the last one

@@ -135,8 +135,8 @@ class Settings(Validated):
                                            "with a normal are squares of their area and take none); 0: unbounded, "
                                            "exact on average but spiky",
                                       0.0, 16.0, expert=True)
-    converge_sets: int = _param(1, "VPL sets a rendered frame averages, each drawn anew from the light maps "
-                                   "and seen through another point of the pixels: its light converges "
+    converge_sets: int = _param(1, "VPL sets a rendered frame averages, each another Poisson pattern over the "
+                                   "light maps seen through another point of the pixels: its light converges "
                                    "toward every texel's and its edges are anti-aliased (1: one sample at each "
                                    "pixel's centre)", 1, 4096)
     converge_seconds: float = _param(0.0, "Seconds a rendered frame goes on averaging VPL sets; above zero it "

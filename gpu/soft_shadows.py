@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from .vpl import poisson_disk_points
+from .vpl import concentric_square, poisson_disk_points
 
 SHADOW_HARD, SHADOW_ROUND, SHADOW_SQUARE = 0, 1, 2
 MAX_SHADOW_TAPS = 64  # shaders/soft_shadow.glsl MAX_SHADOW_TAPS
@@ -32,22 +32,6 @@ def light_extent(light):
         return shape, False, 0.0, axis_x, axis_y
     radius = math.tan(min(light.angle, LARGEST_SUN_ANGLE) / 2) if light.kind == "SUN" else light.radius
     return (SHADOW_ROUND if radius > 0 else SHADOW_HARD), True, float(max(radius, 0.0)), none, none
-
-
-def concentric_square(disk):
-    """The inverse of Shirley and Chiu's concentric map of [-1, 1]^2 onto the unit disc
-    (shaders/soft_shadow.glsl shadow_concentric_disc): the square points a disc's map onto."""
-    x, y = disk[:, 0], disk[:, 1]
-    radius = np.hypot(x, y)
-    angle = np.arctan2(y, x)
-    angle = np.where(angle < -np.pi / 4, angle + 2 * np.pi, angle)
-    octant = np.clip(np.floor((angle + np.pi / 4) / (np.pi / 2)), 0, 3)
-    sign = np.where(octant < 2, 1.0, -1.0)
-    t = (angle - octant * np.pi / 2) * 4 / np.pi  # in [-1, 1) along the square's side
-    along_x = octant % 2 == 0
-    a = np.where(along_x, sign * radius, -t * sign * radius)
-    b = np.where(along_x, t * sign * radius, sign * radius)
-    return np.stack([a, b], axis=1)
 
 
 def shadow_pattern(taps):

@@ -4,8 +4,8 @@ Each face of the atlas gets a Poisson-disk point set; every texel joins its near
 point's cell, and the cell's VPL lies at one of its texels drawn in proportion to its
 flux, carrying that texel's flux over the chance of drawing it: the VPLs' fluxes add up
 to the RSM's in expectation, and no cell moves one surface's light onto another.
-VPL pattern k draws with seed k in the same cells, so a still image that averages the
-VPL sets of patterns 0, 1, 2, ... converges toward every texel's light.
+Pattern k > 0 is the same set moved by a random toroidal shift, so a still image that
+averages the VPL sets of patterns 0, 1, 2, ... converges toward every texel's light.
 """
 import math
 from collections import OrderedDict
@@ -56,6 +56,49 @@ def poisson_disk_points(count, in_disk=False, candidates=12, seed=20240607):
     return points.astype(np.float32)
 
 
+def concentric_disk(square):
+    """Shirley and Chiu's concentric map of [-1, 1]^2 onto the unit disk: it keeps area
+    shares and bends distances little, so a Poisson set stays one."""
+    a, b = square[:, 0], square[:, 1]
+    first = np.abs(a) > np.abs(b)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        radius = np.where(first, a, b)
+        angle = np.where(first, np.pi / 4 * (b / a), np.pi / 2 - np.pi / 4 * (a / b))
+    angle = np.where(radius == 0.0, 0.0, angle)
+    return np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=1)
+
+
+def concentric_square(disk):
+    """The inverse of `concentric_disk`."""
+    x, y = disk[:, 0], disk[:, 1]
+    radius = np.hypot(x, y)
+    angle = np.arctan2(y, x)
+    angle = np.where(angle < -np.pi / 4, angle + 2 * np.pi, angle)
+    octant = np.clip(np.floor((angle + np.pi / 4) / (np.pi / 2)), 0, 3)
+    sign = np.where(octant < 2, 1.0, -1.0)
+    t = (angle - octant * np.pi / 2) * 4 / np.pi  # in [-1, 1) along the square's side
+    along_x = octant % 2 == 0
+    a = np.where(along_x, sign * radius, -t * sign * radius)
+    b = np.where(along_x, t * sign * radius, sign * radius)
+    return np.stack([a, b], axis=1)
+
+
+def shifted_pattern(points, in_disk, pattern):
+    """Pattern `pattern` of a Poisson set in [0, 1)^2: pattern 0 is the set, another the
+    set moved by a random toroidal shift (Cranley-Patterson rotation), over the square or,
+    for a set in the inscribed disk, over the square the disk maps to concentrically.
+    Every point of a shifted set lies anywhere with equal probability, the set keeps its
+    spacing, and a paraboloid map's set stays in its disk."""
+    if pattern == 0:
+        return points
+    shift = np.random.default_rng(pattern).random(2)
+    if not in_disk:
+        return ((points + shift) % 1.0).astype(np.float32)
+    square = concentric_square(2.0 * points.astype(np.float64) - 1.0)
+    moved = (square + 1.0 + 2.0 * shift) % 2.0 - 1.0
+    return (0.5 + 0.5 * concentric_disk(moved)).astype(np.float32)
+
+
 @dataclass
 class VPLSet:
     """The VPLs of one light in a GPU buffer: per VPL position (w valid), normal (w surfel
@@ -74,17 +117,18 @@ class VPLSet:
 
 
 LAID_OUT = OrderedDict()
-"""The cells of the layouts made last in this process, as bytes (cell ids, bounds, sample
-points) by layout: a new pipeline (a batch render's next frame, a benchmark's next case)
-uploads them instead of assigning every texel again."""
+"""The cells of pattern 0 of the layouts made last in this process, as bytes (cell ids,
+bounds, sample points) by layout: a new pipeline's first VPL set (a batch render's next
+frame, a benchmark's next case) uploads them instead of assigning every texel again. The
+later patterns of converging sets are assigned anew: reading each back cost more than
+assigning it (its cell ids are a GPU-stalling read of the whole atlas)."""
 LAID_OUT_KEPT = 8
 
 
 class PoissonCells:
-    """Which texel belongs to which VPL's cell, for one atlas layout and VPL count. Every
-    VPL set has the same cells: a set's pattern only draws another texel in each."""
+    """Which texel belongs to which VPL's cell, for one atlas layout, VPL count and pattern."""
 
-    def __init__(self, glc, atlas_size, face_origins, resolution, vpl_count, in_disk):
+    def __init__(self, glc, atlas_size, face_origins, resolution, vpl_count, in_disk, pattern=0):
         gl = glc.gl
         faces = len(face_origins)
         per_face = [vpl_count // faces + (f < vpl_count % faces) for f in range(faces)]
@@ -92,19 +136,20 @@ class PoissonCells:
         key = (tuple(atlas_size), tuple(map(tuple, np.asarray(face_origins).tolist())), resolution, vpl_count, in_disk)
         self.cell_ids = gl.texture(atlas_size, 1, dtype="i4")
         self.cell_ids.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        if key in LAID_OUT:
+        if pattern == 0 and key in LAID_OUT:
             LAID_OUT.move_to_end(key)
             cell_ids, bounds, samples = LAID_OUT[key]
             self.cell_ids.write(cell_ids)
             self.bounds, self.samples = gl.buffer(bounds), gl.buffer(samples)
             return
-        self._assign(glc, face_origins, resolution, per_face, in_disk)
-        gl.memory_barrier()
-        LAID_OUT[key] = (self.cell_ids.read(), self.bounds.read(), self.samples.read())
-        while len(LAID_OUT) > LAID_OUT_KEPT:
-            LAID_OUT.popitem(last=False)
+        self._assign(glc, face_origins, resolution, per_face, in_disk, pattern)
+        if pattern == 0:
+            gl.memory_barrier()
+            LAID_OUT[key] = (self.cell_ids.read(), self.bounds.read(), self.samples.read())
+            while len(LAID_OUT) > LAID_OUT_KEPT:
+                LAID_OUT.popitem(last=False)
 
-    def _assign(self, glc, face_origins, resolution, per_face, in_disk):
+    def _assign(self, glc, face_origins, resolution, per_face, in_disk, pattern):
         gl = glc.gl
         bounds = np.tile(np.array([2 ** 30, 2 ** 30, -1, -1], dtype=np.int32), (self.count, 1))
         self.bounds = gl.buffer(bounds.tobytes())
@@ -117,7 +162,7 @@ class PoissonCells:
             if n == 0:
                 continue
             grid = max(1, int(math.sqrt(n)))
-            points = poisson_disk_points(n, in_disk)
+            points = shifted_pattern(poisson_disk_points(n, in_disk), in_disk, pattern)
             bucket = np.minimum((points * grid).astype(np.int64), grid - 1)
             order = np.argsort(bucket[:, 1] * grid + bucket[:, 0], kind="stable")
             points = points[order]
@@ -145,29 +190,32 @@ class PoissonCells:
 
 
 class VPLSampler:
-    """Samples VPLs from RSMs, keeping the Poisson cells of each atlas layout."""
+    """Samples VPLs from RSMs, keeping the Poisson cells of each atlas layout for the
+    pattern it was last asked for."""
 
     def __init__(self, glc):
         self.glc = glc
-        self._cells = {}  # layout -> PoissonCells
+        self._cells = {}  # layout -> (pattern, PoissonCells)
 
-    def cells(self, rsm, vpl_count):
+    def cells(self, rsm, vpl_count, pattern=0):
         in_disk = rsm.projection_kind == PROJECTION_PARABOLOID
         key = (rsm.atlas_size, rsm.resolution, rsm.face_count, vpl_count, in_disk)
-        if key not in self._cells:
-            self._cells[key] = PoissonCells(self.glc, rsm.atlas_size, rsm.face_origins, rsm.resolution, vpl_count,
-                                            in_disk)
-        return self._cells[key]
+        held = self._cells.get(key)
+        if held is None or held[0] != pattern:
+            if held is not None:
+                held[1].release()
+            held = self._cells[key] = (pattern, PoissonCells(self.glc, rsm.atlas_size, rsm.face_origins,
+                                                             rsm.resolution, vpl_count, in_disk, pattern))
+        return held[1]
 
     def resources(self):
         """The GPU resources of every cached Poisson cell layout."""
-        return tuple(resource for cells in self._cells.values() for resource in cells.resources())
+        return tuple(resource for _, cells in self._cells.values() for resource in cells.resources())
 
     def sample(self, rsm, vpl_count, pattern=0, exclude=None):
-        """The VPLs of `rsm`'s cells, each at a texel drawn by VPL pattern `pattern`'s seed,
-        leaving out the texels whose surface lies in the box `exclude` ((low, high) corners)
-        when given."""
-        cells = self.cells(rsm, vpl_count)
+        """The VPLs of `rsm`'s cells in Poisson pattern `pattern`, leaving out the texels
+        whose surface lies in the box `exclude` ((low, high) corners) when given."""
+        cells = self.cells(rsm, vpl_count, pattern)
         program = self.glc.compute("vpl_gather")
         output = self.glc.gl.buffer(reserve=cells.count * EMITTER_BYTES)
         for unit, texture in enumerate((rsm.position, rsm.normal, rsm.flux, cells.cell_ids)):
@@ -183,6 +231,6 @@ class VPLSampler:
         return VPLSet(output, cells.count)
 
     def release(self):
-        for cells in self._cells.values():
+        for _, cells in self._cells.values():
             cells.release()
         self._cells.clear()

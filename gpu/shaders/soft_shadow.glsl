@@ -20,7 +20,7 @@ uniform int shadow_taps;           // filter taps; the blocker search takes half
 uniform vec2 shadow_pattern[MAX_SHADOW_TAPS];  // a Poisson set in [-1, 1]^2 (concentric square of a disc)
 uniform uint shadow_seed;          // the VPL set: converging frames average other rotations
 
-// Shirley and Chiu's concentric map of [-1, 1]^2 onto the unit disc (the inverse: gpu/soft_shadows.py concentric_square).
+// Shirley and Chiu's concentric map of [-1, 1]^2 onto the unit disc (gpu/vpl.py concentric_disk).
 vec2 shadow_concentric_disc(vec2 a) {
     if (a.x == 0.0 && a.y == 0.0) return vec2(0.0);
     float radius, angle;

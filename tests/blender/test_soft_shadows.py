@@ -3,7 +3,6 @@
 light of no size keeps a hard edge."""
 import math
 
-import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
@@ -12,7 +11,6 @@ from lpv_preview.addon.extract import extract_scene  # noqa: E402
 from lpv_preview.demo import shadow_edge  # noqa: E402
 from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
-from lpv_preview.gpu.soft_shadows import concentric_square  # noqa: E402
 
 WIDTH, HEIGHT, SETS = 128, 8, 8
 
@@ -72,20 +70,3 @@ def test_a_sphere_lights_radius_softens_its_shadow():
     disc = 1.374 * light_spread(0.25)  # a uniform disc's 10-90 % across a straight edge: 1.374 radii
     print(f"\npoint light of radius 0.25 m: {width:.3f} m (a disc's: {disc:.3f} m)")
     assert width == pytest.approx(disc, rel=0.15)
-
-
-def concentric_disc(square):
-    """Shirley and Chiu's concentric map of [-1, 1]^2 onto the unit disc, as
-    shaders/soft_shadow.glsl shadow_concentric_disc maps a round light's taps."""
-    a, b = square[:, 0], square[:, 1]
-    first = np.abs(a) > np.abs(b)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        radius = np.where(first, a, b)
-        angle = np.where(first, np.pi / 4 * (b / a), np.pi / 2 - np.pi / 4 * (a / b))
-    angle = np.where(radius == 0.0, 0.0, angle)
-    return np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=1)
-
-
-def test_a_round_lights_taps_come_back_onto_their_disc_points():
-    square = np.random.default_rng(3).random((500, 2)) * 2 - 1
-    np.testing.assert_allclose(concentric_square(concentric_disc(square)), square, atol=1e-9)

@@ -14,7 +14,9 @@ whose frames a software rasterizer rendered warns of it in one line.
 This file is the entry point only: the flags and the commands are in cli/, the work in
 the packages they call; bpy and the GPU are imported by the commands that need them.
 """
+import faulthandler
 import json
+import signal
 import sys
 
 from .cli.commands import software_renderer_warning
@@ -47,4 +49,10 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
+    faulthandler.enable()  # a crash in a library prints every thread's stack for a bug report
+    # Ctrl-C restarts the system calls it interrupts in C libraries, as Python's own are
+    # (PEP 475): a shader compile that it interrupted under load ended in SIGSEGV in
+    # llvmpipe (tests/cycles/test_ctrl_c.py, a few full runs in ten); KeyboardInterrupt
+    # still comes once the call returns.
+    signal.siginterrupt(signal.SIGINT, False)
     sys.exit(main())

@@ -1,5 +1,6 @@
 """Where a scene's highlights of the world's own light go: Cycles counts them as Glossy
-Direct, ours are in the Reflections pass. For a demo scene at 160 pixels across, prints
+Direct, ours are in the Reflections pass (a Sky Texture's sun disc's in Direct: it lights
+as a sun light). For a demo scene at 160 pixels across, prints
 over the whole frame and over each third of it (rows, then columns) the means of Cycles'
 Diffuse Direct and Glossy Direct (times their colours) and of our Direct and Reflections
 (8 VPL sets).

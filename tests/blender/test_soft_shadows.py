@@ -1,6 +1,7 @@
 """Soft shadows from a light's size (issue 31): the penumbra of a plate's straight edge
 (demo/shadow_edge.py) widens with the light's size as the light's geometry says, and a
 light of no size keeps a hard edge."""
+import functools
 import math
 
 import pytest
@@ -13,14 +14,18 @@ from lpv_preview.gpu.pipeline import Pipeline  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 
 WIDTH, HEIGHT, SETS = 128, 8, 8
+RSM_RESOLUTION = 256
 
 
+@functools.lru_cache(maxsize=None)
 def penumbra(kind, size, shape="SQUARE"):
-    """The 10-90 % width of the edge's penumbra in metres, and the edge profile."""
+    """The 10-90 % width of the edge's penumbra in metres, and the edge profile (rendered
+    once per light in a test process)."""
     shadow_edge.build(kind, size, WIDTH, HEIGHT, shape)
-    # the shadows are direct light: one bounce of few VPLs over a coarse grid
+    # the shadows are direct light: one bounce of few VPLs over a coarse grid, from maps
+    # of RSM_RESOLUTION (each set assigns their texels to its VPLs' cells again)
     pipeline = Pipeline(Settings(width=WIDTH, height=HEIGHT, converge_sets=SETS, bounces=1, vpls_per_light=64,
-                                 lpv_resolution=8))
+                                 lpv_resolution=8, rsm_resolution=RSM_RESOLUTION))
     try:
         images = []
         for shown in (True, False):

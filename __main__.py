@@ -16,7 +16,6 @@ the packages they call; bpy and the GPU are imported by the commands that need t
 """
 import faulthandler
 import json
-import signal
 import sys
 
 from .cli.commands import software_renderer_warning
@@ -50,9 +49,4 @@ def main(argv=None):
 
 if __name__ == "__main__":
     faulthandler.enable()  # a crash in a library prints every thread's stack for a bug report
-    # Ctrl-C restarts the system calls it interrupts in C libraries, as Python's own are
-    # (PEP 475): a shader compile that it interrupted under load ended in SIGSEGV in
-    # llvmpipe (tests/cycles/test_ctrl_c.py, a few full runs in ten); KeyboardInterrupt
-    # still comes once the call returns.
-    signal.siginterrupt(signal.SIGINT, False)
     sys.exit(main())

@@ -44,9 +44,11 @@ def world_of(scene):
     directions = directions_of(*size)
     background = evaluation.radiance(output.inputs["Surface"], directions, camera=True)
     lighting = evaluation.radiance(output.inputs["Surface"], directions, camera=False)
-    sunless = WorldEvaluation(evaluation.sky_models, sun_discs=False).radiance(output.inputs["Surface"], directions,
-                                                                             camera=False)
-    suns = sky_suns(evaluation.sun_texels, lighting - sunless)
+    sunless, suns = lighting, []
+    if evaluation.sun_texels:  # a Sky Texture with its sun disc: the tree again without the discs
+        sunless = WorldEvaluation(evaluation.sky_models, sun_discs=False).radiance(output.inputs["Surface"],
+                                                                                 directions, camera=False)
+        suns = sky_suns(evaluation.sun_texels, lighting - sunless)
     if not np.any(sunless > 0) and not np.any(background > 0) and not suns:
         return None, []
     return World(_downsampled(sunless, LIGHTING_SIZE), background.astype(np.float32),
@@ -257,7 +259,7 @@ class WorldEvaluation:
             return model.radiance(vector)
         radiance = model.radiance(vector, sun=False)
         row, column = np.unravel_index(np.argmax(vector @ model.sun_direction), vector.shape[:2])
-        if not camera:  # a sky with a sun disc reads no vector: its sun lies where the model says
+        if not camera and model.angular_diameter > 0:  # a sky with a disc reads no vector: its sun is the model's
             self.sun_texels[node.name] = (row, column, model.sun_direction, model.angular_diameter)
         if self.sun_discs:
             height, width = radiance.shape[:2]

@@ -13,7 +13,7 @@ from ..gpu.output_layout import OutputLayout
 from ..gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Film, Light, Scene, SurfaceImage, local_origin
 from .image_pixels import tile_numbers
 from .materials import MaterialSurfaces
-from .world import with_sky_suns, world_of
+from .world import world_and_lights
 from .point_emitters import PointEmitters
 
 MESH_LIKE_TYPES = {"MESH", "SURFACE", "META"}
@@ -57,8 +57,8 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     camera = extract_camera(depsgraph, resolution)
     geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
     scene = Scene(**geometry, lights=[], **render_settings_of(depsgraph.scene_eval))
-    world, suns = world_of(depsgraph.scene_eval)
-    return scene.in_local_frame(with_sky_suns(lights, suns), camera, world).sanitize()
+    world, lights = world_and_lights(depsgraph.scene_eval, lights)
+    return scene.in_local_frame(lights, camera, world).sanitize()
 
 
 def render_settings_of(scene, viewport=False):

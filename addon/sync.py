@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 from ..gpu.scene import Scene
 from .extract import MESH_LIKE_TYPES, extract_parts, render_settings_of
-from .world import with_sky_suns, world_of
+from .world import world_and_lights
 
 CAMERA, LIGHTS, GEOMETRY = "camera", "lights", "geometry"
 EVERYTHING = frozenset((CAMERA, LIGHTS, GEOMETRY))
@@ -100,8 +100,7 @@ class SceneSync:
             return self._scene
         geometry, lights = extract_parts(depsgraph, view3d, read_geometry, read_lights)
         if read_lights:  # the world goes with the lights, its Sky Textures' suns among them
-            world, suns = world_of(depsgraph.scene_eval)
-            lights = with_sky_suns(lights, suns)
+            world, lights = world_and_lights(depsgraph.scene_eval, lights)
         else:
             world = self._scene.world
         if read_geometry:

@@ -29,6 +29,13 @@ MAGENTA = (1.0, 0.0, 1.0)
 """What Blender shows of a missing image."""
 
 
+def world_and_lights(scene, lamps):
+    """The World of a bpy scene (`world_of`) and the lights it is lit by: its `lamps` with
+    its Sky Textures' suns (`with_sky_suns`)."""
+    world, suns = world_of(scene)
+    return world, with_sky_suns(lamps, suns)
+
+
 def world_of(scene):
     """The World of a bpy scene (None when it has no world that emits anything) and the
     sun lights its Sky Textures' sun discs make (`sky_suns`)."""
@@ -103,11 +110,10 @@ def merged_sun(lamp, sun):
     luminance-weighted means."""
     irradiance = lamp.color * lamp.power + sun.color * sun.power
     weights = np.array([lamp.color @ LUMINANCE_WEIGHTS * lamp.power, sun.color @ LUMINANCE_WEIGHTS * sun.power])
-    weights = weights / weights.sum() if weights.sum() > 0 else np.array([0.5, 0.5])
+    weights /= weights.sum()  # a sky's sun is never dark (sky_suns)
     power = float(irradiance.max())
-    direction = weights[0] * lamp.direction + weights[1] * sun.direction
-    return replace(lamp, direction=direction, color=irradiance / power if power > 0 else lamp.color, power=power,
-                   angle=float(weights[0] * lamp.angle + weights[1] * sun.angle))
+    return replace(lamp, direction=weights[0] * lamp.direction + weights[1] * sun.direction, color=irradiance / power,
+                   power=power, angle=float(weights[0] * lamp.angle + weights[1] * sun.angle))
 
 
 def _output_node(world):
@@ -284,8 +290,8 @@ class WorldEvaluation:
 
 
 def texel_solid_angle(row, height, width):
-    """The solid angle of a texel in row `row` of an equirectangular map."""
-    return 2 * math.pi / width * (math.cos(math.pi * row / height) - math.cos(math.pi * (row + 1) / height))
+    """The solid angle of a texel in row `row` (or rows: an array) of an equirectangular map."""
+    return 2 * math.pi / width * (np.cos(math.pi * row / height) - np.cos(math.pi * (np.asarray(row) + 1) / height))
 
 
 def _upstream_nodes(socket, depth=32):

@@ -116,7 +116,7 @@ def cycles_sun_power(scene, path, size=(1024, 2048), window=24, samples=16):
     theirs = cycles_panorama(scene, path, size, samples=samples, filter_width=1.5, border=border)
     directions = directions_of(*size)[border[1]:border[1] + theirs.shape[0], border[0]:border[0] + theirs.shape[1]]
     rows = np.arange(border[1], border[1] + theirs.shape[0])
-    solid_angles = 2 * math.pi / size[1] * (np.cos(math.pi * rows / size[0]) - np.cos(math.pi * (rows + 1) / size[0]))
+    solid_angles = texel_solid_angle(rows, *size)
     sun = theirs - model.radiance(directions, sun=False)
     return np.einsum("ijc,i->c", sun, solid_angles)
 
@@ -127,7 +127,7 @@ def map_sun_power(scene):
     height, width = world.background.shape[:2]
     model = WorldEvaluation().sky_model(sky_node(scene))
     rows = np.arange(height)
-    solid_angles = 2 * math.pi / width * (np.cos(math.pi * rows / height) - np.cos(math.pi * (rows + 1) / height))
+    solid_angles = texel_solid_angle(rows, height, width)
     sun = world.background - model.radiance(directions_of(height, width), sun=False)
     return np.einsum("ijc,i->c", sun, solid_angles)
 

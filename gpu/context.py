@@ -13,6 +13,7 @@ renders has its own (`GLContext.shared()`). Inside Blender that is one thread of
 (gpu/gl_thread.py), never Blender's drawing thread, whose own context stays current.
 """
 import os
+import signal
 import sys
 import threading
 import time
@@ -28,6 +29,28 @@ BACKEND_VARIABLE = "LPV_PREVIEW_GL_BACKEND"
 BACKENDS = {"egl": "egl", "glx": None, "wgl": None}
 """Our names for the context interfaces and moderngl's backend argument for each (None:
 glcontext's default for the platform, GLX on Linux and WGL on Windows)."""
+
+
+@contextmanager
+def ctrl_c_held():
+    """Run a program's compilation with Ctrl-C's Python handler held back until it ends.
+
+    moderngl lists a program's uniforms through Python helpers and stores what they return
+    unchecked: a KeyboardInterrupt raised in one (Ctrl-C during a long compile) crashes
+    the process. Handlers run in the main thread only, so only there is one held back.
+    """
+    handler = signal.getsignal(signal.SIGINT)
+    if threading.current_thread() is not threading.main_thread() or not callable(handler):
+        yield
+        return
+    pressed = []
+    signal.signal(signal.SIGINT, lambda signum, frame: pressed.append((signum, frame)))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, handler)
+        if pressed:
+            handler(*pressed[0])
 
 
 def platform_backends(platform=None, environment=None):
@@ -175,7 +198,8 @@ class GLContext:
         """The compute shader `shaders/<name>.comp`, compiled once per set of defines."""
         key = (name, tuple(sorted(defines.items())))
         if key not in self._programs:
-            self._programs[key] = self.gl.compute_shader(load_shader(f"{name}.comp", defines))
+            with ctrl_c_held():
+                self._programs[key] = self.gl.compute_shader(load_shader(f"{name}.comp", defines))
         return self._programs[key]
 
     def program(self, vertex, fragment, geometry=None, tessellation=None, **defines):
@@ -192,7 +216,8 @@ class GLContext:
             if tessellation is not None:
                 stages["tess_control_shader"] = load_shader(f"{tessellation}.tesc", defines)
                 stages["tess_evaluation_shader"] = load_shader(f"{tessellation}.tese", defines)
-            self._programs[key] = self.gl.program(**stages)
+            with ctrl_c_held():
+                self._programs[key] = self.gl.program(**stages)
         return self._programs[key]
 
     @contextmanager

@@ -1,9 +1,11 @@
 """Parameters are validated with a sentence naming the parameter and its range; bad
 scenes and a missing GPU give our error, never a crash."""
+import signal
+
 import numpy as np
 import pytest
 
-from lpv_preview.gpu.context import GLContext, install_hint, platform_backends
+from lpv_preview.gpu.context import GLContext, ctrl_c_held, install_hint, platform_backends
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.scene import Camera, Light, Scene
 from lpv_preview.gpu.settings import PARAMETERS, Settings
@@ -112,3 +114,15 @@ def test_a_context_belongs_to_the_thread_that_made_it():
     thread.start()
     thread.join()
     assert made[0] is not here and made[0].renderer == here.renderer
+
+
+def test_ctrl_c_during_a_shader_compile_stops_the_command_after_it(glc):
+    # moderngl calls Python helpers while it lists a new program's uniforms and does not
+    # check what they return: Ctrl-C must not raise inside them, only once it has returned.
+    key = ("zero_image", (("FORMAT", "r32f"), ("HELD_CTRL_C", 1)))
+    with pytest.raises(KeyboardInterrupt):
+        with ctrl_c_held():
+            signal.raise_signal(signal.SIGINT)
+            glc.compute("zero_image", FORMAT="r32f", HELD_CTRL_C=1)
+            assert key in glc._programs
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler

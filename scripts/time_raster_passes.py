@@ -1,9 +1,10 @@
 """What the raster passes cost on the GPU, and how much of it is the raster itself: for
 each scene (time_viewport_work.py's names) at 1920×1080, the median wall-clock
-milliseconds (GPU finished before and after) of the camera's G-buffer, a point light's
-cube map (512², six faces) and its WDPM hemispheres (256², rim split included), each
-beside a draw of the same culled triangles that writes only their numbers (the floor a
-visibility buffer would reach).
+milliseconds (GPU finished before and after) of the camera's G-buffer and a point light's
+cube map (512², six faces), each beside a draw of the same culled triangles that writes
+only their numbers (the floor a visibility buffer would reach), and the light's DPM
+hemispheres (256² and 512², the rim split included) and WDPM's (512², the warp at the
+defaults included), whose share of the cube map's is the thesis's figure.
 
     python scripts/time_raster_passes.py DIR [room1200k ...] [--repeats 30]
 """
@@ -21,6 +22,7 @@ from lpv_preview.gpu.rsm import cube_faces, render_rsm
 from lpv_preview.gpu.scene import look_at_view, perspective
 from lpv_preview.gpu.settings import Settings
 from lpv_preview.gpu.shade import render_gbuffer
+from lpv_preview.gpu.warp import warp_paraboloid_map
 
 SIZE = (1920, 1080)
 NUMBERS_ONLY = ("""#version 450 core
@@ -45,6 +47,15 @@ def median_ms(gl, work, repeats):
     return round(statistics.median(times), 2), round(min(times), 2), round(max(times), 2)
 
 
+def warped_map(glc, mesh, light, bounds, settings):
+    """WDPM's map of `light` at 512² as the pipeline makes it: DPM's, then the warp."""
+    rsm = render_rsm(glc, mesh, light, 512, bounds, "dpm")
+    warped, status = warp_paraboloid_map(glc, rsm, settings.warp_alpha, settings.warp_iterations,
+                                         settings.warp_significant_figures)
+    for texture in (rsm, warped, status):
+        texture.release()
+
+
 def main():
     parser = argparse.ArgumentParser(description="the raster passes against drawing triangle numbers only")
     parser.add_argument("folder")
@@ -53,7 +64,8 @@ def main():
     args = parser.parse_args()
     for name in args.names:
         scene = scene_by_name(args.folder, name)
-        pipeline = Pipeline(Settings(width=SIZE[0], height=SIZE[1]))
+        settings = Settings(width=SIZE[0], height=SIZE[1])
+        pipeline = Pipeline(settings)
         pipeline.render(scene, passes=())
         glc, gl, mesh, targets = pipeline.glc, pipeline.glc.gl, pipeline._mesh.value, pipeline.targets
         numbers = gl.program(vertex_shader=NUMBERS_ONLY[0], fragment_shader=NUMBERS_ONLY[1])
@@ -88,6 +100,10 @@ def main():
                 gl, lambda: numbers_drawn(atlas, faces, mesh.light_triangles, 512), args.repeats)
             rows["DPM hemispheres 256²"] = median_ms(
                 gl, lambda: render_rsm(glc, mesh, light, 256, bounds, "dpm").release(), args.repeats)
+            rows["DPM hemispheres 512²"] = median_ms(
+                gl, lambda: render_rsm(glc, mesh, light, 512, bounds, "dpm").release(), args.repeats)
+            rows["WDPM hemispheres 512² + warp"] = median_ms(gl, lambda: warped_map(glc, mesh, light, bounds, settings),
+                                                             args.repeats)
         print(f"{name} ({mesh.triangle_count:,} triangles, {glc.renderer}):", flush=True)
         for row, (median, least, most) in rows.items():
             print(f"  {row:30s} {median:7.2f} ms ({least:.2f}-{most:.2f})", flush=True)

@@ -1,14 +1,24 @@
-"""Which side of each face light can reach. A closed mesh (Scene.solids) with nothing
-that emits inside it bounds a solid: no light reaches the side of its faces that looks
-in, however thin it is. The occupancy cannot tell: a floor slab or a wall thinner than
-two voxels fills its voxels from face to face, and a point on its underside, gathering
-for the side that looks into the slab, would see the sky through it
-(docs/method.md, "Closed meshes").
+"""Which side of each face light can reach, and which room it looks into. A closed mesh
+(Scene.solids) with nothing that emits inside it bounds a solid: no light reaches the side
+of its faces that looks in, however thin it is. The occupancy cannot tell: a floor slab or
+a wall thinner than two voxels fills its voxels from face to face, and a point on its
+underside, gathering for the side that looks into the slab, would see the sky through it.
+A closed mesh that holds a lamp is a room: that lamp lights only what lies in it, and
+what lies outside it only the lights outside; a side in a room no light lies in gets
+none (docs/method.md, "Closed meshes").
 """
 import numpy as np
 
 FRONT, BACK = 1, 2  # the side a triangle's winding normal faces, and the other
 OPEN = FRONT | BACK
+FRONT_ROOM_SHIFT, BACK_ROOM_SHIFT = 2, 5
+"""Where a face's byte holds the room each side looks into (three bits each, 0: outside
+every room), above its open sides (bits 0 and 1)."""
+MAX_ROOMS = 7
+ROOM_TESTS = 4_000_000
+"""Face centres tested against a room's triangles, summed over the rooms (each centre
+within a room's box against each of its triangles): beyond it, faces are not sorted into
+rooms, and lamps light every room as before."""
 INSIDE_TESTS = 256
 """Point emitters and emissive triangles, each strided to at most this many, tested for
 lying inside a closed mesh (lamps are all tested): one is enough to make it a room."""
@@ -19,7 +29,7 @@ edge of an axis-aligned mesh."""
 
 class ClosedMeshes:
     """A sanitized scene's closed meshes (Scene.solids): which of them could be solids, by
-    their shape and surfaces alone (kept per geometry), and `open_sides` per frame's
+    their shape and surfaces alone (kept per geometry), and `sides_and_rooms` per frame's
     emitters."""
 
     def __init__(self, scene):
@@ -32,7 +42,8 @@ class ClosedMeshes:
         if not len(self.order):
             self.candidate = np.zeros(0, dtype=bool)
             return
-        corners = np.asarray(scene.triangles, dtype=np.float64)[self.order]
+        self.triangles = scene.triangles
+        corners = np.asarray(self.triangles[self.order], dtype=np.float64)
         self.volume = np.add.reduceat(np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2])),
                                       self.starts) / 6.0
         self.low = np.minimum.reduceat(corners.min(axis=1), self.starts)
@@ -42,31 +53,104 @@ class ClosedMeshes:
         if see_through is not None:
             self.candidate &= ~np.logical_or.reduceat(see_through[self.order], self.starts)
 
-    def open_sides(self, scene):
-        """(T,) uint8 per triangle: the sides (FRONT, BACK) light can reach; None where
-        every side of every triangle is open. A candidate that holds a lamp (not a sun), a
-        point emitter or another mesh's emissive triangle is a room: both sides open."""
+    def sides_and_rooms(self, scene):
+        """(T,) uint8 per triangle, the sides (FRONT, BACK) light can reach and the room each
+        looks into (FRONT_ROOM_SHIFT, BACK_ROOM_SHIFT), and the Rooms; None for the first
+        where every side of every triangle is open and outside every room, for the second
+        where there are no rooms. A candidate that holds a lamp (not a sun), a point emitter
+        or another mesh's emissive triangle is open on both sides."""
         if not self.candidate.any():
-            return None
+            return None, None
         solid = self.candidate.copy()
         points, owners = _emitter_points(scene, self.pieces)
         for point, owner in zip(points, owners):
             inside_box = solid & np.all((point >= self.low) & (point <= self.high), axis=1) & (self.names != owner)
             for index in np.flatnonzero(inside_box):
-                corners = scene.triangles[self.order[self.starts[index]:self.ends[index]]].astype(np.float64)
-                if _inside(point, corners):
+                if _inside(point, self._corners(index)):
                     solid[index] = False
-        if not solid.any():
-            return None
+        rooms = self.rooms(scene)
+        if not solid.any() and rooms is None:
+            return None, None
         code = np.full(int(self.pieces.max()) + 1, OPEN, dtype=np.uint8)
         code[self.names[solid]] = np.where(self.volume[solid] > 0, FRONT, BACK)
-        return np.where(self.pieces >= 0, code[np.maximum(self.pieces, 0)], OPEN).astype(np.uint8)
+        sides = np.where(self.pieces >= 0, code[np.maximum(self.pieces, 0)], OPEN).astype(np.uint8)
+        if rooms is not None:
+            front, back = rooms.faces
+            if rooms.lit is not None:
+                sides &= ~np.where(np.isin(front, rooms.lit), 0, FRONT).astype(np.uint8)
+                sides &= ~np.where(np.isin(back, rooms.lit), 0, BACK).astype(np.uint8)
+            sides |= (front << FRONT_ROOM_SHIFT).astype(np.uint8) | (back << BACK_ROOM_SHIFT).astype(np.uint8)
+        return sides, rooms
+
+    def rooms(self, scene):
+        """The scene's Rooms: the closed meshes a lamp (not a sun) lies in; None where none
+        does, more than MAX_ROOMS do or sorting the faces would take over ROOM_TESTS."""
+        lamps = [np.asarray(light.position, dtype=np.float64) for light in scene.lights if light.kind != "SUN"]
+        if not lamps or not self.candidate.any():
+            return None
+        held = {index: [self._holds(index, lamp) for lamp in lamps] for index in np.flatnonzero(self.candidate)}
+        holding = sorted((index for index, inside in held.items() if any(inside)),
+                         key=lambda index: abs(self.volume[index]))  # innermost first where rooms nest
+        if not holding or len(holding) > MAX_ROOMS:
+            return None
+        lamp_rooms = {tuple(np.round(lamp, 9)): next((number for number, index in enumerate(holding, start=1)
+                                                      if held[index][i]), 0) for i, lamp in enumerate(lamps)}
+        centres = np.asarray(scene.triangles, dtype=np.float64).mean(axis=1)
+        within = [np.flatnonzero(np.all((centres >= self.low[index]) & (centres <= self.high[index]), axis=1) &
+                                 (self.pieces != self.names[index])) for index in holding]
+        if sum(len(faces) * (self.ends[index] - self.starts[index]) for faces, index in zip(within, holding)) > ROOM_TESTS:
+            return None
+        room = np.zeros(len(centres), dtype=np.uint8)
+        for number, index, faces in reversed(list(zip(range(1, len(holding) + 1), holding, within))):
+            room[faces[_inside_all(centres[faces], self._corners(index))]] = number
+        front, back = room.copy(), room.copy()
+        for number, index in enumerate(holding, start=1):
+            own = self.order[self.starts[index]:self.ends[index]]
+            (back if self.volume[index] > 0 else front)[own] = number  # the side that looks in
+        lit = None if scene.point_emitter_count or scene.emission is not None else \
+            np.array(sorted(set(lamp_rooms.values()) | ({0} if _lit_outside(scene) else set())), dtype=np.uint8)
+        return Rooms(self, holding, front, back, lit, lamp_rooms)
+
+    def _holds(self, index, point):
+        return bool(np.all((point >= self.low[index]) & (point <= self.high[index]))) and \
+            _inside(point, self._corners(index))
+
+    def _corners(self, index):
+        return np.asarray(self.triangles[self.order[self.starts[index]:self.ends[index]]], dtype=np.float64)
 
     def emitters_key(self, scene):
-        """What `open_sides` depends on beyond the geometry: where the lamps (not suns) and
-        the point emitters are."""
+        """What `sides_and_rooms` depends on beyond the geometry: where the lamps (not suns) and
+        the point emitters are, and whether a sun or the world lights the outside."""
         lamps = tuple(tuple(np.round(light.position, 9)) for light in scene.lights if light.kind != "SUN")
-        return lamps, scene.point_emitters_key()
+        return lamps, scene.point_emitters_key(), _lit_outside(scene)
+
+
+class Rooms:
+    """The rooms of a scene (closed meshes a lamp lies in, numbered from 1 innermost first;
+    0 is outside every room): `faces`, the room each side of each face looks into (front
+    and back, (T,) uint8 each); `lit`, the rooms some light lies in (None: any may be, as
+    where point emitters or emissive surfaces are, which are not all tested)."""
+
+    def __init__(self, closed, holding, front, back, lit, lamp_rooms):
+        self.closed, self.holding = closed, holding
+        self.faces = (front, back)
+        self.lit = lit
+        self._lamp_rooms = lamp_rooms  # a lamp's position, rounded -> its room
+
+    def room_of(self, light):
+        """The room `light` lies in (0: none; a sun's is outside every room)."""
+        if light.kind == "SUN":
+            return 0
+        key = tuple(np.round(np.asarray(light.position, dtype=np.float64), 9))
+        if key not in self._lamp_rooms:
+            self._lamp_rooms[key] = next((number for number, index in enumerate(self.holding, start=1)
+                                          if self.closed._holds(index, np.asarray(key))), 0)
+        return self._lamp_rooms[key]
+
+
+def _lit_outside(scene):
+    return any(light.kind == "SUN" for light in scene.lights) or \
+        (scene.world is not None and scene.world.lights_anything)
 
 
 def _see_through(scene):
@@ -100,18 +184,30 @@ def _emitter_points(scene, pieces):
     return np.concatenate(points), np.concatenate(owners)
 
 
-def _inside(point, corners):
-    """Whether `point` lies inside the closed surface of triangles `corners` (m, 3, 3): a
-    ray from it crosses the surface an odd number of times (Möller and Trumbore 1997)."""
+def _inside_all(points, corners):
+    """(n,) bool: which of `points` (n, 3) lie inside the closed surface `corners` (m, 3, 3),
+    in batches of about a million point-triangle pairs."""
+    batch = max(1, (1 << 20) // max(len(corners), 1))
+    return np.concatenate([_crossings(points[i:i + batch], corners) % 2 == 1 for i in range(0, len(points), batch)]
+                          or [np.zeros(0, dtype=bool)])
+
+
+def _crossings(points, corners):
+    """(n,) how many times a ray from each of `points` (n, 3) crosses the triangles
+    `corners` (m, 3, 3): inside a closed surface, an odd number (Möller and Trumbore 1997)."""
     edge1, edge2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
     p = np.cross(RAY, edge2)
     det = np.einsum("ij,ij->i", edge1, p)
     usable = np.abs(det) > 1e-30
     inverse = np.where(usable, 1.0 / np.where(usable, det, 1.0), 0.0)
-    s = point - corners[:, 0]
-    u = np.einsum("ij,ij->i", s, p) * inverse
-    q = np.cross(s, edge1)
+    s = points[:, None, :] - corners[None, :, 0]
+    u = np.einsum("nij,ij->ni", s, p) * inverse
+    q = np.cross(s, edge1[None])
     v = (q @ RAY) * inverse
-    t = np.einsum("ij,ij->i", edge2, q) * inverse
-    hits = usable & (u >= 0.0) & (v >= 0.0) & (u + v <= 1.0) & (t > 0.0)
-    return bool(np.count_nonzero(hits) % 2)
+    t = np.einsum("ij,nij->ni", edge2, q) * inverse
+    return np.count_nonzero(usable & (u >= 0.0) & (v >= 0.0) & (u + v <= 1.0) & (t > 0.0), axis=1)
+
+
+def _inside(point, corners):
+    """Whether `point` lies inside the closed surface of triangles `corners` (m, 3, 3)."""
+    return bool(_crossings(np.asarray(point, dtype=np.float64)[None], corners)[0] % 2)

@@ -93,7 +93,7 @@ class Pipeline:
         self._frame_lights = KeyedCache()  # what it depends on -> the last frame's FrameLights
         self._receivers = KeyedCache(releases=True)  # geometry key -> Receivers of the bounces' points
         self._closed_meshes = KeyedCache()  # geometry key -> ClosedMeshes
-        self._open_sides = KeyedCache()    # geometry and emitters' keys -> the sides of faces light reaches
+        self._open_sides = KeyedCache()    # geometry and emitters' keys -> the sides of faces light reaches, rooms
         self._targets = KeyedCache(releases=True)    # image size -> FrameTargets
         self._placement = KeyedCache()     # what it depends on -> the grids placed around the view, the sun cascades
         self._cascade_boxes = ()   # the boxes of a sun's direct-light cascade (gpu/light_maps.py cascade_boxes)
@@ -296,29 +296,32 @@ class Pipeline:
         return self._indirect.value
 
     def _sides(self, scene):
-        """The sides of the scene's faces that light reaches (gpu/closed_meshes.py): the
-        last array again where a lamp moved but they did not (the G-buffer then stays)."""
+        """The sides of the scene's faces that light reaches and the rooms they look into
+        (gpu/closed_meshes.py): the last array again where a lamp moved but they did not
+        (the G-buffer then stays)."""
         closed = self._closed_meshes.get(scene.geometry_key(), lambda: ClosedMeshes(scene))
         key = (scene.geometry_key(), closed.emitters_key(scene))
         if key != self._open_sides.key:
             last = self._open_sides.value[0] if self._open_sides.value is not None else None
-            found = closed.open_sides(scene)
+            found, rooms = closed.sides_and_rooms(scene)
             same = found is None and last is None or found is not None and last is not None and \
                 found.shape == last.shape and np.array_equal(found, last)
-            self._open_sides.put(key, (last if same else found,))
+            self._open_sides.put(key, (last if same else found, rooms))
         return self._open_sides.value[0]
 
     def _direct_light(self, scene, targets, maps, selection, indirect, drawn, stats):
         """The direct image: the lights' with maps, the point emitters' (the `drawn` ones of
         the scene glowing too) and the emissive surfaces' with their glow."""
         s = self.settings
+        rooms = self._open_sides.value[1] if self._open_sides.value is not None else None
         with self.glc.timed(stats, "direct_ms"):
             for m in maps:
                 shadow = shadow_uniforms(m.rsm.light, s.shadow_taps, self.vpl_pattern)
+                room = None if rooms is None else (self._mesh.value.open_sides, rooms.room_of(m.rsm.light))
                 cascade = (*m.view_maps, m.rsm)  # finest first: each shades what the finer ones leave
                 for finer, rsm in zip((None, *cascade), cascade):
                     shade_direct(self.glc, targets, scene.camera, rsm, s.shadow_bias, shadow,
-                                 inside=rsm if rsm is not m.rsm else None, outside=finer)
+                                 inside=rsm if rsm is not m.rsm else None, outside=finer, room=room)
         if selection is not None and selection.kept:
             with self.glc.timed(stats, "emitter_light_ms"):
                 self._emitter_grid.value.add_light(targets, gbuffer_uniforms(scene.camera), s,

@@ -4,6 +4,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
+from .closed_meshes import BACK_ROOM_SHIFT, FRONT_ROOM_SHIFT
 from .context import clear_depth_only, dispatch, dispatch_row, set_uniforms, zero_buffer
 from .errors import LPVError
 from .grids import VIEW_LATTICE
@@ -191,9 +192,9 @@ def bind_gbuffer(targets):
     targets.surface.use(location=1)
 
 
-SPECULAR_UNIT, TINT_UNIT = 3, 4
-"""The texture units of the G-buffer's glossy texel and the map's tint in shade_direct
-(the RSM's position is 2)."""
+SPECULAR_UNIT, TINT_UNIT, TRIANGLES_UNIT = 3, 4, 5
+"""The texture units of the G-buffer's glossy texel, the map's tint and the triangles the
+camera sees in shade_direct (the RSM's position is 2)."""
 
 
 def cut_out_defines(mesh):
@@ -362,13 +363,19 @@ of its half-width of its centre (the filter's taps beyond its edge would find no
 blocker); coarser maps the rest."""
 
 
-def shade_direct(glc, targets, camera, rsm, shadow_bias, shadow, inside=None, outside=None):
+def shade_direct(glc, targets, camera, rsm, shadow_bias, shadow, inside=None, outside=None, room=None):
     """Add one light's shadowed Lambert and glossy terms into the direct image; `shadow` the uniforms
     of its soft shadow (gpu/soft_shadows.py shadow_uniforms). `inside` and `outside`
     (a sun's orthographic view maps, or None) keep to the pixels within VIEW_MAP_EDGE of
-    the one and beyond it of the other."""
-    program = glc.compute("shade_direct")
+    the one and beyond it of the other. With `room` (the mesh's sides-and-rooms buffer and
+    the light's room, gpu/closed_meshes.py) it lights only the pixels in its room."""
+    rooms = {"ROOMS": 1, "FRONT_ROOM_SHIFT": FRONT_ROOM_SHIFT, "BACK_ROOM_SHIFT": BACK_ROOM_SHIFT}
+    program = glc.compute("shade_direct", **(rooms if room is not None else {}))
     bind_gbuffer(targets)
+    if room is not None:
+        room[0].bind_to_storage_buffer(0)
+        targets.triangles.use(location=TRIANGLES_UNIT)
+        set_uniforms(program, g_triangles=TRIANGLES_UNIT, light_room=room[1])
     rsm.position.use(location=2)
     targets.specular.use(location=SPECULAR_UNIT)
     if rsm.tint is not None:

@@ -40,6 +40,6 @@ void main() {
     vec3 p = (1.0 - root) * a + root * (1.0 - v) * b + root * v * c;
     vec3 across = cross(b - a, c - a);
     vec3 n = dot(across, across) > 0.0 ? normalize(across) : vec3(0.0, 0.0, 1.0);
-    uint sides = sides_known ? (open_sides[t >> 2] >> (8 * (t & 3))) & 255u : uint(OPEN);
+    uint sides = sides_known ? (open_sides[t >> 2] >> (8 * (t & 3))) & uint(OPEN) : uint(OPEN);  // not the rooms above
     receivers[i] = Receiver(vec4(p, 1.0), vec4(n, area_each), colours[low].rgb, float(sides));
 }

@@ -3,7 +3,9 @@
 // Fresnel, specular.glsl), shadowed by the light's RSM distances (a light of no size: 3x3
 // PCF with a normal offset; else PCSS, soft_shadow.glsl) and tinted by the transmitting
 // surfaces the light passes (the map's tint at the surface's texel, with `use_tint`), added
-// into the direct image.
+// into the direct image. With ROOMS, only the pixels whose side of their face looks into
+// the light's room (gpu/closed_meshes.py): no shadow map bias lets a lamp shut in a
+// closed mesh light what stands outside it.
 #include "common.glsl"
 #include "light.glsl"
 #include "rsm_lookup.glsl"
@@ -22,6 +24,18 @@ uniform bool use_outside;      // shade only the pixels beyond view_map_edge of 
 uniform mat4 inside_matrix;    // a sun's view maps' view-projections (gpu/shade.py VIEW_MAP_EDGE)
 uniform mat4 outside_matrix;
 uniform float view_map_edge;   // within this share of a map's half-width
+#ifdef ROOMS
+layout(std430, binding = 0) readonly buffer SidesAndRooms { uint sides_and_rooms[]; };  // a byte a triangle
+uniform usampler2D g_triangles;  // gbuffer.frag's: the triangle, bit 31 set where its front side is seen
+uniform int light_room;
+
+int seen_room(ivec2 pixel) {
+    uint seen = texelFetch(g_triangles, pixel, 0).r;
+    int triangle = int(seen & 0x7fffffffu);
+    uint code = sides_and_rooms[triangle >> 2] >> (8 * (triangle & 3));
+    return int((seen >> 31) == 1u ? (code >> FRONT_ROOM_SHIFT) & 7u : (code >> BACK_ROOM_SHIFT) & 7u);
+}
+#endif
 
 bool within(mat4 view_projection, vec3 p) {
     return all(lessThanEqual(abs((view_projection * vec4(p, 1.0)).xy), vec2(view_map_edge)));
@@ -61,6 +75,9 @@ void main() {
     vec3 p, n, albedo;
     if (!gbuffer_surface(pixel, p, n, albedo)) return;
     if ((use_inside && !within(inside_matrix, p)) || (use_outside && within(outside_matrix, p))) return;
+#ifdef ROOMS
+    if (seen_room(pixel) != light_room) return;
+#endif
     vec3 w;
     float dist;
     light_ray(p, w, dist);

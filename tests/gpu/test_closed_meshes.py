@@ -1,12 +1,14 @@
 """gpu/closed_meshes.py: a closed mesh with nothing that emits inside it is a solid, shut
 on the side of its faces that looks in; one that holds a lamp, a point emitter or another
-mesh's emissive face is a room, open on both sides, as is one that lets light through."""
+mesh's emissive face is open on both sides, as is one that lets light through. One that
+holds a lamp is a room: that lamp lights only what lies in it, and a side in a room no
+light lies in gets none."""
 import dataclasses
 
 import numpy as np
 
 from lpv_preview.bench.synthetic import box_triangles
-from lpv_preview.gpu.closed_meshes import BACK, FRONT, OPEN, ClosedMeshes
+from lpv_preview.gpu.closed_meshes import BACK, BACK_ROOM_SHIFT, FRONT, FRONT_ROOM_SHIFT, OPEN, ClosedMeshes
 from lpv_preview.gpu.pipeline import render_once
 from lpv_preview.gpu.scene import Camera, Light, Scene
 from lpv_preview.gpu.settings import Settings
@@ -28,7 +30,7 @@ def floor_and_box(lights=(SUN,), reverse=False, **surfaces):
 
 
 def sides(scene):
-    return ClosedMeshes(scene).open_sides(scene)
+    return ClosedMeshes(scene).sides_and_rooms(scene)[0]
 
 
 def box_winds_outward():
@@ -44,11 +46,42 @@ def test_a_closed_box_lit_from_outside_is_shut_on_its_inside():
     assert np.all(sides(floor_and_box(reverse=True))[2:] == (FRONT | BACK) ^ outward)
 
 
+LAMP = Light("POINT", (0.1, 0.2, 0.5), (0, 0, -1), (0, 1, 0), (1, 1, 1), 50.0)
+
+
 def test_a_closed_box_with_a_lamp_inside_is_a_room():
-    lamp = Light("POINT", (0.1, 0.2, 0.5), (0, 0, -1), (0, 1, 0), (1, 1, 1), 50.0)
     outside = Light("POINT", (2.0, 0.0, 0.5), (0, 0, -1), (0, 1, 0), (1, 1, 1), 50.0)
-    assert sides(floor_and_box([SUN, lamp])) is None
+    inward_shift = BACK_ROOM_SHIFT if box_winds_outward() else FRONT_ROOM_SHIFT
+    for reverse in (False, True):
+        scene = floor_and_box([SUN, LAMP], reverse=reverse)
+        found, rooms = ClosedMeshes(scene).sides_and_rooms(scene)
+        assert np.all(found & OPEN == OPEN)  # the sun lights the outside, the lamp the inside
+        assert list(found[:2] >> FRONT_ROOM_SHIFT) == [0, 0]  # the floor is outside
+        shift = inward_shift if not reverse else BACK_ROOM_SHIFT + FRONT_ROOM_SHIFT - inward_shift
+        assert np.all(found[2:] >> shift & 7 == 1) and np.all(found[2:] >> (BACK_ROOM_SHIFT + FRONT_ROOM_SHIFT - shift)
+                                                              & 7 == 0)
+        assert rooms.room_of(LAMP) == 1 and rooms.room_of(outside) == 0 and rooms.room_of(SUN) == 0
     assert sides(floor_and_box([SUN, outside])) is not None
+
+
+def test_a_room_no_light_lies_in_is_dark():
+    # The lamp in the box lights nothing outside it, and nothing else lights the outside.
+    found = sides(floor_and_box([LAMP]))
+    inward = BACK if box_winds_outward() else FRONT
+    assert list(found[:2] & OPEN) == [0, 0]
+    assert np.all(found[2:] & OPEN == inward)
+
+
+def test_a_lamp_shut_in_a_closed_box_lights_nothing_outside_it():
+    # The box floats 1 cm over the floor: the floor around its foot is within the bias of
+    # the lamp's shadow map, and a sun lights it too. With the lamp or without, the floor
+    # and the box's outside get the same light.
+    settings = Settings(width=48, height=32, rsm_resolution=128, vpls_per_light=256, lpv_resolution=16, bounces=1)
+    foot = Camera.look_at((0.9, -0.9, 0.3), (0.5, -0.5, 0.0), fov_y=0.9, aspect=1.5)
+    sun_only = render_once(dataclasses.replace(floor_and_box([SUN]), camera=foot), settings).passes["direct"]
+    both = render_once(dataclasses.replace(floor_and_box([SUN, LAMP]), camera=foot), settings).passes["direct"]
+    assert sun_only.mean() > 0.05
+    np.testing.assert_allclose(both, sun_only, rtol=1e-5, atol=1e-7)
 
 
 def test_a_closed_box_with_a_point_emitter_inside_is_a_room():

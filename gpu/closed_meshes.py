@@ -28,9 +28,9 @@ edge of an axis-aligned mesh."""
 
 
 class ClosedMeshes:
-    """A sanitized scene's closed meshes (Scene.solids): which of them could be solids, by
-    their shape and surfaces alone (kept per geometry), and `sides_and_rooms` per frame's
-    emitters."""
+    """A sanitized scene's closed meshes (Scene.solids): which of them could be solids or
+    rooms, by their shape and surfaces alone (a volume, nothing that lets light through,
+    shadows cast: kept per geometry), and `sides_and_rooms` per frame's emitters."""
 
     def __init__(self, scene):
         pieces = np.asarray(scene.solids) if scene.solids is not None else np.zeros(0, np.int32)
@@ -52,6 +52,8 @@ class ClosedMeshes:
         see_through = _see_through(scene)
         if see_through is not None:
             self.candidate &= ~np.logical_or.reduceat(see_through[self.order], self.starts)
+        first, count = scene.light_triangles or (0, scene.triangle_count)  # those that cast shadows
+        self.candidate &= np.logical_and.reduceat((self.order >= first) & (self.order < first + count), self.starts)
 
     def sides_and_rooms(self, scene):
         """(T,) uint8 per triangle, the sides (FRONT, BACK) light can reach and the room each

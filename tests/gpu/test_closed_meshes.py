@@ -10,7 +10,7 @@ import numpy as np
 from lpv_preview.bench.synthetic import box_triangles
 from lpv_preview.gpu.closed_meshes import BACK, BACK_ROOM_SHIFT, FRONT, FRONT_ROOM_SHIFT, OPEN, ClosedMeshes
 from lpv_preview.gpu.pipeline import render_once
-from lpv_preview.gpu.scene import Camera, Light, Scene
+from lpv_preview.gpu.scene import SEEN_BY_CAMERA, SEEN_BY_LIGHTS, Camera, Light, Scene
 from lpv_preview.gpu.settings import Settings
 
 SUN = Light("SUN", (0.0, 0.0, 10.0), (0.3, 0.2, -1.0), (0, 1, 0), (1, 1, 1), 3.0)
@@ -62,6 +62,14 @@ def test_a_closed_box_with_a_lamp_inside_is_a_room():
                                                               & 7 == 0)
         assert rooms.room_of(LAMP) == 1 and rooms.room_of(outside) == 0 and rooms.room_of(SUN) == 0
     assert sides(floor_and_box([SUN, outside])) is not None
+
+
+def test_a_closed_box_that_casts_no_shadow_is_neither_a_solid_nor_a_room():
+    # Its ray visibility "Shadow" off: Cycles' light passes through it.
+    visibility = np.full(14, SEEN_BY_CAMERA | SEEN_BY_LIGHTS, np.uint8)
+    visibility[2:] = SEEN_BY_CAMERA
+    assert sides(floor_and_box(visibility=visibility)) is None
+    assert sides(floor_and_box([LAMP], visibility=visibility)) is None
 
 
 def test_a_room_no_light_lies_in_is_dark():

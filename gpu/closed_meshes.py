@@ -39,6 +39,7 @@ class ClosedMeshes:
         self.order = faces[np.argsort(pieces[faces], kind="stable")]
         self.names, self.starts = np.unique(pieces[self.order], return_index=True)
         self.ends = np.append(self.starts[1:], len(self.order))
+        self._face_rooms = {}  # rooms (their indices, innermost first) -> (front, back) or None
         if not len(self.order):
             self.candidate = np.zeros(0, dtype=bool)
             return
@@ -97,7 +98,20 @@ class ClosedMeshes:
             return None
         lamp_rooms = {tuple(np.round(lamp, 9)): next((number for number, index in enumerate(holding, start=1)
                                                       if held[index][i]), 0) for i, lamp in enumerate(lamps)}
-        centres = np.asarray(scene.triangles, dtype=np.float64).mean(axis=1)
+        if tuple(holding) not in self._face_rooms:
+            self._face_rooms[tuple(holding)] = self._sort_faces(holding)
+        faces = self._face_rooms[tuple(holding)]
+        if faces is None:
+            return None
+        lit = None if scene.point_emitter_count or scene.emission is not None else \
+            np.array(sorted(set(lamp_rooms.values()) | ({0} if _lit_outside(scene) else set())), dtype=np.uint8)
+        return Rooms(self, holding, *faces, lit, lamp_rooms)
+
+    def _sort_faces(self, holding):
+        """The room each side of each face looks into, (front, back), for the rooms
+        `holding` (innermost first); None over ROOM_TESTS. Kept per rooms: a lamp moved
+        within its room sorts nothing again."""
+        centres = np.asarray(self.triangles, dtype=np.float64).mean(axis=1)
         within = [np.flatnonzero(np.all((centres >= self.low[index]) & (centres <= self.high[index]), axis=1) &
                                  (self.pieces != self.names[index])) for index in holding]
         if sum(len(faces) * (self.ends[index] - self.starts[index]) for faces, index in zip(within, holding)) > ROOM_TESTS:
@@ -109,9 +123,7 @@ class ClosedMeshes:
         for number, index in enumerate(holding, start=1):
             own = self.order[self.starts[index]:self.ends[index]]
             (back if self.volume[index] > 0 else front)[own] = number  # the side that looks in
-        lit = None if scene.point_emitter_count or scene.emission is not None else \
-            np.array(sorted(set(lamp_rooms.values()) | ({0} if _lit_outside(scene) else set())), dtype=np.uint8)
-        return Rooms(self, holding, front, back, lit, lamp_rooms)
+        return front, back
 
     def _holds(self, index, point):
         return bool(np.all((point >= self.low[index]) & (point <= self.high[index]))) and \

@@ -9,6 +9,10 @@ from .surface_images import SurfaceImages
 # instance) of split_at_rim, in this order.
 FRONT, CROSSING = 0, 1
 RIM_COMMAND_BYTES = 2 * 5 * 4
+RASTER_SPAN = 8
+"""Texels a paraboloid map's triangle in front of the rim may span each way and still be
+rasterised by rim_split.comp rather than the rasterizer: most of a large scene's
+triangles are smaller than a texel (docs/performance.md, "Speed")."""
 CLUSTER_TRIANGLES = 128
 """Consecutive triangles a view culls together (shaders/frustum_cull.comp): few enough that a
 cube face draws little more than its sixth of a scene, many enough that a million
@@ -157,8 +161,7 @@ class MeshBuffer:
         if (program, indices) not in self._arrays:
             self._arrays[program, indices] = self.glc.gl.vertex_array(
                 program, [(self.positions, "3f", "in_position")], index_buffer=indices, index_element_size=4)
-        self.buffer.bind_to_storage_buffer(SURFACE_VERTICES_BINDING)
-        self.images.bind(program)
+        self.bind_surfaces(program)
         return self._arrays[program, indices]
 
     def draw(self, program, mode, triangles, view_projection=None):
@@ -205,13 +208,16 @@ class MeshBuffer:
             self._cluster_boxes[triangles] = (boxes, commands, clusters)
         return self._cluster_boxes[triangles]
 
-    def split_at_rim(self, hemisphere_view, hemisphere):
+    def split_at_rim(self, hemisphere_view, hemisphere, raster=None):
         """Sort the triangles by a paraboloid hemisphere's rim plane on the GPU
         (shaders/rim_split.comp): returns one index buffer holding the triangles wholly in
         front and those crossing it, and the indirect draw commands (FRONT, CROSSING) that
         draw each list. Triangles wholly behind are in neither, so each hemisphere draws
-        only its own; only the lights' triangles are sorted. Each hemisphere (0 or 1) has its own buffers: drawing one never
-        waits on sorting the other."""
+        only its own; only the lights' triangles are sorted. Each hemisphere (0 or 1) has
+        its own buffers: drawing one never waits on sorting the other. With `raster` (the
+        uniforms of shaders/paraboloid_raster.glsl, its two buffers bound at 3 and 4), the
+        triangles wholly in front whose box on the map spans at most RASTER_SPAN texels
+        each way are rasterised into those buffers instead of listed."""
         gl = self.glc.gl
         capacity = self.vertex_count
         if hemisphere not in self.rim_lists:
@@ -220,15 +226,25 @@ class MeshBuffer:
         lists, commands = self.rim_lists[hemisphere]
         for binding, buffer in enumerate((self.buffer, commands, lists)):
             buffer.bind_to_storage_buffer(binding)
-        program = self.glc.compute("rim_split")
+        stages = [{}] if raster is None else [{"RASTER": 1, "RASTER_SPAN": RASTER_SPAN, "STAGE": stage}
+                                              for stage in (1, 2)]
         first, count = self.light_triangles
-        set_uniforms(program, hemisphere_view=hemisphere_view, first_triangle=first, triangle_count=count,
-                     capacity=capacity, reset=True)
-        dispatch(program, 10, local=(64, 1, 1))
-        if count:
-            set_uniforms(program, reset=False)
-            dispatch(program, count, local=(64, 1, 1))
+        for stage, defines in enumerate(stages):
+            program = self.glc.compute("rim_split", **defines)
+            set_uniforms(program, hemisphere_view=hemisphere_view, first_triangle=first, triangle_count=count,
+                         capacity=capacity, reset=True, **(raster or {}))
+            if stage == 0:
+                dispatch(program, 10, local=(64, 1, 1))
+            if count:
+                set_uniforms(program, reset=False)
+                dispatch(program, count, local=(64, 1, 1))
         return lists, commands
+
+    def bind_surfaces(self, program):
+        """Bind the vertex buffer and images through which `program` reads surfaces by a
+        triangle's number (shaders/triangle_corners.glsl, surface.glsl)."""
+        self.buffer.bind_to_storage_buffer(SURFACE_VERTICES_BINDING)
+        self.images.bind(program)
 
     def resources(self):
         """The vertex buffer and positions, the images, each hemisphere's rim-split lists

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from .context import clear_depth_only, set_uniforms
+from .context import clear_depth_only, dispatch, set_uniforms, zero_buffer
 from .mesh_buffer import CROSSING, FRONT
 from .scene import look_at_view, perspective
 from .shade import cut_out_defines, multiply_blend
@@ -23,6 +23,9 @@ from .specular_albedo import RASTER_UNIT
 LIGHT_KIND_INDEX = {"POINT": 0, "SPOT": 1, "AREA": 2, "SUN": 3}
 PROJECTION_CUBE, PROJECTION_PARABOLOID, PROJECTION_ORTHO = 0, 1, 2
 ATLAS_COLUMNS = 3
+NEAREST_BINDING = 3
+"""Where rim_split.comp, rsm_resolve.comp and rsm.frag find the nearest depth of each texel
+a compute pass rasterised, and at the next binding its triangle (paraboloid_raster.glsl)."""
 
 
 @dataclass
@@ -157,6 +160,21 @@ def sun_half_width(light, bounds, fitted=False):
     return max(float(np.max(np.abs(offsets @ np.stack([right, up], axis=1)))), 1e-6)
 
 
+def resolve_rasterised(glc, mesh, textures, faces, face_uniforms, glossy, uniforms):
+    """Write every texel of a paraboloid map's faces from what rim_split.comp rasterised
+    (shaders/rsm_resolve.comp): position, normal and flux where it kept a triangle, empty
+    elsewhere. Its nearest depths and triangles are bound at NEAREST_BINDING."""
+    program = glc.compute("rsm_resolve", **glossy)
+    glc.use_specular_albedo(program, RASTER_UNIT)
+    mesh.bind_surfaces(program)
+    for unit, texture in enumerate(textures):
+        texture.bind_to_image(unit, read=False, write=True)
+    for matrix, face in zip(faces, face_uniforms):
+        set_uniforms(program, hemisphere_view=matrix, projection_kind=PROJECTION_PARABOLOID, ortho_texel_area=0.0,
+                     **face, **uniforms)
+        dispatch(program, int(face["resolution"]), int(face["resolution"]))
+
+
 def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_unit=None, reach=None, fitted=False,
                pattern=0):
     """Rasterise the light's RSM faces: cube faces for "cm", hemispheres for "dpm",
@@ -219,18 +237,32 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
         return [glc.program("raster", fragment, **defines)]
     tinted = {"TINT_MAP": 1} if tint is not None else {}
     glossy = {"GLOSSY_LAYER": 1} if mesh.glossy else {}
-    passes = [(face_programs("rsm", **cut_out_defines(mesh), **tinted, **glossy), False)]
+    # Small triangles in front of a hemisphere's rim rasterised by a compute pass, where
+    # every fragment is rsm.frag's alone (no cut-outs, no tint pass): rim_split.comp.
+    rasterised = kind == PROJECTION_PARABOLOID and not tessellated and not mesh.transmits and \
+        not cut_out_defines(mesh)
+    passes = [(face_programs("rsm", **cut_out_defines(mesh), **tinted, **glossy,
+                             **({"RASTERISED": 1} if rasterised else {})), False)]
     if mesh.transmits:
         passes.append((face_programs("passing_tint", TINT_ATTACHMENT=2, **tinted), True))
     uniforms = light_uniforms(light, origin)
-    glc.clear(*textures, *([tint] if tint is not None else []))  # faster than the framebuffer's colour clear
+    if not rasterised:  # else rsm_resolve.comp writes every texel
+        glc.clear(*textures, *([tint] if tint is not None else []))  # faster than the framebuffer's colour clear
     framebuffer.use()
     clear_depth_only(framebuffer)
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
     mode = moderngl.PATCHES if tessellated else moderngl.TRIANGLES
-    rims = [mesh.split_at_rim(matrix, face) for face, matrix in enumerate(faces)] \
-        if kind == PROJECTION_PARABOLOID else None
+    nearest = [gl.buffer(reserve=atlas_size[0] * atlas_size[1] * 4) for _ in range(2)] if rasterised else []
+    for binding, buffer in enumerate(nearest, start=NEAREST_BINDING):
+        zero_buffer(glc, buffer)
+        buffer.bind_to_storage_buffer(binding)
+    face_uniforms = [{"face_origin": tuple(float(v) for v in face_origin), "resolution": float(resolution),
+                      "atlas_width": atlas_size[0], "near": near, "far": far} for face_origin in origins]
+    rims = [mesh.split_at_rim(matrix, face, face_uniforms[face] if rasterised else None)
+            for face, matrix in enumerate(faces)] if kind == PROJECTION_PARABOLOID else None
+    if rasterised:
+        resolve_rasterised(glc, mesh, textures, faces, face_uniforms, glossy, uniforms)
     for programs, tinting in passes:
         for program in programs:
             glc.use_specular_albedo(program, RASTER_UNIT)
@@ -241,7 +273,8 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
                 set_uniforms(program, view_projection=matrix, hemisphere_view=matrix, near=near, far=far,
                              face_origin=tuple(float(v) for v in face_origin), resolution=float(resolution),
                              projection_kind=kind, ortho_texel_area=ortho_texel ** 2,
-                             tessellation_unit=float(tessellation_unit or 0.0), cut_out_pattern=pattern, **uniforms)
+                             tessellation_unit=float(tessellation_unit or 0.0), cut_out_pattern=pattern,
+                             atlas_width=atlas_size[0], **uniforms)
             if kind == PROJECTION_PARABOLOID:
                 lists, commands = rims[face]
                 draw = lambda: [mesh.vertex_array(program, lists).render_indirect(  # noqa: E731
@@ -254,6 +287,8 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
                 draw()
     framebuffer.depth_mask = True
     framebuffer.release()
+    for buffer in nearest:
+        buffer.release()
     glc.recycle(depth)
     return ReflectiveShadowMap(glc, light, resolution, kind, np.array(faces), origins, atlas_size, *textures,
                                uniforms, ortho_texel, flux_bound, tint)

@@ -4,8 +4,14 @@
 // raster units costs more than the whole fragment (docs/performance.md, "Raster passes").
 #include "surface.glsl"
 #include "triangle_corners.glsl"
+#ifdef RESOLVED_SURFACE
+int surface_triangle;  // set by a pass that finds its surface itself (rsm_resolve.frag)
+vec2 surface_weights;
+vec2 surface_weights_dx, surface_weights_dy;  // their change a pixel along x and along y
+#else
 flat in int surface_triangle;
 in vec2 surface_weights;  // the weights of the triangle's second and third corners
+#endif
 
 float surface_float(int offset) {
     return corner_mix(surface_triangle, surface_weights, offset);
@@ -28,6 +34,10 @@ SurfacePoint surface_point() {
     vec2 c0 = vec2(vertices[at], vertices[at + 1]);
     vec2 c1 = vec2(vertices[at + VERTEX_FLOATS], vertices[at + VERTEX_FLOATS + 1]) - c0;
     vec2 c2 = vec2(vertices[at + 2 * VERTEX_FLOATS], vertices[at + 2 * VERTEX_FLOATS + 1]) - c0;
+#ifdef RESOLVED_SURFACE
+    vec2 dx = surface_weights_dx, dy = surface_weights_dy;
+#else
     vec2 dx = dFdx(surface_weights), dy = dFdy(surface_weights);
+#endif
     return SurfacePoint(surface_vec4(VERTEX_SURFACE), c1 * dx.x + c2 * dx.y, c1 * dy.x + c2 * dy.y);
 }

@@ -13,13 +13,13 @@ renders has its own (`GLContext.shared()`). Inside Blender that is one thread of
 (gpu/gl_thread.py), never Blender's drawing thread, whose own context stays current.
 """
 import os
-import signal
 import sys
 import threading
 import time
 from contextlib import contextmanager
 from pathlib import Path
 
+from .ctrl_c import ctrl_c_held
 from .errors import LPVError
 from .specular_albedo import texture_rows
 
@@ -29,28 +29,6 @@ BACKEND_VARIABLE = "LPV_PREVIEW_GL_BACKEND"
 BACKENDS = {"egl": "egl", "glx": None, "wgl": None}
 """Our names for the context interfaces and moderngl's backend argument for each (None:
 glcontext's default for the platform, GLX on Linux and WGL on Windows)."""
-
-
-@contextmanager
-def ctrl_c_held():
-    """Run a program's compilation with Ctrl-C's Python handler held back until it ends.
-
-    moderngl lists a program's uniforms through Python helpers and stores what they return
-    unchecked: a KeyboardInterrupt raised in one (Ctrl-C during a long compile) crashes
-    the process. Handlers run in the main thread only, so only there is one held back.
-    """
-    handler = signal.getsignal(signal.SIGINT)
-    if threading.current_thread() is not threading.main_thread() or not callable(handler):
-        yield
-        return
-    pressed = []
-    signal.signal(signal.SIGINT, lambda signum, frame: pressed.append((signum, frame)))
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, handler)
-        if pressed:
-            handler(*pressed[0])
 
 
 def platform_backends(platform=None, environment=None):

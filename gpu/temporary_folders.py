@@ -4,6 +4,7 @@ import shutil
 import tempfile
 from contextlib import contextmanager
 
+from .ctrl_c import ctrl_c_held
 from .errors import LPVError
 
 
@@ -18,9 +19,14 @@ def make_temporary_folder(prefix):
 
 @contextmanager
 def temporary_folder(prefix="lpv_cycles_"):
-    """A temporary folder for a Cycles render's file, removed afterwards."""
-    folder = make_temporary_folder(prefix)
+    """A temporary folder for a Cycles render's file, removed afterwards, also on Ctrl-C:
+    one that comes while it is made or removed waits until that is done."""
+    folder = None
     try:
+        with ctrl_c_held():
+            folder = make_temporary_folder(prefix)
         yield folder
     finally:
-        shutil.rmtree(folder, ignore_errors=True)
+        if folder is not None:
+            with ctrl_c_held():
+                shutil.rmtree(folder, ignore_errors=True)

@@ -5,7 +5,8 @@ import signal
 import numpy as np
 import pytest
 
-from lpv_preview.gpu.context import GLContext, ctrl_c_held, install_hint, platform_backends
+from lpv_preview.gpu.context import GLContext, install_hint, platform_backends
+from lpv_preview.gpu.ctrl_c import ctrl_c_held
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.scene import Camera, Light, Scene
 from lpv_preview.gpu.settings import PARAMETERS, Settings

@@ -1,0 +1,25 @@
+"""Ctrl-C held back through work it must not cut in two: a shader's compile (moderngl
+stores what its Python helpers return unchecked, so a KeyboardInterrupt raised in one
+crashes the process) and the making or removal of a temporary folder (cut in two, it
+would stay behind)."""
+import signal
+import threading
+from contextlib import contextmanager
+
+
+@contextmanager
+def ctrl_c_held():
+    """Hold Ctrl-C's Python handler back through the body and call it after, where Ctrl-C
+    came. Handlers run in the main thread only, so only there is one held back."""
+    handler = signal.getsignal(signal.SIGINT)
+    if threading.current_thread() is not threading.main_thread() or not callable(handler):
+        yield
+        return
+    pressed = []
+    signal.signal(signal.SIGINT, lambda signum, frame: pressed.append((signum, frame)))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, handler)
+        if pressed:
+            handler(*pressed[0])

@@ -91,13 +91,14 @@ class ClosedMeshes:
         lamps = [np.asarray(light.position, dtype=np.float64) for light in scene.lights if light.kind != "SUN"]
         if not lamps or not self.candidate.any():
             return None
-        held = {index: [self._holds(index, lamp) for lamp in lamps] for index in np.flatnonzero(self.candidate)}
-        holding = sorted((index for index, inside in held.items() if any(inside)),
-                         key=lambda index: abs(self.volume[index]))  # innermost first where rooms nest
+        held = [{int(index) for index in np.flatnonzero(self.candidate & np.all((lamp >= self.low) &
+                                                                            (lamp <= self.high), axis=1))
+                 if _inside(lamp, self._corners(index))} for lamp in lamps]  # the closed meshes each lamp lies in
+        holding = sorted(set().union(*held), key=lambda index: abs(self.volume[index]))  # innermost first
         if not holding or len(holding) > MAX_ROOMS:
             return None
         lamp_rooms = {tuple(np.round(lamp, 9)): next((number for number, index in enumerate(holding, start=1)
-                                                      if held[index][i]), 0) for i, lamp in enumerate(lamps)}
+                                                      if index in inside), 0) for lamp, inside in zip(lamps, held)}
         if tuple(holding) not in self._face_rooms:
             self._face_rooms[tuple(holding)] = self._sort_faces(holding)
         faces = self._face_rooms[tuple(holding)]

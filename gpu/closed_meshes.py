@@ -40,6 +40,7 @@ class ClosedMeshes:
         self.names, self.starts = np.unique(pieces[self.order], return_index=True)
         self.ends = np.append(self.starts[1:], len(self.order))
         self._face_rooms = {}  # rooms (their indices, innermost first) -> (front, back) or None
+        self._last_sides = None  # (the solids and rooms it was made for, the last sides array)
         if not len(self.order):
             self.candidate = np.zeros(0, dtype=bool)
             return
@@ -61,7 +62,8 @@ class ClosedMeshes:
         looks into (FRONT_ROOM_SHIFT, BACK_ROOM_SHIFT), and the Rooms; None for the first
         where every side of every triangle is open and outside every room, for the second
         where there are no rooms. A candidate that holds a lamp (not a sun), a point emitter
-        or another mesh's emissive triangle is open on both sides."""
+        or another mesh's emissive triangle is open on both sides. The same array again
+        while the same candidates are solids and the same rooms lit."""
         if not self.candidate.any():
             return None, None
         solid = self.candidate.copy()
@@ -74,6 +76,10 @@ class ClosedMeshes:
         rooms = self.rooms(scene)
         if not solid.any() and rooms is None:
             return None, None
+        made = (np.flatnonzero(solid).tobytes(), None if rooms is None else
+                (tuple(rooms.holding), None if rooms.lit is None else rooms.lit.tobytes()))
+        if self._last_sides is not None and self._last_sides[0] == made:  # lamps moved within their rooms
+            return self._last_sides[1], rooms
         code = np.full(int(self.pieces.max()) + 1, OPEN, dtype=np.uint8)
         code[self.names[solid]] = np.where(self.volume[solid] > 0, FRONT, BACK)
         sides = np.where(self.pieces >= 0, code[np.maximum(self.pieces, 0)], OPEN).astype(np.uint8)
@@ -83,6 +89,7 @@ class ClosedMeshes:
                 sides &= ~np.where(np.isin(front, rooms.lit), 0, FRONT).astype(np.uint8)
                 sides &= ~np.where(np.isin(back, rooms.lit), 0, BACK).astype(np.uint8)
             sides |= (front << FRONT_ROOM_SHIFT).astype(np.uint8) | (back << BACK_ROOM_SHIFT).astype(np.uint8)
+        self._last_sides = (made, sides)
         return sides, rooms
 
     def rooms(self, scene):

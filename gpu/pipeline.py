@@ -304,7 +304,7 @@ class Pipeline:
         if key != self._open_sides.key:
             last = self._open_sides.value[0] if self._open_sides.value is not None else None
             found, rooms = closed.sides_and_rooms(scene)
-            same = found is None and last is None or found is not None and last is not None and \
+            same = found is last or found is not None and last is not None and \
                 found.shape == last.shape and np.array_equal(found, last)
             self._open_sides.put(key, (last if same else found, rooms))
         return self._open_sides.value[0]

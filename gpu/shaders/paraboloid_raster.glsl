@@ -20,13 +20,19 @@ float edge_function(vec2 a, vec2 b, vec2 c) {
     return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
 }
 
-// Whether the point `at` lies on or inside the triangle of atlas positions `w` (its
-// doubled signed area `area`), and its barycentric weights `b` there: linear on the map,
-// as the rasterizer's with w = 1.
-bool covers(vec3 w[3], float area, vec2 at, out vec3 b) {
-    b = vec3(edge_function(w[1].xy, w[2].xy, at), edge_function(w[2].xy, w[0].xy, at),
-             edge_function(w[0].xy, w[1].xy, at)) / area;
-    return all(greaterThanEqual(b, vec3(0.0)));
+// The barycentric weights of the point `at` in the triangle of map positions `p` (its
+// doubled signed area `area`): linear on the map, as the rasterizer's with w = 1.
+vec3 barycentric(vec2 p[3], float area, vec2 at) {
+    return vec3(edge_function(p[1], p[2], at), edge_function(p[2], p[0], at), edge_function(p[0], p[1], at)) / area;
+}
+
+const float SUBTEXELS = 256.0;
+// A map position in 1/SUBTEXELS of a texel from the texel `origin`, rounded as the
+// rasterizer snaps a vertex: in a small triangle's box the edge functions of such
+// integers are exact in floats, so a texel centre on an edge two triangles share is
+// covered by both, never by neither.
+vec2 snapped(vec2 position, ivec2 origin) {
+    return round((position - vec2(origin)) * SUBTEXELS);
 }
 
 int atlas_index(ivec2 texel) {

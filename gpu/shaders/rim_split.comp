@@ -42,18 +42,20 @@ bool rasterised(int triangle, vec3 corners[3]) {
     vec2 low = min(min(w[0].xy, w[1].xy), w[2].xy), high = max(max(w[0].xy, w[1].xy), w[2].xy);
     ivec2 first = ivec2(ceil(low - 0.5)), last = ivec2(floor(high - 0.5));  // texels whose centres the box holds
     if (any(greaterThan(last - first, ivec2(RASTER_SPAN - 1)))) return false;
-    float area = edge_function(w[0].xy, w[1].xy, w[2].xy);
+    vec2 p[3] = vec2[3](snapped(w[0].xy, first), snapped(w[1].xy, first), snapped(w[2].xy, first));
+    float area = edge_function(p[0], p[1], p[2]);
     if (area == 0.0) return true;  // covers no texel: the rasterizer draws none either
     for (int y = first.y; y <= last.y; ++y) {
         for (int x = first.x; x <= last.x; ++x) {
-            vec3 b;
-            if (!covers(w, area, vec2(x, y) + 0.5, b)) continue;
-            uint depth = ~floatBitsToUint(clamp(dot(b, vec3(w[0].z, w[1].z, w[2].z)), 0.0, 1.0));
+            vec3 b = barycentric(p, area, (vec2(ivec2(x, y) - first) + 0.5) * SUBTEXELS);
+            if (any(lessThan(b, vec3(0.0)))) continue;  // on an edge: covered, as by the triangle beside it
+            precise float z = clamp(dot(b, vec3(w[0].z, w[1].z, w[2].z)), 0.0, 1.0);  // both stages alike
+            uint depth = ~floatBitsToUint(z);
             int at = atlas_index(ivec2(x, y));
 #if STAGE == 1
             if (depth > nearest_depth[at]) atomicMax(nearest_depth[at], depth);  // most lose: read first
 #else
-            if (nearest_depth[at] == depth && ~uint(triangle) > nearest_triangle[at])
+            if (depth >= nearest_depth[at] && ~uint(triangle) > nearest_triangle[at])  // at the nearest
                 atomicMax(nearest_triangle[at], ~uint(triangle));
 #endif
         }

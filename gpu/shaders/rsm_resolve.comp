@@ -25,14 +25,12 @@ void main() {
     vec4 position = vec4(0.0), normal = vec4(0.0), flux = vec4(0.0);
     if (kept != 0u) {
         surface_triangle = int(~kept);
-        vec3 w[3];
+        vec2 w[3];
         for (int k = 0; k < 3; ++k)
-            w[k] = paraboloid_window((hemisphere_view * vec4(vertex_position(3 * surface_triangle + k), 1.0)).xyz);
-        float area = edge_function(w[0].xy, w[1].xy, w[2].xy);
+            w[k] = paraboloid_window((hemisphere_view * vec4(vertex_position(3 * surface_triangle + k), 1.0)).xyz).xy;
+        float area = edge_function(w[0], w[1], w[2]);
         vec2 centre = vec2(texel) + 0.5;
-        vec3 b;
-        covers(w, area, centre, b);
-        surface_weights = b.yz;
+        surface_weights = barycentric(w, area, centre).yz;
         surface_weights_dx = vec2(w[2].y - w[0].y, w[0].y - w[1].y) / area;
         surface_weights_dy = vec2(w[0].x - w[2].x, w[1].x - w[0].x) / area;
         surface_rsm_texel(surface_vec4(VERTEX_ALBEDO), surface_point(), centre, position, normal, flux);

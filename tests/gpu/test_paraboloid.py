@@ -152,14 +152,15 @@ def test_the_compute_pass_rasterises_small_triangles_as_the_rasterizer_does(glc,
     maps, listed = {}, {}
     for span in (0, mesh_buffer.RASTER_SPAN):
         monkeypatch.setattr(mesh_buffer, "RASTER_SPAN", span)
-        rsm = render_rsm(glc, mesh, light, 128, scene.bounds(), method="dpm")
+        rsm = render_rsm(glc, mesh, light, 512, scene.bounds(), method="dpm")
         maps[span] = [rsm.read(texture) for texture in (rsm.position, rsm.normal, rsm.flux)]
         listed[span] = sum(int(np.frombuffer(mesh.rim_lists[h][1].read(), dtype=np.uint32)[0]) for h in (0, 1))
         rsm.release()
     hardware, compute = maps[0], maps[mesh_buffer.RASTER_SPAN]
-    assert listed[mesh_buffer.RASTER_SPAN] < listed[0] / 10  # most triangles in front were not listed
+    assert listed[mesh_buffer.RASTER_SPAN] < listed[0] / 2  # most in front rasterised, the rest drawn over them
+    assert not np.any((hardware[0][..., 3] > 0) & (compute[0][..., 3] <= 0))  # no texel left empty
     for drawn, rasterised in zip(hardware, compute):
         differing = np.abs(drawn - rasterised).max(axis=-1) > 1e-4 * np.abs(drawn).max()
-        assert differing.mean() < 1e-3  # texel centres on an edge, equal depths
-    assert compute[2][..., :3].sum() == pytest.approx(hardware[2][..., :3].sum(), rel=1e-4)
+        assert differing.mean() < 1e-4  # equal depths, where the two keep different triangles
+    assert compute[2][..., :3].sum() == pytest.approx(hardware[2][..., :3].sum(), rel=1e-5)
     mesh.release()

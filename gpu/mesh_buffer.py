@@ -232,12 +232,12 @@ class MeshBuffer:
         for stage, defines in enumerate(stages):
             program = self.glc.compute("rim_split", **defines)
             set_uniforms(program, hemisphere_view=hemisphere_view, first_triangle=first, triangle_count=count,
-                         capacity=capacity, reset=True, **(raster or {}))
+                         capacity=capacity, reset=True, first_invocation=0, **(raster or {}))
             if stage == 0:
                 dispatch(program, 10, local=(64, 1, 1))
             if count:
                 set_uniforms(program, reset=False)
-                dispatch(program, count, local=(64, 1, 1))
+                dispatch_row(program, count, "first_invocation")
         return lists, commands
 
     def bind_surfaces(self, program):

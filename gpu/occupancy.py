@@ -6,7 +6,7 @@ import math
 import moderngl
 import numpy as np
 
-from .context import dispatch, set_uniforms
+from .context import dispatch, dispatch_row, set_uniforms
 from .grids import fit_grid
 
 VOXELS_PER_CELL = 3
@@ -127,10 +127,10 @@ class Occupancy:
         set_uniforms(program, grid_origins=np.array([grid.origin for grid in grids]),
                      voxel_sizes=np.array([grid.cell_size / self.per_cell for grid in grids]),
                      voxels=self.voxels, voxels_per_cell=self.per_cell, first_triangle=first,
-                     triangle_count=count, reset=True)
+                     triangle_count=count, reset=True, first_invocation=0)
         dispatch(program, 5, local=(64,))
         set_uniforms(program, reset=False)
-        dispatch(program, count, local=(64,))
+        dispatch_row(program, count, "first_invocation")
         program = self.glc.program("raster", "occupancy", geometry="occupancy")
         self._framebuffer.viewport = (0, 0, self.voxels, self.voxels)
         self._framebuffer.use()

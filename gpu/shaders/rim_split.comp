@@ -27,6 +27,7 @@ uniform int first_triangle;  // the lights' triangles: first_triangle .. + trian
 uniform int triangle_count;
 uniform uint capacity;  // indices per list: 3 per triangle
 uniform bool reset;
+uniform uint first_invocation;  // where this dispatch starts (gpu/context.py dispatch_row)
 #ifdef RASTER
 uniform vec2 face_origin;
 uniform float resolution;
@@ -65,7 +66,7 @@ bool rasterised(int triangle, vec3 corners[3]) {
 #endif
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = first_invocation + gl_GlobalInvocationID.x;
     if (reset) {
         // (count, instances, first index, base vertex, base instance) of both commands.
         if (i < 10u) commands[i] = i % 5u == 1u ? 1u : (i == 7u ? capacity : 0u);

@@ -18,11 +18,12 @@ uniform float voxel_sizes[GRIDS];
 uniform int first_triangle;   // the lights' triangles: first_triangle .. + triangle_count
 uniform int triangle_count;
 uniform bool reset;
+uniform uint first_invocation;  // where this dispatch starts (gpu/context.py dispatch_row)
 const int MOST_STEPS = 16;
 
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = first_invocation + gl_GlobalInvocationID.x;
     if (reset) {
         if (i < 5u) command[i] = i == 1u ? 1u : 0u;
         return;

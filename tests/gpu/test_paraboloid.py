@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from lpv_preview.gpu import mesh_buffer, paraboloid
+from lpv_preview.gpu import context, mesh_buffer, paraboloid
 from lpv_preview.gpu.mesh_buffer import MeshBuffer
 from lpv_preview.gpu.rsm import hemisphere_views, render_rsm
 from lpv_preview.gpu.scene import Camera, Light, Scene
@@ -163,4 +163,19 @@ def test_the_compute_pass_rasterises_small_triangles_as_the_rasterizer_does(glc,
         differing = np.abs(drawn - rasterised).max(axis=-1) > 1e-4 * np.abs(drawn).max()
         assert differing.mean() < 1e-4  # equal depths, where the two keep different triangles
     assert compute[2][..., :3].sum() == pytest.approx(hardware[2][..., :3].sum(), rel=1e-5)
+    mesh.release()
+
+
+def test_the_rim_split_reaches_every_triangle_of_a_scene_larger_than_one_dispatch(glc, monkeypatch):
+    # GL promises 65,535 workgroups a dispatch: 4,194,240 triangles in rows of 64. Rows
+    # of 640 triangles here split the room's 19,200 into 30 dispatches.
+    scene = room_scene(40)
+    mesh = MeshBuffer(glc, scene)
+    whole = render_rsm(glc, mesh, scene.lights[0], 128, scene.bounds(), method="dpm")
+    monkeypatch.setattr(context, "ROW_INVOCATIONS", 640)
+    rowed = render_rsm(glc, mesh, scene.lights[0], 128, scene.bounds(), method="dpm")
+    for texture in ("position", "normal", "flux"):
+        np.testing.assert_array_equal(rowed.read(getattr(rowed, texture)), whole.read(getattr(whole, texture)))
+    for rsm in (whole, rowed):
+        rsm.release()
     mesh.release()

@@ -139,4 +139,3 @@ def test_a_camera_inside_a_solid_sees_it_black_and_one_outside_sees_it_lit():
         seen_out = render_once(floor_and_box(reverse=reverse), settings)
         box_pixels = seen_out.passes["combined"][8:24, 20:28]  # the box, in the view's middle
         assert box_pixels.mean() > 0.05
-

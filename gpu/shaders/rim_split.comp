@@ -9,11 +9,11 @@
 //
 // With RASTER, a triangle wholly in front whose box on the map spans at most RASTER_SPAN
 // texels each way is not listed: this pass rasterises it as the rasterizer would (w = 1:
-// depth and weights linear on the map, texel centres on or inside its edges), in two
-// stages over the same triangles (paraboloid_raster.glsl). STAGE 1 keeps each texel's
-// nearest depth (the bits of a float in [0, 1] order as the floats do), STAGE 2 the
-// least triangle at that depth, as an in-order draw's depth test keeps the first;
-// rsm_resolve.frag then makes their texels. The rasterizer of a GPU with few raster units
+// depth and weights linear on the map; corners snapped, texel centres on or inside its
+// edges), in two stages over the same triangles (paraboloid_raster.glsl). STAGE 1 keeps
+// each texel's nearest depth (the bits of a float in [0, 1] order as the floats do),
+// STAGE 2 the least triangle at that depth, as an in-order draw's depth test keeps the
+// first; rsm_resolve.comp then makes their texels. The rasterizer of a GPU with few raster units
 // is slow on the small triangles most of a large scene's are (docs/performance.md,
 // "Speed").
 #include "vertex_layout.glsl"

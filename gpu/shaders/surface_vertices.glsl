@@ -5,7 +5,7 @@
 #include "surface.glsl"
 #include "triangle_corners.glsl"
 #ifdef RESOLVED_SURFACE
-int surface_triangle;  // set by a pass that finds its surface itself (rsm_resolve.frag)
+int surface_triangle;  // set by a pass that finds its surface itself (rsm_resolve.comp)
 vec2 surface_weights;
 vec2 surface_weights_dx, surface_weights_dy;  // their change a pixel along x and along y
 #else

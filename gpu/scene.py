@@ -260,12 +260,16 @@ def _sane_point_emitters(emitters, dropped):
         raise LPVError(f"The point emitters are an array of shape {rows.shape}; give one row of "
                        f"{POINT_EMITTER_COLUMNS} numbers per emitter: position xyz, flux rgb, area.")
     rows = np.asarray(rows, dtype=np.float32)
-    good = np.ones(len(rows), dtype=bool)
+    with np.errstate(invalid="ignore"):
+        lit = (rows[:, 3] > 0) | (rows[:, 4] > 0) | (rows[:, 5] > 0)
+        if not len(rows) or (lit.all() and np.isfinite(rows.max()) and np.isfinite(rows.min()) and
+                             rows[:, 3:].min() >= 0):  # all sane, as most are: whole arrays at a time
+            return np.ascontiguousarray(rows)
+    good = lit
     with np.errstate(invalid="ignore"):
         for column in range(POINT_EMITTER_COLUMNS):  # a column at a time: a row's seven floats are strided
             values = rows[:, column]
             good &= np.isfinite(values) if column < 3 else np.isfinite(values) & (values >= 0)
-        good &= (rows[:, 3] > 0) | (rows[:, 4] > 0) | (rows[:, 5] > 0)
     if not good.all():
         dropped["emitters"] = dropped.get("emitters", 0) + int((~good).sum())
     if good.all():

@@ -132,3 +132,20 @@ def test_ctrl_c_during_a_shader_compile_stops_the_command_after_it(glc):
         assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     finally:
         signal.signal(signal.SIGINT, before)
+
+
+
+@pytest.mark.parametrize("bad, why", [((0, 1), np.nan), ((1, 2), np.inf), ((2, 4), -1.0), ((3, 6), -np.inf)])
+def test_each_bad_point_emitter_is_dropped_and_counted(bad, why):
+    emitters = np.tile(np.array([[0.0, 0.0, 1.0, 1.0, 0.5, 0.2, 1e-4]], dtype=np.float32), (6, 1))
+    emitters[5, 3:6] = 0.0  # no flux
+    triangle = np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]], np.float32)
+
+    def sanitized(rows):
+        return Scene(triangle, np.zeros_like(triangle), np.ones((1, 3), np.float32), [],
+                     Camera.look_at((0, -3, 1), (0, 0, 0)), point_emitters=rows).sanitize()
+    sane = sanitized(emitters[:5])
+    assert sane.point_emitter_count == 5 and "emitters" not in sane.dropped
+    emitters[bad] = why
+    dirty = sanitized(emitters)
+    assert dirty.point_emitter_count == 4 and dirty.dropped["emitters"] == 2

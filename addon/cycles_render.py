@@ -16,9 +16,9 @@ import numpy as np
 import addon_utils  # on the path only once bpy is imported
 from mathutils import Matrix
 
+from ..gpu.ctrl_c import ctrl_c_held
 from ..gpu.errors import LPVError, first_line
 from ..gpu.image_io import read_exr_channels
-from .interrupt import interrupt_after_render
 
 ColourPass = namedtuple("ColourPass", "view_layer_flag exr_layer")
 
@@ -189,7 +189,7 @@ def render_to_file(scene, exr_path, engine="Cycles"):
     """Render `scene` (set up by `apply_output_settings`) into `exr_path`; its wall seconds."""
     started = time.perf_counter()
     try:
-        with interrupt_after_render():
+        with ctrl_c_held():
             bpy.ops.render.render(write_still=True, scene=scene.name)
     except RuntimeError as error:
         reason = first_line(error).removeprefix("Error: ")

@@ -7,17 +7,17 @@ in renders make that depsgraph differ from the viewport's that
 the Cycles references' cache keys ask for a render of our own engine, whose `render()`
 extracts the Scene from the depsgraph Blender hands it and renders nothing
 (final_render.py `take_extraction`). The engine is given back as it was, also on error
-and on Ctrl-C (held back until the render call returns: addon/interrupt.py).
+and on Ctrl-C (held back until the render call returns: gpu/ctrl_c.py).
 """
 from contextlib import contextmanager
 
 import bpy
 
+from ..gpu.ctrl_c import ctrl_c_held
 from ..gpu.errors import LPVError, first_line
 from .cycles_render import view_layer_to_render
 from .engine import ENGINE_ID, LPVPreviewEngine
 from .final_render import ExtractionRequest, pending_extractions
-from .interrupt import interrupt_after_render
 
 
 @contextmanager
@@ -54,7 +54,7 @@ def _extraction(scene, request):
     with _our_engine(scene):
         pending_extractions.append(request)
         try:
-            with interrupt_after_render():
+            with ctrl_c_held():
                 bpy.ops.render.render(scene=scene.name, layer=view_layer_to_render(scene).name)
         except RuntimeError as error:  # Blender refused to start: no camera, say
             if scene.camera is None:

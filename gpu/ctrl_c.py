@@ -1,7 +1,11 @@
 """Ctrl-C held back through work it must not cut in two: a shader's compile (moderngl
 stores what its Python helpers return unchecked, so a KeyboardInterrupt raised in one
-crashes the process) and the making or removal of a temporary folder (cut in two, it
-would stay behind)."""
+crashes the process), the making or removal of a temporary folder (cut in two, it would
+stay behind) and a Blender render (Blender runs a render engine's Python, Cycles' or
+ours, inside its render operator and prints, then drops, an exception raised there: a
+KeyboardInterrupt in the middle of a render would be lost and the render would go on;
+raised once the render call has returned, the caller's clean-up runs and the command
+stops). Blender started with -b handles Ctrl-C itself, and its window has Esc."""
 import signal
 import threading
 from contextlib import contextmanager

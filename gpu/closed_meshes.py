@@ -66,14 +66,14 @@ class ClosedMeshes:
         while the same candidates are solids and the same rooms lit."""
         if not self.candidate.any():
             return None, None
+        lamps = [np.asarray(light.position, dtype=np.float64) for light in scene.lights if light.kind != "SUN"]
+        held = [self._holding(lamp, self.candidate) for lamp in lamps]  # the closed meshes each lamp lies in
         solid = self.candidate.copy()
+        solid[sorted(set().union(*held))] = False
         points, owners = _emitter_points(scene, self.pieces)
         for point, owner in zip(points, owners):
-            inside_box = solid & np.all((point >= self.low) & (point <= self.high), axis=1) & (self.names != owner)
-            for index in np.flatnonzero(inside_box):
-                if _inside(point, self._corners(index)):
-                    solid[index] = False
-        rooms = self.rooms(scene)
+            solid[list(self._holding(point, solid & (self.names != owner)))] = False
+        rooms = self._rooms(scene, lamps, held)
         if not solid.any() and rooms is None:
             return None, None
         made = (np.flatnonzero(solid).tobytes(), None if rooms is None else
@@ -92,15 +92,10 @@ class ClosedMeshes:
         self._last_sides = (made, sides)
         return sides, rooms
 
-    def rooms(self, scene):
-        """The scene's Rooms: the closed meshes a lamp (not a sun) lies in; None where none
-        does, more than MAX_ROOMS do or sorting the faces would take over ROOM_TESTS."""
-        lamps = [np.asarray(light.position, dtype=np.float64) for light in scene.lights if light.kind != "SUN"]
-        if not lamps or not self.candidate.any():
-            return None
-        held = [{int(index) for index in np.flatnonzero(self.candidate & np.all((lamp >= self.low) &
-                                                                            (lamp <= self.high), axis=1))
-                 if _inside(lamp, self._corners(index))} for lamp in lamps]  # the closed meshes each lamp lies in
+    def _rooms(self, scene, lamps, held):
+        """The scene's Rooms: the closed meshes some of its `lamps` (not suns) lie in (`held`,
+        the indices of those each lies in); None where none does, more than MAX_ROOMS do or
+        sorting the faces would take over ROOM_TESTS."""
         holding = sorted(set().union(*held), key=lambda index: abs(self.volume[index]))  # innermost first
         if not holding or len(holding) > MAX_ROOMS:
             return None
@@ -133,9 +128,10 @@ class ClosedMeshes:
             (back if self.volume[index] > 0 else front)[own] = number  # the side that looks in
         return front, back
 
-    def _holds(self, index, point):
-        return bool(np.all((point >= self.low[index]) & (point <= self.high[index]))) and \
-            _inside(point, self._corners(index))
+    def _holding(self, point, among):
+        """The indices of the closed meshes `among` (bool per closed mesh) `point` lies in."""
+        boxed = among & np.all((point >= self.low) & (point <= self.high), axis=1)
+        return {int(index) for index in np.flatnonzero(boxed) if _inside(point, self._corners(index))}
 
     def _corners(self, index):
         return np.asarray(self.triangles[self.order[self.starts[index]:self.ends[index]]], dtype=np.float64)
@@ -165,8 +161,9 @@ class Rooms:
             return 0
         key = tuple(np.round(np.asarray(light.position, dtype=np.float64), 9))
         if key not in self._lamp_rooms:
+            inside = self.closed._holding(np.asarray(key), self.closed.candidate)
             self._lamp_rooms[key] = next((number for number, index in enumerate(self.holding, start=1)
-                                          if self.closed._holds(index, np.asarray(key))), 0)
+                                          if index in inside), 0)
         return self._lamp_rooms[key]
 
 
@@ -188,11 +185,9 @@ def _see_through(scene):
 
 
 def _emitter_points(scene, pieces):
-    """Points where light starts within the scene, and the closed mesh each lies on (-1:
-    none): lamps other than suns, point emitters and emissive triangles' centres."""
-    lamps = [light.position for light in scene.lights if light.kind != "SUN"]
-    points = [np.reshape(np.asarray(lamps, dtype=np.float64), (-1, 3))]
-    owners = [np.full(len(lamps), -1)]
+    """Points where light starts within the scene other than lamps, and the closed mesh
+    each lies on (-1: none): point emitters and emissive triangles' centres."""
+    points, owners = [np.zeros((0, 3))], [np.zeros(0, dtype=int)]
     if scene.point_emitters is not None and len(scene.point_emitters):
         emitters = np.asarray(scene.point_emitters, dtype=np.float64)
         emitters = emitters[::max(1, -(-len(emitters) // INSIDE_TESTS))]

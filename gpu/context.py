@@ -109,7 +109,7 @@ class GLContext:
         self._programs = {}
         self._timed_queries = []  # (stats, key, query) of timed blocks not read yet
         self._idle_queries = []
-        self._free = {}  # (kind, size, components, dtype) -> released textures to reuse
+        self._free = {}  # (kind, size, ...) -> released textures, depth renderbuffers, buffers to reuse
         self._specular_albedo = None  # the glossy layer's table, made on first use
 
     @classmethod
@@ -149,11 +149,19 @@ class GLContext:
         free = self._free.get(("depth", tuple(size), 1, "f4"))
         return free.pop() if free else self.gl.depth_renderbuffer(tuple(size))
 
+    def scratch_buffer(self, size):
+        """A buffer of `size` bytes, a free one where `recycle` was given one."""
+        free = self._free.get(("buffer", size))
+        return free.pop() if free else self.gl.buffer(reserve=size)
+
     def recycle(self, *resources):
-        """Give textures and depth renderbuffers from `texture`/`depth_renderbuffer` back."""
+        """Give textures, depth renderbuffers and buffers from `texture`,
+        `depth_renderbuffer` and `scratch_buffer` back."""
         for resource in resources:
             if hasattr(resource, "filter"):  # a texture; depth renderbuffers have no filtering
                 key = ("texture", tuple(resource.size), resource.components, resource.dtype)
+            elif hasattr(resource, "orphan"):  # a buffer
+                key = ("buffer", resource.size)
             else:
                 key = ("depth", tuple(resource.size), 1, "f4")
             self._free.setdefault(key, []).append(resource)

@@ -253,7 +253,7 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
     gl.enable(moderngl.DEPTH_TEST)
     gl.disable(moderngl.CULL_FACE)
     mode = moderngl.PATCHES if tessellated else moderngl.TRIANGLES
-    nearest = [gl.buffer(reserve=atlas_size[0] * atlas_size[1] * 4) for _ in range(2)] if rasterised else []
+    nearest = [glc.scratch_buffer(atlas_size[0] * atlas_size[1] * 4) for _ in range(2)] if rasterised else []
     for binding, buffer in enumerate(nearest, start=NEAREST_BINDING):
         zero_buffer(glc, buffer)
         buffer.bind_to_storage_buffer(binding)
@@ -270,11 +270,9 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
         for face, (matrix, face_origin) in enumerate(zip(faces, origins)):
             framebuffer.viewport = (int(face_origin[0]), int(face_origin[1]), resolution, resolution)
             for program in programs:
-                set_uniforms(program, view_projection=matrix, hemisphere_view=matrix, near=near, far=far,
-                             face_origin=tuple(float(v) for v in face_origin), resolution=float(resolution),
-                             projection_kind=kind, ortho_texel_area=ortho_texel ** 2,
-                             tessellation_unit=float(tessellation_unit or 0.0), cut_out_pattern=pattern,
-                             atlas_width=atlas_size[0], **uniforms)
+                set_uniforms(program, view_projection=matrix, hemisphere_view=matrix, projection_kind=kind,
+                             ortho_texel_area=ortho_texel ** 2, tessellation_unit=float(tessellation_unit or 0.0),
+                             cut_out_pattern=pattern, **face_uniforms[face], **uniforms)
             if kind == PROJECTION_PARABOLOID:
                 lists, commands = rims[face]
                 draw = lambda: [mesh.vertex_array(program, lists).render_indirect(  # noqa: E731
@@ -287,8 +285,6 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
                 draw()
     framebuffer.depth_mask = True
     framebuffer.release()
-    for buffer in nearest:
-        buffer.release()
-    glc.recycle(depth)
+    glc.recycle(depth, *nearest)
     return ReflectiveShadowMap(glc, light, resolution, kind, np.array(faces), origins, atlas_size, *textures,
                                uniforms, ortho_texel, flux_bound, tint)

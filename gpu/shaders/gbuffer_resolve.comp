@@ -11,6 +11,7 @@
 #include "common.glsl"
 #include "specular.glsl"
 #include "triangle_corners.glsl"
+#include "face_codes.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 #ifdef SHUT_SIDES
 layout(std430, binding = 0) readonly buffer OpenSides { uint open_sides[]; };  // a byte a triangle
@@ -41,12 +42,11 @@ void main() {
     if (any(greaterThanEqual(pixel, imageSize(g_surface_image)))) return;
     if (texelFetch(g_depth, pixel, 0).r >= 1.0) return;
     uint seen = texelFetch(g_triangles, pixel, 0).r;
-    int triangle = int(seen & 0x7fffffffu);
+    int triangle = seen_triangle(seen);
     vec2 w = weights_at(pixel, triangle);
     vec3 n = normalize(corner_mix3(triangle, w, VERTEX_NORMAL));
 #ifdef SHUT_SIDES
-    uint sides = open_sides[triangle >> 2] >> (8 * (triangle & 3));
-    if ((sides & ((seen >> 31) == 1u ? 1u : 2u)) == 0u) {  // FRONT: the side its winding faces
+    if ((TRIANGLE_BYTE(open_sides, triangle) & (seen_front(seen) ? 1u : 2u)) == 0u) {  // FRONT: the side its winding faces
         imageStore(g_surface_image, pixel, gbuffer_pack(n, vec3(0.0)));
         imageStore(g_specular_image, pixel, gbuffer_pack_specular(vec3(0.0), 1.0, 0.0));
         return;

@@ -5,6 +5,7 @@
 // position, face normal and the area each stands for, the colour its triangle bounces and
 // the sides of it light reaches (gpu/closed_meshes.py).
 #include "hash.glsl"
+#include "face_codes.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Positions { float positions[]; };    // nine a triangle (mesh_buffer.py)
 layout(std430, binding = 1) readonly buffer Cumulative { float cumulative[]; };  // area shares summed, last 1
@@ -40,6 +41,6 @@ void main() {
     vec3 p = (1.0 - root) * a + root * (1.0 - v) * b + root * v * c;
     vec3 across = cross(b - a, c - a);
     vec3 n = dot(across, across) > 0.0 ? normalize(across) : vec3(0.0, 0.0, 1.0);
-    uint sides = sides_known ? (open_sides[t >> 2] >> (8 * (t & 3))) & uint(OPEN) : uint(OPEN);  // not the rooms above
+    uint sides = sides_known ? TRIANGLE_BYTE(open_sides, t) & uint(OPEN) : uint(OPEN);  // not the rooms above
     receivers[i] = Receiver(vec4(p, 1.0), vec4(n, area_each), colours[low].rgb, float(sides));
 }

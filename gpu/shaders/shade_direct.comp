@@ -29,11 +29,12 @@ layout(std430, binding = 0) readonly buffer SidesAndRooms { uint sides_and_rooms
 uniform usampler2D g_triangles;  // gbuffer.frag's: the triangle, bit 31 set where its front side is seen
 uniform int light_room;
 
+#include "face_codes.glsl"
+
 int seen_room(ivec2 pixel) {
     uint seen = texelFetch(g_triangles, pixel, 0).r;
-    int triangle = int(seen & 0x7fffffffu);
-    uint code = sides_and_rooms[triangle >> 2] >> (8 * (triangle & 3));
-    return int((seen >> 31) == 1u ? (code >> FRONT_ROOM_SHIFT) & 7u : (code >> BACK_ROOM_SHIFT) & 7u);
+    uint code = TRIANGLE_BYTE(sides_and_rooms, seen_triangle(seen));
+    return int(code >> (seen_front(seen) ? FRONT_ROOM_SHIFT : BACK_ROOM_SHIFT)) & 7;
 }
 #endif
 

@@ -19,11 +19,11 @@ def ctrl_c_held():
     if threading.current_thread() is not threading.main_thread() or not callable(handler):
         yield
         return
-    pressed = []
-    signal.signal(signal.SIGINT, lambda signum, frame: pressed.append((signum, frame)))
+    pressed = []  # not the frame: it would keep the body's objects (a render's engine) alive
+    signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
     try:
         yield
     finally:
         signal.signal(signal.SIGINT, handler)
         if pressed:
-            handler(*pressed[0])
+            handler(pressed[0], None)

@@ -4,7 +4,6 @@ scene between requests (persistent data), so a request costs little beyond its s
 A worker process holds one (corrections/sample_workers.py)."""
 import math
 import os
-import shutil
 import time
 
 import bpy
@@ -13,7 +12,7 @@ from mathutils import Matrix
 
 from ..corrections.sample_request import SampleResult
 from ..gpu.errors import LPVError
-from ..gpu.temporary_folders import make_temporary_folder
+from ..gpu.temporary_folders import make_temporary_folder, remove_temporary_folder
 from .cycles_render import (PASS_BY_NAME, REFERENCE_BOUNCES, REFERENCE_FILTER_WIDTH, apply_render_settings, assign,
                             enable_cycles, read_exr_passes, render_to_file, view_layer_to_render)
 
@@ -43,7 +42,7 @@ class SampleRenderer:
         self._folder = make_temporary_folder("lpv_cycles_samples_")  # one for every request: no setup each
 
     def close(self):
-        shutil.rmtree(self._folder, ignore_errors=True)
+        remove_temporary_folder(self._folder)
 
     def render(self, request, threads=None):
         """The SampleResult of `request`, Cycles on `threads` threads (None: all)."""

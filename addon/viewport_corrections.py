@@ -11,7 +11,6 @@ views that rested. Nothing here draws: it fills the session's display rows, so i
 background mode.
 """
 import os
-import shutil
 import time
 from dataclasses import replace
 
@@ -21,7 +20,7 @@ from ..corrections.corrector import Corrector
 from ..corrections.sample_request import check_projection
 from ..corrections.sample_workers import SampleWorkers
 from ..gpu.errors import LPVError
-from ..gpu.temporary_folders import make_temporary_folder
+from ..gpu.temporary_folders import make_temporary_folder, remove_temporary_folder
 from .corrected_render import write_scene
 from .sample_renderer import open_sample_renderer
 
@@ -153,6 +152,6 @@ class ViewportCorrections:
             self.corrector.cancel()
             self.workers.close()
         if self.folder is not None:
-            shutil.rmtree(self.folder, ignore_errors=True)
+            remove_temporary_folder(self.folder)
         self.workers = self.corrector = self.folder = self.worker_count = None
         self.copies, self.shown, self.rested, self.last, self.problem = [], None, None, None, None

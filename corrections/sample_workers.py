@@ -9,10 +9,9 @@ security=...)` joins a studio's cluster, over TLS only: a Dask scheduler runs wh
 code it is sent, so it is never reached in the clear (README, "Cycles sample workers").
 """
 import logging
-import shutil
 
 from ..gpu.errors import LPVError, first_line
-from ..gpu.temporary_folders import make_temporary_folder
+from ..gpu.temporary_folders import make_temporary_folder, remove_temporary_folder
 from .sample_request import SampleRequest
 from .worker_task import open_blend, render_request
 
@@ -130,7 +129,7 @@ class SampleWorkers:
         if self.cluster is not None:
             self.cluster.close()
         if self.folder is not None:
-            shutil.rmtree(self.folder, ignore_errors=True)
+            remove_temporary_folder(self.folder)
 
     def __enter__(self):
         return self

@@ -17,6 +17,13 @@ def make_temporary_folder(prefix):
                        f"'{tempfile.gettempdir()}' ({error.strerror}); set TMPDIR to a writable folder.") from error
 
 
+def remove_temporary_folder(folder):
+    """Remove a temporary folder and what it holds; a Ctrl-C that comes meanwhile waits
+    until it is gone (cut in two, the folder would stay behind)."""
+    with ctrl_c_held():
+        shutil.rmtree(folder, ignore_errors=True)
+
+
 @contextmanager
 def temporary_folder(prefix="lpv_cycles_"):
     """A temporary folder for a Cycles render's file, removed afterwards, also on Ctrl-C:
@@ -28,5 +35,4 @@ def temporary_folder(prefix="lpv_cycles_"):
         yield folder
     finally:
         if folder is not None:
-            with ctrl_c_held():
-                shutil.rmtree(folder, ignore_errors=True)
+            remove_temporary_folder(folder)

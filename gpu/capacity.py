@@ -77,8 +77,9 @@ def mapped_lights(s, scene):
 
 
 def emitter_bytes(s, scene, pixels, lamps):
-    """The emitter grid (gpu/emitter_grid.py: clusters of every level, three textures,
-    the emitters twice, an irradiance image), the emitters' shadows (a light grid with
+    """The emitter grid (gpu/emitter_grid.py: clusters of every level, three textures
+    and, super-sampled, three twice as fine, the emitters twice, an irradiance image),
+    the emitters' shadows (a light grid with
     unshadowed volumes, its occupancy and clusters), the scene's emitters' glow
     (gpu/shade.py glow_points: four floats a pixel, a list entry an emitter) and the
     receivers of their bounce, for the scene's point emitters and `lamps` point lights
@@ -88,7 +89,8 @@ def emitter_bytes(s, scene, pixels, lamps):
     if not count:
         return bounce
     side = grid_resolution(s.emitter_grid_resolution)
-    grid = side ** 3 * (CLUSTER_FLOATS * 4 * 8 // 7 + 3 * 16) + count * (EMITTER_BYTES + POINT_EMITTER_COLUMNS * 4)
+    fine = 8 * 3 * 16 if s.emitter_interpolation == "supersampled" else 0
+    grid = side ** 3 * (CLUSTER_FLOATS * 4 * 8 // 7 + 3 * 16 + fine) + count * (EMITTER_BYTES + POINT_EMITTER_COLUMNS * 4)
     n = s.lpv_resolution
     shadows = (2 * s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL
                + occupancy_bytes(s.grid_levels * s.grid_phases, n, VOXELS_PER_CELL)

@@ -12,6 +12,7 @@ A context is current on the thread that made it and used there only: each thread
 renders has its own (`GLContext.shared()`). Inside Blender that is one thread of ours
 (gpu/gl_thread.py), never Blender's drawing thread, whose own context stays current.
 """
+import ctypes
 import os
 import sys
 import threading
@@ -21,6 +22,7 @@ from pathlib import Path
 
 from .ctrl_c import ctrl_c_held
 from .errors import LPVError
+from .host_buffer import UploadBuffer
 from .specular_albedo import texture_rows
 
 SHADER_DIR = Path(__file__).parent / "shaders"
@@ -111,6 +113,7 @@ class GLContext:
         self._idle_queries = []
         self._free = {}  # (kind, size, ...) -> released textures, depth renderbuffers, buffers to reuse
         self._specular_albedo = None  # the glossy layer's table, made on first use
+        self._upload = None  # the UploadBuffer of `write`, made on first use and grown (False: none maps)
 
     @classmethod
     @contextmanager
@@ -148,6 +151,26 @@ class GLContext:
     def depth_renderbuffer(self, size):
         free = self._free.get(("depth", tuple(size), 1, "f4"))
         return free.pop() if free else self.gl.depth_renderbuffer(tuple(size))
+
+    def write(self, buffer, arrays, offset=0):
+        """Write `arrays` (contiguous numpy arrays) one after another into `buffer` from byte
+        `offset` on: together at least STAGED_WRITE_BYTES through an UploadBuffer
+        (gpu/host_buffer.py) of at most UPLOAD_BYTES_MOST, whose copy several threads
+        make, where the driver's write copies on one; smaller ones, or where no buffer
+        maps, by the driver."""
+        total = sum(array.nbytes for array in arrays)
+        if total >= STAGED_WRITE_BYTES and self._upload is not False:
+            size = min(1 << (total - 1).bit_length(), UPLOAD_BYTES_MOST)
+            if self._upload is None or self._upload.size < size:
+                if self._upload is not None:
+                    self._upload.release()
+                self._upload = UploadBuffer.make(self.gl, size) or False
+            if self._upload:
+                self._upload.write(buffer, arrays, offset)
+                return
+        for array in arrays:
+            buffer.write(array, offset=offset)
+            offset += array.nbytes
 
     def scratch_buffer(self, size):
         """A buffer of `size` bytes, a free one where `recycle` was given one."""
@@ -243,8 +266,14 @@ class GLContext:
             for resource in resources:
                 resource.release()
         self._free.clear()
+        if self._upload:
+            self._upload.release()
         self.gl.release()
 
+
+STAGED_WRITE_BYTES, UPLOAD_BYTES_MOST = 1 << 20, 1 << 26
+"""Writes from the first size on go through the context's UploadBuffer (`GLContext.write`),
+which holds at most the second (pinned host memory) and copies larger ones in parts."""
 
 DTYPE_BYTES = {"f1": 1, "f2": 2, "f4": 4, "u1": 1, "u2": 2, "u4": 4, "i1": 1, "i2": 2, "i4": 4}
 
@@ -336,6 +365,7 @@ def run_workgroups(program, count):
     gl_WorkGroupID.x (rows of WORKGROUP_ROW), its writes made visible."""
     program.run(min(count, WORKGROUP_ROW), -(-count // WORKGROUP_ROW), 1)
     program.ctx.memory_barrier()
+    submit(program.ctx)
 
 
 IMAGE_FORMATS = {("f4", 4): "rgba32f", ("f2", 4): "rgba16f", ("f4", 1): "r32f", ("f2", 1): "r16f"}
@@ -358,8 +388,24 @@ def zero_buffer(glc, buffer):
 
 
 def dispatch(program, *counts, local=(8, 8, 1)):
-    """Run a compute shader over `counts` invocations and make its writes visible."""
+    """Run a compute shader over `counts` invocations, make its writes visible and hand it
+    to the GPU (`submit`)."""
     groups = [max(1, -(-c // l)) for c, l in zip(counts, local)]
     groups += [1] * (3 - len(groups))
     program.run(*groups)
     program.ctx.memory_barrier()
+    submit(program.ctx)
+
+
+def submit(gl):
+    """Hand the commands issued so far to the GPU (glFlush, which moderngl does not wrap):
+    after each wait for a result, the driver held the next commands back, the GPU idle
+    (docs/performance.md, "An emitter frame")."""
+    flush = getattr(gl, "lpv_flush", None)
+    if flush is None:
+        try:
+            address = gl.mglo._context.load("glFlush")
+        except AttributeError:  # a loader without its functions: the driver flushes when it will
+            address = 0
+        flush = gl.lpv_flush = ctypes.CFUNCTYPE(None)(address) if address else (lambda: None)
+    flush()

@@ -81,6 +81,16 @@ def grid_resolution(setting):
     return 1 << max(3, int(setting - 1).bit_length())
 
 
+def _grid_textures(gl, resolution):
+    """The colour sum and the direction sum's halves: three RGBA32F cubes of `resolution`
+    texels a side, read with trilinear filtering, clamped at their edges."""
+    textures = tuple(gl.texture3d((resolution,) * 3, 4, dtype="f4") for _ in range(3))
+    for texture in textures:
+        texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        texture.repeat_x = texture.repeat_y = texture.repeat_z = False
+    return textures
+
+
 def grid_box(box, resolution):
     """(origin, cell size) of a cube of `resolution` cells whose first and last cell
     centres lie on the faces of a cube around `box` (low, high), a hair larger: the walls
@@ -104,17 +114,15 @@ class EmitterGrid:
         self.offsets = np.concatenate([[0], np.cumsum([size ** 3 for size in sizes])[:-1]]).astype(np.int32)
         gl = glc.gl
         self.clusters = gl.buffer(reserve=int(sum(size ** 3 for size in sizes)) * CLUSTER_FLOATS * 4)
-        self.textures = tuple(gl.texture3d((resolution,) * 3, 4, dtype="f4") for _ in range(3))
-        for texture in self.textures:
-            texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
-            texture.repeat_x = texture.repeat_y = texture.repeat_z = False
+        self.textures = _grid_textures(gl, resolution)
+        self.fine_textures = None  # twice as fine, for the super-sampled read: made on first use
         self.emitters = self._packed = None
         self._selected = gl.buffer(reserve=len(SELECTION_START))
         self.count = self.scene_count = 0
         self.selection = None  # the EmitterSelection of the last `select`
         self.irradiance = None
         self.origin, self.cell_size = np.zeros(3), 1.0
-        self._key = self._built = None
+        self._key = self._built = self._fine_built = None
 
     def upload(self, emitters, lamps, key):
         """Take the scene's point emitters and the point lights beyond the map budget (each
@@ -132,11 +140,7 @@ class EmitterGrid:
         if self.emitters is None:
             self.emitters = self.glc.gl.buffer(reserve=max(count, 1) * EMITTER_BYTES)
             self._packed = self.glc.gl.buffer(reserve=max(count, 1) * POINT_EMITTER_COLUMNS * 4)
-        offset = 0
-        for rows in parts:
-            if len(rows):
-                self._packed.write(rows, offset=offset)
-                offset += rows.nbytes
+        self.glc.write(self._packed, [rows for rows in parts if len(rows)])
         self.count = count
         self._key = key
         self._built = self.selection = None
@@ -206,12 +210,28 @@ class EmitterGrid:
             self.irradiance = self.glc.gl.texture(size, 4, dtype="f4")
         return self.irradiance
 
+    def supersampled_textures(self):
+        """The textures twice as fine whose trilinear read is the super-sampled read of the
+        grid's (shaders/emitter_supersample.comp), made again once per build."""
+        if self.fine_textures is None:
+            self.fine_textures = _grid_textures(self.glc.gl, 2 * self.resolution)
+        if self._fine_built != self._built:
+            program = self.glc.compute("emitter_supersample")
+            for unit, (texture, fine) in enumerate(zip(self.textures, self.fine_textures)):
+                texture.use(location=unit)
+                fine.bind_to_image(unit, read=False, write=True)
+            set_uniforms(program, colour_sum=0, direction_positive=1, direction_negative=2, grid_size=self.resolution)
+            dispatch(program, *(2 * self.resolution,) * 3, local=(4, 4, 4))
+            self._fine_built = self._built
+        return self.fine_textures
+
     def shade(self, targets, uniforms, interpolation):
         """Every pixel's irradiance from the grid into `irradiance`. `uniforms` are the
         G-buffer's, its textures bound."""
         image = self._image(targets.size)
+        textures = self.supersampled_textures() if interpolation == "supersampled" else self.textures
         program = self.glc.compute("emitter_shade", INTERPOLATION=EMITTER_INTERPOLATIONS.index(interpolation))
-        for unit, texture in enumerate(self.textures, start=2):
+        for unit, texture in enumerate(textures, start=2):
             texture.use(location=unit)
         image.bind_to_image(0, read=False, write=True)
         set_uniforms(program, **uniforms, colour_sum=2, direction_positive=3, direction_negative=4,
@@ -247,7 +267,7 @@ class EmitterGrid:
         add_irradiance(self.glc, targets, uniforms, image)
 
     def resources(self):
-        held = (self.clusters, *self.textures, self._selected)
+        held = (self.clusters, *self.textures, *(self.fine_textures or ()), self._selected)
         return held + tuple(r for r in (self.emitters, self._packed, self.irradiance) if r is not None)
 
     def release(self):

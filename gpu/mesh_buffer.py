@@ -74,20 +74,19 @@ def interleave(glc, scene):
     gl = glc.gl
     count = scene.triangle_count
     vertices = gl.buffer(reserve=max(count, 1) * 3 * VERTEX_FLOATS * 4)
-    positions = gl.buffer(np.ascontiguousarray(scene.triangles, dtype=np.float32)) if count else \
-        gl.buffer(reserve=POSITION_BYTES)
     if not count:
-        return vertices, positions
-    normals = gl.buffer(np.ascontiguousarray(scene.normals, dtype=np.float32))
+        return vertices, gl.buffer(reserve=POSITION_BYTES)
+    corners, normal_rows = (np.ascontiguousarray(rows, dtype=np.float32) for rows in (scene.triangles, scene.normals))
+    positions, normals = gl.buffer(reserve=corners.nbytes), gl.buffer(reserve=normal_rows.nbytes)
+    glc.write(positions, [corners])
+    glc.write(normals, [normal_rows])
     arrays = surface_arrays(scene)
     offsets, at = {}, 0
     for name, width in SURFACE_ARRAYS:
         offsets[f"{name}_at"] = at if arrays[name] is not None else -1
         at += count * width if arrays[name] is not None else 0
     surfaces = gl.buffer(reserve=max(at, 1) * 4)
-    for name, _ in SURFACE_ARRAYS:
-        if arrays[name] is not None:
-            surfaces.write(arrays[name], offset=offsets[f"{name}_at"] * 4)
+    glc.write(surfaces, [np.ascontiguousarray(arrays[name]) for name, _ in SURFACE_ARRAYS if arrays[name] is not None])
     program = glc.compute("mesh_interleave")
     for binding, buffer in enumerate((positions, surfaces, vertices, normals)):
         buffer.bind_to_storage_buffer(binding)

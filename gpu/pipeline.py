@@ -225,8 +225,8 @@ class Pipeline:
 
     def _check_fits(self, scene, passes, display):
         """Refuse a frame the machine cannot hold (capacity.py), asked again only when what
-        it depends on changed (a viewport redraw of the same size and scene asks nothing);
-        what it depends on."""
+        it depends on changed (a viewport redraw of the same size and scene, or of as many
+        emitters moved, asks nothing); what it depends on."""
         s = self.settings
         if scene.camera is None:
             raise LPVError("The scene has no camera; add a camera and make it the scene's active camera.")
@@ -234,9 +234,10 @@ class Pipeline:
             scene.sanitize()
         lights = tuple(light.key() for light in scene.lights) + ((scene.world.key(),) if scene.world else ())
         fits = (s, scene.geometry_key(), lights, scene.point_emitters_key(), tuple(passes), display)
-        if fits != self._fits:
+        checked = (*fits[:3], scene.point_emitter_count, *fits[4:])  # moved emitters need no more memory
+        if checked != self._fits:
             check_frame_fits(self.glc, s, scene, passes, display, held_bytes=self.gpu_bytes())
-            self._fits = fits
+            self._fits = checked
         return fits
 
     def _gbuffer(self, scene, stats):

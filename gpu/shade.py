@@ -16,9 +16,9 @@ from .specular_albedo import RASTER_UNIT
 DISPLAY_CHANNELS = 3
 """Floats a pixel of the viewport's rows: RGB, as the viewport is never transparent (its
 alpha would be 1 everywhere), a quarter less to read back than RGBA."""
-DISC_COMMAND_START = np.array([0, 1, 0, 0, 0], dtype=np.uint32).tobytes()
-"""The head of the point emitters' disc list before it is filled: a DrawArraysIndirect
-command of no points, padded to the 20 bytes moderngl steps commands by."""
+DISC_LIST_START = np.array([0, 1, 1, 0], dtype=np.uint32).tobytes()
+"""The head of the point emitters' disc list before it is filled (shaders/point_glow.comp):
+a dispatch command of no workgroups, and no discs."""
 
 
 class FrameTargets:
@@ -98,14 +98,14 @@ class FrameTargets:
 
     def point_glow_buffers(self, count):
         """The sums of the point emitters' glow and the share of each pixel they cover (four
-        floats a pixel) and the list of `count` emitters' discs headed by its draw command
-        (shaders/point_glow.comp), made on first use and grown to `count`."""
+        floats a pixel) and the list of `count` emitters' discs headed by its dispatch
+        command (shaders/point_glow.comp), made on first use and grown to `count`."""
         if self.glow_sums is None:
             self.glow_sums = self.gl.buffer(reserve=self.size[0] * self.size[1] * 4 * 4)
-        if self.glow_discs is None or self.glow_discs.size < len(DISC_COMMAND_START) + 4 * count:
+        if self.glow_discs is None or self.glow_discs.size < len(DISC_LIST_START) + 4 * count:
             if self.glow_discs is not None:
                 self.glow_discs.release()
-            self.glow_discs = self.gl.buffer(reserve=len(DISC_COMMAND_START) + 4 * max(count, 1))
+            self.glow_discs = self.gl.buffer(reserve=len(DISC_LIST_START) + 4 * max(count, 1))
         return self.glow_sums, self.glow_discs
 
     def tint_images(self):
@@ -296,37 +296,27 @@ def render_glow(glc, mesh, camera, targets, point_emitters=None):
         mesh.draw(program, moderngl.TRIANGLES, mesh.camera_triangles, view_projection)
         gl.depth_func = "<"
     if point_emitters is not None:
-        glow_points(glc, targets, framebuffer, view_projection, camera, *point_emitters)
+        glow_points(glc, targets, view_projection, camera, *point_emitters)
 
 
-def glow_points(glc, targets, framebuffer, view_projection, camera, buffer, count):
-    """The glow of `count` point emitters (emitter rows in `buffer`) into the glow image:
-    specks and discs a few pixels wide added into their pixels by a compute pass, the
-    larger discs drawn (shaders/point_glow.comp, emitter_glow.vert)."""
-    gl = glc.gl
+def glow_points(glc, targets, view_projection, camera, buffer, count):
+    """The glow of `count` point emitters (emitter rows in `buffer`) into the glow image,
+    each disc added into its pixels by a compute pass (shaders/point_glow.comp)."""
     sums, discs = targets.point_glow_buffers(count)
     zero_buffer(glc, sums)
-    discs.write(DISC_COMMAND_START)
+    discs.write(DISC_LIST_START)
     glow = {"camera_position": tuple(map(float, camera.position)), "pixel_angle": camera.pixel_angle(targets.size[1]),
-            "view_projection": view_projection}
-    program = glc.compute("point_glow", STAGE=0)
+            "view_projection": view_projection, "g_depth": 0}
     for binding, bound in enumerate((buffer, sums, discs)):
         bound.bind_to_storage_buffer(binding)
     targets.depth.use(location=0)
-    set_uniforms(program, g_depth=0, **glow)
-    dispatch_row(program, count, "first_emitter", emitter_count=count)
-    framebuffer.use()
-    program = glc.program("emitter_glow", "emitter_glow")
+    program = glc.compute("point_glow", STAGE=0)
     set_uniforms(program, **glow)
-    buffer.bind_to_storage_buffer(0)
-    discs.bind_to_storage_buffer(1)
-    gl.enable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
-    gl.blend_func = moderngl.ONE, moderngl.ONE
-    points = gl.vertex_array(program, [])
-    points.render_indirect(discs, moderngl.POINTS, count=1)
-    points.release()
-    gl.disable(moderngl.BLEND | moderngl.PROGRAM_POINT_SIZE)
-    gl.memory_barrier()
+    dispatch_row(program, count, "first_emitter", emitter_count=count)
+    program = glc.compute("point_glow", STAGE=2)
+    set_uniforms(program, **glow)
+    program.run_indirect(discs)
+    glc.gl.memory_barrier()
     program = glc.compute("point_glow", STAGE=1)
     targets.glow.bind_to_image(0, read=True, write=True)
     sums.bind_to_storage_buffer(1)

@@ -3,8 +3,7 @@
 // (pi area), a round disc of its projected size; smaller than a pixel, one pixel carrying
 // its radiance times the share of the pixel it covers, which is its intensity flux /
 // (4 pi) over the squared distance and the pixel's solid angle (no division by a
-// vanishing area). Read by point_glow.comp (specks and small discs) and emitter_glow.vert
-// (the larger discs).
+// vanishing area). Read by point_glow.comp.
 uniform vec3 camera_position;
 uniform float pixel_angle;   // a pixel's width per unit distance
 

@@ -3,7 +3,8 @@
 // (emitter_grid_build.comp), read at the pixel's position with INTERPOLATION 0:
 // trilinear, 1: tricubic (Catmull-Rom, interpolating and C1, as Lekien & Marsden's
 // is), 2: super-sampled (the mean of eight trilinear reads a quarter cell around it,
-// the seed's remedy for the staircase of coarse cells). A surface of normal n gets the
+// the seed's remedy for the staircase of coarse cells, which is one trilinear read of
+// the textures made twice as fine for it: emitter_supersample.comp). A surface of normal n gets the
 // direction sums' halves facing it weighted by n², as an ambient cube (exact for
 // surfaces facing the axes), coloured as the colour sum.
 #include "common.glsl"
@@ -50,12 +51,6 @@ vec4 tricubic(vec3 g, vec3 n) {
     return max(sum, vec4(0.0));  // a cubic overshoots below a peak
 }
 
-vec4 supersampled(vec3 g, vec3 n) {
-    vec4 sum = vec4(0.0);
-    for (int k = 0; k < 8; ++k) sum += trilinear(g + 0.25 * (vec3(k & 1, (k >> 1) & 1, k >> 2) * 2.0 - 1.0), n) / 8.0;
-    return sum;
-}
-
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, imageSize(irradiance)))) return;
@@ -63,12 +58,10 @@ void main() {
     vec3 light = vec3(0.0);
     if (gbuffer_surface(pixel, p, n, albedo)) {
         vec3 g = (p - grid_origin) / cell_size;
-#if INTERPOLATION == 0
-        vec4 read = trilinear(g, n);
-#elif INTERPOLATION == 1
+#if INTERPOLATION == 1
         vec4 read = tricubic(g, n);
 #else
-        vec4 read = supersampled(g, n);
+        vec4 read = trilinear(g, n);  // of the fine textures when super-sampled
 #endif
         float total = dot(read.rgb, luminance_weights);
         light = total > 0.0 ? read.rgb * (read.a / total) : vec3(0.0);

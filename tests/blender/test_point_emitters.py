@@ -125,6 +125,46 @@ def test_a_frames_emitters_are_the_kept_ones_with_their_flux_and_box():
     assert selection.flux_bound == pytest.approx(rows[kept, 3:6].sum(axis=0, dtype=np.float64).max(), rel=1e-4)
 
 
+def _trilinear(texels, g):
+    """numpy's trilinear read of (z, y, x, 4) texels at points `g` (x, y, z in texels, centres
+    at i + 0.5), clamped at the edges as the grid's textures are."""
+    size = texels.shape[0]
+    at = g - 0.5
+    low = np.floor(at).astype(int)
+    f = at - low
+    total = 0.0
+    for corner in np.ndindex(2, 2, 2):
+        weight = np.prod(np.where(np.array(corner), f, 1.0 - f), axis=1)[:, None]
+        x, y, z = np.clip(low + np.array(corner), 0, size - 1).T
+        total = total + weight * texels[z, y, x]
+    return total
+
+
+def test_the_super_sampled_read_is_one_read_of_textures_twice_as_fine(particles):
+    """The mean of eight trilinear reads a quarter cell around a point (the seed's super-
+    sampling) equals one trilinear read of the textures shaders/emitter_supersample.comp
+    makes twice as fine, inside the grid and beyond its edges."""
+    glc = GLContext.shared()
+    grid = EmitterGrid(glc, 8)
+    try:
+        grid.upload(particles.point_emitters, None, "supersampled")
+        grid.select(particles.bounds(), 0.1, 0.0)
+        grid.build(particles.bounds(), 100.0)
+        fine = grid.supersampled_textures()
+        n = grid.resolution
+        coarse = [np.frombuffer(t.read(), np.float32).reshape(n, n, n, 4) for t in grid.textures]
+        fine = [np.frombuffer(t.read(), np.float32).reshape(2 * n, 2 * n, 2 * n, 4) for t in fine]
+    finally:
+        grid.release()
+    g = np.random.default_rng(3).uniform(-0.5, n + 0.5, (500, 3))
+    offsets = 0.25 * (np.array(list(np.ndindex(2, 2, 2))) * 2 - 1)
+    for coarse_texels, fine_texels in zip(coarse, fine):
+        mean = sum(_trilinear(coarse_texels, g + offset) for offset in offsets) / 8
+        assert np.abs(coarse_texels).max() > 0
+        np.testing.assert_allclose(_trilinear(fine_texels, 2 * g), mean, rtol=1e-5,
+                                   atol=1e-6 * np.abs(coarse_texels).max())
+
+
 def test_lamps_beyond_the_budget_are_kept_emitters():
     """Point lights beyond the map budget join the scene's emitters and are never skipped."""
     scene = lamps_over_floor(8)
@@ -255,17 +295,18 @@ def test_a_particle_glows_with_its_own_light():
     forward = -np.linalg.inv(camera.view)[:3, 2]
     place = camera.position + 1.5 * forward
     flux = np.array([3.0, 2.0, 1.0])
-    for area in (1e-6, 4e-4):  # a speck, and a disc some pixels wide
+    settings = Settings(**SMALL)
+    pixel_angle = 2.0 / (camera.projection[1, 1] * settings.height)
+    wide = 4 * np.pi * (8 * 1.5 * pixel_angle) ** 2  # a disc 8 pixels in radius: its workgroup adds it
+    for area in (1e-6, 4e-4, wide):  # a speck, a disc a few pixels wide and a wide one
         emitters = np.array([[*place, *flux, area]])
         scene = Scene(room.triangles, room.normals, room.albedo, [], camera, point_emitters=emitters).sanitize()
-        settings = Settings(**SMALL)
         pipeline = Pipeline(settings)
         try:
             frame = pipeline.render(scene, passes=("combined", "direct", "indirect"))
         finally:
             pipeline.release()
         glow = frame.passes["combined"] - frame.passes["direct"] - frame.passes["indirect"]
-        pixel_angle = 2.0 / (camera.projection[1, 1] * settings.height)
         seen = glow.reshape(-1, 3).sum(axis=0) * pixel_angle ** 2
         assert np.allclose(seen, flux / (4 * np.pi * 1.5 ** 2), rtol=0.1), area
 

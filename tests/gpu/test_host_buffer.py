@@ -1,8 +1,10 @@
 """The viewport's rows through a mapped buffer in the host's memory: what a shader wrote,
-every byte, in whatever parts the threads copy."""
+every byte, in whatever parts the threads copy; and large arrays written to the GPU
+through one: every byte where it belongs."""
 import numpy as np
 
-from lpv_preview.gpu.host_buffer import HostBuffer
+from lpv_preview.gpu import context
+from lpv_preview.gpu.host_buffer import HostBuffer, UploadBuffer
 from lpv_preview.gpu.shade import DISPLAY_CHANNELS, FrameTargets
 
 WRITE_INDICES = """#version 450
@@ -67,3 +69,29 @@ def test_without_a_mapped_buffer_the_rows_are_read_back_the_same(glc, monkeypatc
             pipeline.release()
     assert rows[0].max() > 0
     np.testing.assert_array_equal(rows[0], rows[1])
+
+
+def test_large_writes_reach_the_gpu_whole_through_the_upload_buffer_in_parts_or_without_it(glc, monkeypatch):
+    """GLContext.write: arrays of STAGED_WRITE_BYTES and more go through its UploadBuffer, in
+    parts where they outgrow it (here 512 KB), again and again into the same buffer; where
+    no buffer maps, through the driver: the same bytes at the same offset each way."""
+    rng = np.random.default_rng(1)
+    monkeypatch.setattr(context, "UPLOAD_BYTES_MOST", 1 << 19)
+    offset = 64
+    for mapped in (True, False):
+        if not mapped:
+            monkeypatch.setattr(UploadBuffer, "make", classmethod(lambda cls, gl, size: None))
+        monkeypatch.setattr(glc, "_upload", None)
+        target = glc.gl.buffer(reserve=offset + 2_000_000)
+        try:
+            for _ in range(2):
+                arrays = [rng.random(300_001).astype(np.float32), rng.integers(0, 2 ** 32, 77_777, dtype=np.uint32)]
+                total = sum(array.nbytes for array in arrays)
+                assert total >= context.STAGED_WRITE_BYTES
+                glc.write(target, arrays, offset)
+                assert target.read(size=total, offset=offset) == b"".join(array.tobytes() for array in arrays)
+            assert isinstance(glc._upload, UploadBuffer) == mapped
+        finally:
+            if glc._upload:
+                glc._upload.release()
+            target.release()

@@ -189,10 +189,9 @@ def _emitter_points(scene, pieces):
     each lies on (-1: none): point emitters and emissive triangles' centres."""
     points, owners = [np.zeros((0, 3))], [np.zeros(0, dtype=int)]
     if scene.point_emitters is not None and len(scene.point_emitters):
-        emitters = np.asarray(scene.point_emitters, dtype=np.float64)
-        emitters = emitters[::max(1, -(-len(emitters) // INSIDE_TESTS))]
-        points.append(emitters[:, :3])
-        owners.append(np.full(len(emitters), -1))
+        rows = scene.point_emitters  # every so many, taken before the float64 copy: a million rows move each frame
+        points.append(np.asarray(rows[::max(1, -(-len(rows) // INSIDE_TESTS)), :3], dtype=np.float64))
+        owners.append(np.full(len(points[-1]), -1))
     if scene.emission is not None:
         emissive = np.flatnonzero(np.asarray(scene.emission).max(axis=1) > 0.0)
         emissive = emissive[::max(1, -(-len(emissive) // INSIDE_TESTS))]

@@ -32,11 +32,13 @@ CLUSTER_FLOATS = 8  # flux rgb, weight (r + g + b), weighted position xyz, weigh
 SKIP_BINS, BINS_PER_OCTAVE = 256, 4
 """The bins of the emitters' bounds at the view, from the strongest down 64 octaves (weaker
 ones share the last): shaders/emitter_select.comp."""
-SELECTION_WORDS = 12  # shaders/emitter_select.comp's Selection before its bins
+SELECTION_WORDS = 13  # shaders/emitter_select.comp's Selection before its bins
 SELECTION_START = np.concatenate([
     np.array([0, 0, 0], np.uint32), np.zeros(3, np.float32).view(np.uint32),
-    np.full(3, 0xFFFFFFFF, np.uint32), np.zeros(3, np.uint32), np.zeros(SKIP_BINS, np.float32).view(np.uint32)]).tobytes()
-"""The Selection buffer before a selection: no strongest bound, nothing kept, an empty box."""
+    np.full(3, 0xFFFFFFFF, np.uint32), np.zeros(3, np.uint32), np.zeros(1, np.uint32),
+    np.zeros(SKIP_BINS, np.float32).view(np.uint32)]).tobytes()
+"""The Selection buffer before a selection: no strongest bound, nothing kept, an empty box,
+nothing dropped."""
 BRUTE_FORCE_BATCH = 32768
 """Emitters one brute-force dispatch adds: llvmpipe ends a loop nest after 65,535 iterations."""
 
@@ -50,12 +52,14 @@ def float_from_order(keys):
 @dataclass
 class EmitterSelection:
     """What a frame keeps of the point emitters (the point lights beyond the budget always):
-    how many, how many of the scene's are skipped, the largest of the kept flux's channels
-    (summed) and the kept positions' box (None when none is kept); `chosen` is what the
-    selection was made for."""
+    how many, how many of the scene's are skipped (too weak at the view) and dropped (not
+    finite, negative or without flux), the largest of the kept flux's channels (summed) and
+    the kept positions' box (None when none is kept); `chosen` is what the selection was
+    made for."""
 
     kept: int
     skipped: int
+    dropped: int
     flux_bound: float
     box: tuple
     chosen: tuple
@@ -63,10 +67,10 @@ class EmitterSelection:
     @classmethod
     def read(cls, buffer, count, chosen):
         words = np.frombuffer(buffer.read(size=SELECTION_WORDS * 4), dtype=np.uint32)
-        kept = int(words[2])
+        kept, dropped = int(words[2]), int(words[12])
         flux = words[3:6].view(np.float32)
         box = (float_from_order(words[6:9]), float_from_order(words[9:12])) if kept else None
-        return cls(kept, count - kept, float(flux.max()) if kept else 0.0, box, chosen)
+        return cls(kept, count - kept - dropped, dropped, float(flux.max()) if kept else 0.0, box, chosen)
 
     def bounds(self, scene_bounds):
         """The scene's bounds grown to hold the kept emitters (which may lie outside it)."""
@@ -147,9 +151,10 @@ class EmitterGrid:
 
     def select(self, box, min_distance, cutoff):
         """Expand the rows into emitter rows on the GPU, the scene's emitters weakest at the
-        view skipped (shaders/emitter_select.comp: their bounds at the box `box` the camera
-        sees, at least `min_distance` away; the weakest together under `cutoff` of their
-        sum), and read back what is kept (an EmitterSelection; once per rows, box and cutoff)."""
+        view skipped and those of bad values dropped (shaders/emitter_select.comp: their
+        bounds at the box `box` the camera sees, at least `min_distance` away; the weakest
+        together under `cutoff` of their sum), and read back what is kept (an
+        EmitterSelection; once per rows, box and cutoff)."""
         chosen = (self._key, tuple(map(tuple, box)), min_distance, cutoff)
         if self.selection is not None and self.selection.chosen == chosen:
             return self.selection

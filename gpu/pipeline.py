@@ -409,7 +409,9 @@ class Pipeline:
             "lights": len(scene.lights), "mapped_lights": len(lit.mapped), "lights_as_emitters": lit.lights_as_emitters,
             "skipped_lights": lit.skipped_lights, "point_emitters": selection.kept if selection else 0,
             "skipped_emitters": selection.skipped if selection else 0, "triangles": scene.triangle_count,
-            "dropped_triangles": dict(scene.dropped), "images": [image.name for image in scene.images],
+            "dropped_triangles": {**scene.dropped, **({"emitters": selection.dropped} if selection and selection.dropped
+                                                      else {})},
+            "images": [image.name for image in scene.images],
             "approximated_materials": list(scene.approximated_materials),
             "world": scene.world is not None, "bounces": bounces if indirect.more_bounces else min(bounces, 1),
             "world_approximated": list(scene.world.approximated) if scene.world else [],

@@ -249,32 +249,18 @@ def array_key(array):
     return key
 
 
-def _sane_point_emitters(emitters, dropped):
-    """The point emitters as float32 rows with finite positions, flux above zero in some
-    channel and no negative value (None when none is left; the rows given, not a copy,
-    when all are); `dropped["emitters"]` counts the rest."""
+def _point_emitter_rows(emitters):
+    """The point emitters as contiguous float32 rows (the rows given, not a copy, when they
+    are; None when there are none). Their values are checked on the GPU: a row not finite,
+    with a negative flux or area or no flux is dropped there and counted (shaders/
+    emitter_select.comp), where checking a million rows here took longer than the frame."""
     if emitters is None:
         return None
     rows = np.asarray(emitters)
     if rows.ndim != 2 or rows.shape[1] != POINT_EMITTER_COLUMNS or not np.issubdtype(rows.dtype, np.number):
         raise LPVError(f"The point emitters are an array of shape {rows.shape}; give one row of "
                        f"{POINT_EMITTER_COLUMNS} numbers per emitter: position xyz, flux rgb, area.")
-    rows = np.asarray(rows, dtype=np.float32)
-    with np.errstate(invalid="ignore"):
-        lit = (rows[:, 3] > 0) | (rows[:, 4] > 0) | (rows[:, 5] > 0)
-        if not len(rows) or (lit.all() and np.isfinite(rows.max()) and np.isfinite(rows.min()) and
-                             rows[:, 3:].min() >= 0):  # all sane, as most are: whole arrays at a time
-            return np.ascontiguousarray(rows)
-    good = lit
-    with np.errstate(invalid="ignore"):
-        for column in range(POINT_EMITTER_COLUMNS):  # a column at a time: a row's seven floats are strided
-            values = rows[:, column]
-            good &= np.isfinite(values) if column < 3 else np.isfinite(values) & (values >= 0)
-    if not good.all():
-        dropped["emitters"] = dropped.get("emitters", 0) + int((~good).sum())
-    if good.all():
-        return np.ascontiguousarray(rows)
-    return np.ascontiguousarray(rows[good]) if good.any() else None
+    return np.ascontiguousarray(rows, dtype=np.float32) if len(rows) else None
 
 
 @dataclass
@@ -542,7 +528,7 @@ class Scene:
             self.solids = None
         if self.image_layers is None and self.alpha_layers is None:
             self.uvs = None
-        self.point_emitters = _sane_point_emitters(self.point_emitters, self.dropped)
+        self.point_emitters = _point_emitter_rows(self.point_emitters)
         camera_only, both = int(np.sum(seen == SEEN_BY_CAMERA)), int(np.sum(seen == SEEN_BY_ALL))
         self.camera_triangles = (0, camera_only + both)
         self.light_triangles = (camera_only, len(seen) - camera_only)

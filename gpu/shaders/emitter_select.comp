@@ -5,10 +5,13 @@
 // strongest, BINS_PER_OCTAVE bins an octave, weighted by itself; the weakest bins that
 // together hold at most `cutoff` of the sum are skipped (gpu/frame_lights.py skip_weak is
 // the lamps' form of the rule). Rows from `scene_count` on (point lights beyond the map
-// budget, already chosen) are always kept. STAGE 0: the strongest bound; 1: the weighted
+// budget, already chosen) are always kept. A scene row that is not finite, has a negative
+// flux or area, or no flux is dropped and counted here (gpu/scene.py leaves the values of
+// a million rows a frame to this pass). STAGE 0: the strongest bound; 1: the weighted
 // bins; 2 (one invocation): the first skipped bin; 3: the rows (gpu/scene.py
 // point_emitters: position xyz, flux rgb, area) into emitter rows, a skipped one with
-// position.w 0, and the kept ones' count, flux and box.
+// position.w 0 (a dropped one all zeros), the kept ones' count, flux and box, and the
+// dropped ones' count.
 #extension GL_NV_shader_atomic_float : require
 #include "common.glsl"
 #include "emitter.glsl"
@@ -22,6 +25,7 @@ layout(std430, binding = 2) buffer Selection {
     float kept_flux[3];
     uint low[3];         // the kept positions' box, as order_float keys
     uint high[3];
+    uint dropped;
     float bins[SKIP_BINS];
 };
 uniform int emitter_count;
@@ -42,6 +46,19 @@ shared uint group_kept[GROUP];
 shared vec3 group_flux[GROUP];
 shared vec3 group_low[GROUP];
 shared vec3 group_high[GROUP];
+shared uint group_dropped[GROUP];
+
+// Whether a scene row is one to take: every value finite (no exponent of all ones), no
+// negative flux or area, and some flux.
+bool sane_row(int at) {
+    bool lit = false;
+    for (int c = 0; c < POINT_EMITTER_COLUMNS; ++c) {
+        float v = columns[at + c];
+        if ((floatBitsToUint(v) & 0x7f800000u) == 0x7f800000u || (c >= 3 && v < 0.0)) return false;
+        lit = lit || (c >= 3 && c < 6 && v > 0.0);
+    }
+    return lit;
+}
 
 vec3 position_of(int at) { return vec3(columns[at], columns[at + 1], columns[at + 2]); }
 vec3 flux_of(int at) { return vec3(columns[at + 3], columns[at + 4], columns[at + 5]); }
@@ -83,10 +100,12 @@ void main() {
 #else
     uint lane = gl_LocalInvocationID.x;
     int index = first_emitter + int(gl_GlobalInvocationID.x);
-    bool scene_row = index < min(scene_count, emitter_count);
     int at = POINT_EMITTER_COLUMNS * index;
+    bool scene_row = index < min(scene_count, emitter_count);
+    bool sane = !scene_row || sane_row(at);
+    bool taken = scene_row && sane;
 #if STAGE == 0
-    float bound = scene_row ? bound_at_view(at) : 0.0;
+    float bound = taken ? bound_at_view(at) : 0.0;
     group_strongest[lane] = bound > 0.0 && !isinf(bound) ? bound : 0.0;
     barrier();
     for (uint half_size = GROUP / 2u; half_size > 0u; half_size >>= 1) {
@@ -97,7 +116,7 @@ void main() {
 #elif STAGE == 1
     for (uint b = lane; b < uint(SKIP_BINS); b += GROUP) group_bins[b] = 0.0;
     barrier();
-    if (scene_row) {
+    if (taken) {
         float bound = bound_at_view(at);
         uint bin = bin_of(bound);
         if (bin < uint(SKIP_BINS)) atomicAdd(group_bins[bin], bound);
@@ -107,15 +126,16 @@ void main() {
         if (group_bins[b] > 0.0) atomicAdd(bins[b], group_bins[b]);
 #else
     bool row = index < emitter_count;
-    bool keep = row && (!scene_row || bin_of(bound_at_view(at)) < first_skipped);
-    vec3 p = row ? position_of(at) : vec3(0.0);
+    bool keep = row && sane && (!scene_row || bin_of(bound_at_view(at)) < first_skipped);
+    vec3 p = row && sane ? position_of(at) : vec3(0.0);
     if (row) {
         Emitter e;
         e.position = vec4(p, keep ? 1.0 : 0.0);
-        e.normal = vec4(0.0, 0.0, 0.0, columns[at + 6]);
-        e.flux = vec4(flux_of(at), 0.0);
+        e.normal = vec4(0.0, 0.0, 0.0, sane ? columns[at + 6] : 0.0);
+        e.flux = vec4(sane ? flux_of(at) : vec3(0.0), 0.0);
         emitters[index] = e;
     }
+    group_dropped[lane] = row && !sane ? 1u : 0u;
     group_kept[lane] = keep ? 1u : 0u;
     group_flux[lane] = keep ? flux_of(at) : vec3(0.0);
     group_low[lane] = keep ? p : vec3(uintBitsToFloat(0x7f800000u));    // +inf
@@ -127,9 +147,11 @@ void main() {
             group_flux[lane] += group_flux[lane + half_size];
             group_low[lane] = min(group_low[lane], group_low[lane + half_size]);
             group_high[lane] = max(group_high[lane], group_high[lane + half_size]);
+            group_dropped[lane] += group_dropped[lane + half_size];
         }
         barrier();
     }
+    if (lane == 0u && group_dropped[0] > 0u) atomicAdd(dropped, group_dropped[0]);
     if (lane == 0u && group_kept[0] > 0u) {
         atomicAdd(kept, group_kept[0]);
         for (int c = 0; c < 3; ++c) {

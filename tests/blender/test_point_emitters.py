@@ -180,12 +180,19 @@ def test_lamps_beyond_the_budget_are_kept_emitters():
 
 
 def test_point_emitters_are_checked_and_saved(tmp_path, particles):
-    """Rows with NaN, negative or no flux are dropped and counted; a scene file keeps the rest."""
+    """Rows with NaN, negative or no flux are dropped and counted in the frame's
+    statistics; a scene file keeps its rows."""
     rows = np.array([[0, 0, 1, 1, 1, 1, 0.01], [np.nan, 0, 1, 1, 1, 1, 0.01], [0, 0, 1, -1, 1, 1, 0.01],
                      [0, 0, 1, 0, 0, 0, 0.01]])
     scene = Scene(particles.triangles, particles.normals, particles.albedo, [], particles.camera,
                   point_emitters=rows).sanitize()
-    assert scene.point_emitter_count == 1 and scene.dropped["emitters"] == 3
+    pipeline = Pipeline(Settings(**SMALL))
+    try:
+        frame = pipeline.render(scene, passes=("combined",))
+    finally:
+        pipeline.release()
+    assert frame.stats["point_emitters"] == 1 and frame.stats["dropped_triangles"]["emitters"] == 3
+    assert np.isfinite(frame.passes["combined"]).all() and frame.passes["combined"].max() > 0
     save_scene(particles, tmp_path / "particles.npz")
     loaded = load_scene(tmp_path / "particles.npz")
     assert np.array_equal(loaded.point_emitters, particles.point_emitters)

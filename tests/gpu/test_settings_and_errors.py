@@ -7,6 +7,7 @@ import pytest
 
 from lpv_preview.gpu.context import GLContext, install_hint, platform_backends
 from lpv_preview.gpu.ctrl_c import ctrl_c_held
+from lpv_preview.gpu.emitter_grid import EmitterGrid
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.scene import Camera, Light, Scene
 from lpv_preview.gpu.settings import PARAMETERS, Settings
@@ -137,15 +138,24 @@ def test_ctrl_c_during_a_shader_compile_stops_the_command_after_it(glc):
 
 @pytest.mark.parametrize("bad, why", [((0, 1), np.nan), ((1, 2), np.inf), ((2, 4), -1.0), ((3, 6), -np.inf)])
 def test_each_bad_point_emitter_is_dropped_and_counted(bad, why):
+    """The GPU drops a row that is not finite, has a negative flux or area or no flux, and
+    counts it (shaders/emitter_select.comp); none of its values reach the emitter rows."""
     emitters = np.tile(np.array([[0.0, 0.0, 1.0, 1.0, 0.5, 0.2, 1e-4]], dtype=np.float32), (6, 1))
     emitters[5, 3:6] = 0.0  # no flux
-    triangle = np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]], np.float32)
+    box = (np.array([-1.0, -1.0, 0.0]), np.array([1.0, 1.0, 2.0]))
 
-    def sanitized(rows):
-        return Scene(triangle, np.zeros_like(triangle), np.ones((1, 3), np.float32), [],
-                     Camera.look_at((0, -3, 1), (0, 0, 0)), point_emitters=rows).sanitize()
-    sane = sanitized(emitters[:5])
-    assert sane.point_emitter_count == 5 and "emitters" not in sane.dropped
+    def selected(rows):
+        grid = EmitterGrid(GLContext.shared(), 8)
+        try:
+            grid.upload(rows, None, id(rows))
+            selection = grid.select(box, 0.1, 0.0)
+            return selection, np.frombuffer(grid.emitters.read(), np.float32).reshape(-1, 12)[:len(rows)]
+        finally:
+            grid.release()
+    sane, _ = selected(emitters[:5])
+    assert (sane.kept, sane.skipped, sane.dropped) == (5, 0, 0)
     emitters[bad] = why
-    dirty = sanitized(emitters)
-    assert dirty.point_emitter_count == 4 and dirty.dropped["emitters"] == 2
+    dirty, rows = selected(emitters)
+    assert (dirty.kept, dirty.skipped, dirty.dropped) == (4, 0, 2)
+    assert np.isfinite(rows).all() and not rows[[bad[0], 5]].any()
+    np.testing.assert_allclose(dirty.box[0], [0.0, 0.0, 1.0])

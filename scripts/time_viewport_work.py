@@ -3,7 +3,7 @@ and preset the wall-clock milliseconds of a camera move, a light edit, a materia
 an emitter frame, each the median over many frames with its least and most, and the
 stages' medians beside it.
 
-    python scripts/time_viewport_work.py DIR NAME [NAME ...] [--frames 20]
+    python scripts/time_viewport_work.py DIR [NAME ...] [--frames 20]
         [--presets defaults,fast,balanced,accurate] [--emitters 1048576]
 
 NAME is DIR/NAME.npz (`python -m lpv_preview export NAME`) or `room1200k`, a closed room of
@@ -14,7 +14,7 @@ into a float buffer, as a viewport redraw does (`display_into`), after a frame o
 same scene that warms it up (for half a second): camera moves, light edits and material
 edits as bench/viewport_work.py makes them, and emitter frames, a room of `--emitters`
 point emitters that all move every frame (bench/synthetic.py particle_room with a new
-seed), once per preset.
+seed), once per preset (with no NAME, the emitter frames alone).
 Prints the report as JSON.
 """
 import argparse
@@ -31,7 +31,7 @@ SIZE = (1920, 1080)
 def main():
     parser = argparse.ArgumentParser(description="the viewport's own work on the GPU")
     parser.add_argument("folder")
-    parser.add_argument("names", nargs="+")
+    parser.add_argument("names", nargs="*")
     parser.add_argument("--frames", type=int, default=20)
     parser.add_argument("--presets", default="defaults,fast,balanced,accurate")
     parser.add_argument("--emitters", type=int, default=1 << 20)
@@ -59,6 +59,7 @@ def main():
         pipeline = Pipeline(settings)
         try:
             runs[f"particles, {preset}, emitter frame"] = timed_redraws(pipeline, scenes, display)
+            renderer = pipeline.glc.renderer
         finally:
             pipeline.release()
         print(f"particles, {preset}, emitter frame: {runs[f'particles, {preset}, emitter frame']['frame_ms']} ms",

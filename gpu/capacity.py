@@ -79,11 +79,10 @@ def mapped_lights(s, scene):
 def emitter_bytes(s, scene, pixels, lamps):
     """The emitter grid (gpu/emitter_grid.py: clusters of every level, three textures
     and, super-sampled, three twice as fine, the emitters twice, an irradiance image),
-    the emitters' shadows (a light grid with
-    unshadowed volumes, its occupancy and clusters), the scene's emitters' glow
-    (gpu/shade.py glow_points: four floats a pixel, a list entry an emitter) and the
-    receivers of their bounce, for the scene's point emitters and `lamps` point lights
-    beyond the budget."""
+    the emitters' shadows (a light grid with unshadowed volumes, its occupancy and
+    clusters), the scene's emitters' glow (gpu/shade.py glow_points: four floats a pixel,
+    a list entry an emitter) and the receivers of their bounce, for the scene's point
+    emitters and `lamps` point lights beyond the budget."""
     count = scene.point_emitter_count + lamps
     bounce = s.emitter_bounce_samples * RECEIVER_BYTES if count or scene.emission is not None else 0
     if not count:

@@ -126,7 +126,8 @@ class EmitterGrid:
         self.selection = None  # the EmitterSelection of the last `select`
         self.irradiance = None
         self.origin, self.cell_size = np.zeros(3), 1.0
-        self._key = self._built = self._fine_built = None
+        self._key = self._built = None
+        self._fine_built = False  # the build the fine textures were made from (False: none yet)
 
     def upload(self, emitters, lamps, key):
         """Take the scene's point emitters and the point lights beyond the map budget (each

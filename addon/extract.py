@@ -96,7 +96,14 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
     found_lights = []
     emitters = PointEmitters(depsgraph, surfaces, lambda obj: view3d is None or obj.visible_in_viewport_get(view3d)) \
         if geometry else None
+    wholly_emitters, last_parent, skipping = bool(emitters and emitters.whole_instancers), None, False
     for instance in depsgraph.object_instances:
+        if wholly_emitters and instance.is_instance:  # the cheapest test first: a particle's object costs most
+            parent = instance.parent
+            if parent != last_parent:  # an instancer's instances come one after another
+                last_parent, skipping = parent, emitters.skips_all_of(parent)
+            if skipping:
+                continue
         obj = instance.object
         if not instance.show_self or not _visible_in_view3d(instance, view3d):
             continue

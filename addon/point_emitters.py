@@ -43,6 +43,7 @@ class PointEmitters:
         self.instancers = {}  # instancer's original pointer -> names of the emissive meshes it places (an
         # instance's mesh is a copy of the one geometry nodes hold, only the name is the same)
         self.names = set()    # every one of those names
+        self.whole_instancers = set()  # original pointers of instancers all of whose instances are point emitters
         self._power = {}      # mesh pointer -> (flux, area)
         for obj in depsgraph.objects:
             if not visible(obj):
@@ -56,11 +57,7 @@ class PointEmitters:
         return self._power[key]
 
     def _add(self, instancer, mesh, positions, scales, flux, area):
-        rows = np.zeros((len(positions), 7), dtype=np.float64)
-        rows[:, :3] = positions
-        rows[:, 3:6] = flux * (scales ** 2)[:, None]
-        rows[:, 6] = area * scales ** 2
-        self.rows.append(rows)
+        self.rows.append((positions, scales, flux, area))
         self.instancers.setdefault(instancer.original.as_pointer(), set()).add(mesh.name)
         self.names.add(mesh.name)
 
@@ -73,20 +70,30 @@ class PointEmitters:
             return
         references = geometry.instance_references()
         which = instance_references(cloud)
-        transforms = None
+        columns = None
+        covered = 0  # instances that are one point emitter each and nothing else
         for index, reference in enumerate(references):
             chosen = which == index
             if chosen.sum() < BULK_INSTANCES:
                 continue
-            for mesh, palette_of, local in _reference_meshes(reference, surfaces):
+            meshes = _reference_meshes(reference, surfaces)
+            for mesh, palette_of, local in meshes:
                 flux, area = self._emission(mesh, palette_of)
                 if not flux.any():
                     continue
-                if transforms is None:  # placed by the instancer's world matrix
-                    transforms = np.array(obj.matrix_world, dtype=np.float64) @ instance_matrices(cloud)
-                placed = transforms[chosen] @ local
-                scales = np.cbrt(np.abs(np.linalg.det(placed[:, :3, :3])))
-                self._add(obj, mesh, placed[:, :3, 3], scales, flux, area)
+                if columns is None:
+                    columns = instance_columns(cloud)
+                positions, scales = placements(columns, chosen, np.array(obj.matrix_world, dtype=np.float64), local)
+                self._add(obj, mesh, positions, scales, flux, area)
+                covered += int(chosen.sum()) if len(meshes) == 1 else 0
+        if covered == len(cloud.points):
+            self.whole_instancers.add(obj.original.as_pointer())
+
+    def skips_all_of(self, parent):
+        """Whether every instance `parent` (a depsgraph instance's instancer, or None) makes
+        is a point emitter: the depsgraph walk passes over them on their instancer alone,
+        never reading their objects (a million particles a frame)."""
+        return parent is not None and parent.original.as_pointer() in self.whole_instancers
 
     def stands_for(self, instance, obj):
         """Whether a depsgraph instance (whose object is `obj`) is one of the copies made
@@ -98,20 +105,51 @@ class PointEmitters:
         return parent is not None and data.name in self.instancers.get(parent.original.as_pointer(), ())
 
     def array(self, origin):
-        """The (M, 7) rows relative to `origin`, or None without emitters."""
+        """The (M, 7) float32 rows relative to `origin` (subtracted in float64), or None
+        without emitters."""
         if not self.rows:
             return None
-        rows = np.concatenate(self.rows)
-        rows[:, :3] -= origin
+        rows = np.empty((sum(len(positions) for positions, *_ in self.rows), 7), dtype=np.float32)
+        at = 0
+        for positions, scales, flux, area in self.rows:
+            part = rows[at:at + len(positions)]
+            part[:, :3] = positions - origin
+            squared = scales * scales
+            part[:, 3:6] = np.outer(squared, flux)
+            part[:, 6] = area * squared
+            at += len(positions)
         return rows
+
+
+def instance_columns(cloud):
+    """The (N, 4, 4) float32 transforms of the instances of an instances point cloud as
+    stored, column-major: [i, c, r] is row r of column c of instance i's matrix."""
+    count = len(cloud.points)
+    values = np.empty(count * 16, dtype=np.float32)
+    cloud.attributes["instance_transform"].data.foreach_get("value", values)
+    return values.reshape(count, 4, 4)
+
+
+def placements(columns, chosen, world, local):
+    """The world positions (n, 3) float64 and scales (n,) (the cube root of the volume
+    scale) of the `chosen` instances of `columns` (instance_columns), each placed by
+    `world` @ its transform @ `local` (4 x 4): from the columns each needs, never a
+    product of matrices an instance."""
+    if not chosen.all():
+        columns = columns[chosen]
+    basis = columns[:, :3, :3]  # [i, c, r]: column c of the instance's 3 x 3
+    places = columns[:, 3, :3].astype(np.float64)
+    if np.any(local[:3, 3]):
+        places += np.einsum("c,icr->ir", local[:3, 3], basis.astype(np.float64))
+    positions = places @ world[:3, :3].T + world[:3, 3]
+    volume = np.einsum("ir,ir->i", basis[:, 0].astype(np.float64), np.cross(basis[:, 1], basis[:, 2]).astype(np.float64))
+    scales = np.cbrt(np.abs(volume * np.linalg.det(world[:3, :3]) * np.linalg.det(local[:3, :3])))
+    return positions, scales
 
 
 def instance_matrices(cloud):
     """The (N, 4, 4) float64 matrices of the instances of an instances point cloud."""
-    count = len(cloud.points)
-    transforms = np.empty(count * 16, dtype=np.float32)
-    cloud.attributes["instance_transform"].data.foreach_get("value", transforms)
-    return transforms.reshape(count, 4, 4).transpose(0, 2, 1).astype(np.float64)  # stored column-major
+    return instance_columns(cloud).transpose(0, 2, 1).astype(np.float64)
 
 
 def instance_references(cloud):

@@ -86,7 +86,7 @@ class PointEmitters:
                 positions, scales = placements(columns, chosen, np.array(obj.matrix_world, dtype=np.float64), local)
                 self._add(obj, mesh, positions, scales, flux, area)
                 covered += int(chosen.sum()) if len(meshes) == 1 else 0
-        if covered == len(cloud.points):
+        if covered == len(cloud.points) and obj.instance_type == "NONE":  # no instances of children beside them
             self.whole_instancers.add(obj.original.as_pointer())
 
     def skips_all_of(self, parent):

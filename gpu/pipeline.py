@@ -482,7 +482,10 @@ class Pipeline:
         with self.glc.timed(stats, "emitter_upload_ms"):
             grid.upload(scene.point_emitters, lit.lamp_rows, (scene.point_emitters_key(), lit.key))
         with self.glc.timed(stats, "emitter_select_ms"):
-            return grid.select(box, min_distance, s.light_cutoff)
+            selection = grid.select(box, min_distance, s.light_cutoff)
+        if selection.dropped == scene.point_emitter_count:
+            scene.require_lights(point_emitters_lit=False)
+        return selection
 
     def _emitter_sources(self, scene, s, selection, box, grids, stats):
         """Build the emitter grid of the frame's point emitters (when it keeps any) and their

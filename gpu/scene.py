@@ -538,9 +538,12 @@ class Scene:
         self.sanitized = True
         return self
 
-    def require_lights(self):
+    def require_lights(self, point_emitters_lit=True):
+        """Refuse a scene that nothing lights; `point_emitters_lit` False: its point emitters
+        were all dropped for their values (shaders/emitter_select.comp)."""
         if not self.lights and (self.emission is None or not np.any(self.emission)) and \
-                self.point_emitter_count == 0 and (self.world is None or not self.world.lights_anything):
+                (self.point_emitter_count == 0 or not point_emitters_lit) and \
+                (self.world is None or not self.world.lights_anything):
             raise LPVError("The scene has no lights; add a point, spot, area or sun light, an emissive material, or a "
                            "world that emits light.")
 

@@ -193,6 +193,14 @@ def test_point_emitters_are_checked_and_saved(tmp_path, particles):
         pipeline.release()
     assert frame.stats["point_emitters"] == 1 and frame.stats["dropped_triangles"]["emitters"] == 3
     assert np.isfinite(frame.passes["combined"]).all() and frame.passes["combined"].max() > 0
+    unlit = Scene(particles.triangles, particles.normals, particles.albedo, [], particles.camera,
+                  point_emitters=rows[1:]).sanitize()  # every row bad, and nothing else lights it
+    pipeline = Pipeline(Settings(**SMALL))
+    try:
+        with pytest.raises(LPVError, match="no lights"):
+            pipeline.render(unlit, passes=("combined",))
+    finally:
+        pipeline.release()
     save_scene(particles, tmp_path / "particles.npz")
     loaded = load_scene(tmp_path / "particles.npz")
     assert np.array_equal(loaded.point_emitters, particles.point_emitters)

@@ -55,7 +55,7 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
     nothing with triangles or no light is visible.
     """
     camera = extract_camera(depsgraph, resolution)
-    geometry, lights = extract_parts(depsgraph, view3d, geometry=True, lights=True)
+    geometry, lights, _ = extract_parts(depsgraph, view3d, geometry=True, lights=True)
     scene = Scene(**geometry, lights=[], **render_settings_of(depsgraph.scene_eval))
     world, lights = world_and_lights(depsgraph.scene_eval, lights)
     return scene.in_local_frame(lights, camera, world).sanitize()
@@ -88,14 +88,14 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
     geometry fields (triangles relative to their local origin, normals, albedo,
     visibility, the surfaces' vertex colours, UVs, image layers, images and approximated
     materials, and the origin, and the point emitters of emissive particles and instances)
-    of everything visible (unsanitized; empty when not asked) and the visible lights in
-    world space (empty when not asked)."""
+    of everything visible (unsanitized; empty when not asked), the visible lights in
+    world space (empty when not asked), and the PointEmitters read with the geometry (None
+    when not asked)."""
     surfaces = MaterialSurfaces()
     meshes = {}
     batches = {}
     found_lights = []
-    emitters = PointEmitters(depsgraph, surfaces, lambda obj: view3d is None or obj.visible_in_viewport_get(view3d)) \
-        if geometry else None
+    emitters = PointEmitters(depsgraph, surfaces, _shown_in(view3d)) if geometry else None
     wholly_emitters, last_parent, skipping = bool(emitters and emitters.whole_instancers), None, False
     for instance in depsgraph.object_instances:
         if wholly_emitters and instance.is_instance:  # the cheapest test first: a particle's object costs most
@@ -129,7 +129,19 @@ def extract_parts(depsgraph, view3d=None, geometry=True, lights=True):
                 batch[0].append(np.array(instance.matrix_world, dtype=np.float64))
                 batch[1].append(tuple(slots + slots[-1:] * (mesh.material_count - len(slots))))
                 batch[2].append(seen)
-    return _assemble(meshes, batches, surfaces, emitters), found_lights
+    return _assemble(meshes, batches, surfaces, emitters), found_lights, emitters
+
+
+def extract_point_emitters(depsgraph, view3d=None):
+    """The point emitters alone (a PointEmitters: addon/point_emitters.py), read in bulk
+    without the walk over the depsgraph's instances: for an edit that moved nothing but
+    instancers whose instances are all point emitters (addon/sync.py)."""
+    return PointEmitters(depsgraph, MaterialSurfaces(), _shown_in(view3d))
+
+
+def _shown_in(view3d):
+    """Whether an object shows in the viewport `view3d` (every object without one)."""
+    return lambda obj: view3d is None or obj.visible_in_viewport_get(view3d)
 
 
 def _assemble(meshes, batches, surfaces, emitters=None):

@@ -44,6 +44,7 @@ class PointEmitters:
         # instance's mesh is a copy of the one geometry nodes hold, only the name is the same)
         self.names = set()    # every one of those names
         self.whole_instancers = set()  # original pointers of instancers all of whose instances are point emitters
+        self.alone_instancers = set()  # those of them that draw nothing themselves: moving them moves emitters alone
         self._power = {}      # mesh pointer -> (flux, area)
         for obj in depsgraph.objects:
             if not visible(obj):
@@ -88,6 +89,9 @@ class PointEmitters:
                 covered += int(chosen.sum()) if len(meshes) == 1 else 0
         if covered == len(cloud.points) and obj.instance_type == "NONE":  # no instances of children beside them
             self.whole_instancers.add(obj.original.as_pointer())
+            if obj.type == "MESH" and (geometry.mesh is None or not len(geometry.mesh.polygons)) and \
+                    geometry.curves is None and geometry.pointcloud is None and geometry.volume is None:
+                self.alone_instancers.add(obj.original.as_pointer())
 
     def skips_all_of(self, parent):
         """Whether every instance `parent` (a depsgraph instance's instancer, or None) makes

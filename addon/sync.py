@@ -1,18 +1,21 @@
 """Keep the viewport's Scene in step with Blender's edits, re-reading only what changed.
 
 A depsgraph update names the data blocks it touched. `changed_parts` sorts them into the
-three parts the pipeline's caches depend on (docs/architecture.md, "A viewport update:
-what each edit redoes"): the camera, the lights (with the world), the geometry (triangles and albedo). `SceneSync` then
-re-extracts just those parts, so a camera move costs no extraction and keeps every
-cached light map and the LPV; the pipeline's content keys decide the rest.
+parts the pipeline's caches depend on (docs/architecture.md, "A viewport update: what
+each edit redoes"): the camera, the lights (with the world), the geometry (triangles,
+albedo and point emitters) and the point emitters alone (an instancer moved whose
+instances are all point emitters and that draws nothing itself: particles in motion).
+`SceneSync` then re-extracts just those parts, so a camera move costs no extraction and
+keeps every cached light map and the LPV, and moving particles are read in bulk without
+the walk over the depsgraph's instances; the pipeline's content keys decide the rest.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ..gpu.scene import Scene
-from .extract import MESH_LIKE_TYPES, extract_parts, render_settings_of
+from .extract import MESH_LIKE_TYPES, extract_parts, extract_point_emitters, render_settings_of
 from .world import world_and_lights
 
-CAMERA, LIGHTS, GEOMETRY = "camera", "lights", "geometry"
+CAMERA, LIGHTS, GEOMETRY, EMITTERS = "camera", "lights", "geometry", "emitters"
 EVERYTHING = frozenset((CAMERA, LIGHTS, GEOMETRY))
 
 GEOMETRY_DATA = {"MESH", "MATERIAL", "NODETREE", "IMAGE", "CURVE", "METABALL", "TEXT", "CURVES",
@@ -40,12 +43,13 @@ class RecordedUpdate:
     geometry: bool        # is_updated_geometry
     transform: bool       # is_updated_transform
     shading: bool         # is_updated_shading
+    pointer: int = 0      # the original data block's address
 
     @classmethod
     def record(cls, update):
         data = update.id
         return cls(data.id_type, data.type if data.id_type == "OBJECT" else "", update.is_updated_geometry,
-                   update.is_updated_transform, update.is_updated_shading)
+                   update.is_updated_transform, update.is_updated_shading, data.original.as_pointer())
 
 
 def record_updates(depsgraph):
@@ -60,8 +64,10 @@ def edits_cycles_sees(updates, parts):
     return bool(parts - {CAMERA}) or any(update.id_type not in PART_DATA for update in updates)
 
 
-def changed_parts(updates):
-    """The parts of the scene (CAMERA, LIGHTS, GEOMETRY) that `updates` may have changed."""
+def changed_parts(updates, emitters_alone=frozenset()):
+    """The parts of the scene (CAMERA, LIGHTS, GEOMETRY, EMITTERS) that `updates` may have
+    changed; `emitters_alone`, the original pointers of the instancers whose edits move
+    point emitters alone (SceneSync.emitters_alone)."""
     parts = set()
     for update in updates:
         if update.id_type == "OBJECT":
@@ -70,7 +76,7 @@ def changed_parts(updates):
             elif update.object_type == "CAMERA":
                 parts.add(CAMERA)
             elif update.object_type in INSTANCER_TYPES and (update.geometry or update.transform or update.shading):
-                parts.add(GEOMETRY)
+                parts.add(EMITTERS if update.pointer in emitters_alone else GEOMETRY)
         elif update.id_type in ("LIGHT", "WORLD"):
             parts.add(LIGHTS)
         elif update.id_type == "CAMERA":
@@ -88,17 +94,24 @@ class SceneSync:
     def __init__(self):
         self._scene = None
         self.extracted = ()  # the parts the last `scene` call read from Blender
+        self.emitters_alone = frozenset()  # instancers whose edits move point emitters alone (changed_parts)
 
     def scene(self, depsgraph, parts, camera, view3d=None):
         """The current Scene with `camera`; re-reads the `parts` that changed (all of them
         the first time). Keeps the sanitized geometry and its content key otherwise."""
         first = self._scene is None
         read_geometry, read_lights = first or GEOMETRY in parts, first or LIGHTS in parts
+        if EMITTERS in parts and not read_geometry and not self._moved_emitters(depsgraph, view3d):
+            read_geometry = True  # an instancer no longer moves point emitters alone
         self.extracted = tuple(part for part, read in ((GEOMETRY, read_geometry), (LIGHTS, read_lights)) if read)
-        if not self.extracted:
+        if EMITTERS in parts and not read_geometry:
+            self.extracted += (EMITTERS,)
+        if not read_geometry and not read_lights:
             self._scene = self._scene.in_local_frame(camera=camera)
             return self._scene
-        geometry, lights = extract_parts(depsgraph, view3d, read_geometry, read_lights)
+        geometry, lights, emitters = extract_parts(depsgraph, view3d, read_geometry, read_lights)
+        if emitters is not None:
+            self.emitters_alone = frozenset(emitters.alone_instancers)
         if read_lights:  # the world goes with the lights, its Sky Textures' suns among them
             world, lights = world_and_lights(depsgraph.scene_eval, lights)
         else:
@@ -112,3 +125,13 @@ class SceneSync:
             self._scene = self._scene.in_local_frame(lights, camera, world)
             self._scene.require_lights()
         return self._scene
+
+    def _moved_emitters(self, depsgraph, view3d):
+        """Put the point emitters read anew, alone, into the kept Scene, where the same
+        instancers still move point emitters alone; False (nothing changed) otherwise."""
+        emitters = extract_point_emitters(depsgraph, view3d)
+        if frozenset(emitters.alone_instancers) != self.emitters_alone:
+            return False
+        self._scene = replace(self._scene, point_emitters=emitters.array(self._scene.world_origin))
+        self._scene.require_lights()
+        return True

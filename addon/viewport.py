@@ -106,7 +106,7 @@ class ViewportSession:
         self._refined = False  # whether the frame shown gathered at the finer grids
 
     def note_updates(self, updates):
-        parts = changed_parts(updates)
+        parts = changed_parts(updates, self.sync.emitters_alone)
         self.pending |= parts
         self.edited |= edits_cycles_sees(updates, parts)
 

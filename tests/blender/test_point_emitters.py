@@ -435,3 +435,34 @@ def test_particles_that_move_start_a_still_frame_again(particles):
         assert pipeline.render(shifted, passes=(), vpl_set=2, accumulate=True).stats["vpl_sets"] == 1
     finally:
         pipeline.release()
+
+
+def test_moving_particles_are_read_alone_and_move():
+    """An instancer whose instances are all point emitters and that draws nothing itself,
+    moved, is read again alone (addon/sync.py EMITTERS: no walk over its instances): its
+    point emitters move with it, the triangles are the same arrays, and the rows are those
+    a whole read gives."""
+    bpy = pytest.importorskip("bpy")
+    from lpv_preview.addon.extract import extract_camera
+    from lpv_preview.addon.sync import EMITTERS, SceneSync, changed_parts
+    from lpv_preview.demo import particles as particle_demo
+
+    from ..depsgraph_updates import recorded_updates
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    particle_demo.build(particles=200)
+    swirl = bpy.data.objects["Swirl"]
+    sync = SceneSync()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    camera = extract_camera(depsgraph, (32, 24))
+    first = sync.scene(depsgraph, set(), camera)
+    assert sync.emitters_alone == {swirl.as_pointer()}
+    records = recorded_updates(lambda: setattr(swirl.location, "z", swirl.location.z + 0.25))
+    parts = changed_parts(records, sync.emitters_alone)
+    assert parts == {EMITTERS}, records
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    moved = sync.scene(depsgraph, parts, camera)
+    assert sync.extracted == (EMITTERS,) and moved.triangles is first.triangles
+    np.testing.assert_allclose(moved.point_emitters[:, 2], first.point_emitters[:, 2] + 0.25, atol=1e-5)
+    np.testing.assert_array_equal(moved.point_emitters[:, 3:], first.point_emitters[:, 3:])
+    whole = SceneSync().scene(depsgraph, set(), camera)
+    np.testing.assert_allclose(moved.point_emitters, whole.point_emitters, atol=1e-5)

@@ -9,7 +9,7 @@ import lpv_preview  # noqa: E402
 from lpv_preview import demo  # noqa: E402
 from lpv_preview.addon.viewport import ViewportSession  # noqa: E402
 from lpv_preview.addon.extract import extract_camera  # noqa: E402
-from lpv_preview.addon.sync import CAMERA, EVERYTHING, GEOMETRY, LIGHTS, changed_parts  # noqa: E402
+from lpv_preview.addon.sync import CAMERA, EMITTERS, EVERYTHING, GEOMETRY, LIGHTS, changed_parts  # noqa: E402
 from lpv_preview.gpu.indirect import INDIRECT_STAGES  # noqa: E402
 from lpv_preview.gpu.settings import Settings  # noqa: E402
 
@@ -245,6 +245,29 @@ def test_painting_an_image_reaches_the_next_frame(registered):
         after = session.frame(depsgraph, camera, (48, 48), settings=small_settings())
         assert after.stats["extracted"] == [GEOMETRY]
         assert after.display[16:32, 16:32, 0].min() > before[16:32, 16:32, 0].min() * 5  # the dark squares are white
+    finally:
+        session.release()
+
+
+def test_moving_particles_redraw_their_light_alone(registered):
+    """An instancer whose instances are all point emitters, moved, is read again alone
+    (EMITTERS): the next frame keeps the G-buffer, and the particles' light moves with them."""
+    demo.build("particles", particles=300, resolution=(48, 48))
+    swirl = bpy.data.objects["Swirl"]
+    session = ViewportSession()
+    try:
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        camera = extract_camera(depsgraph, (48, 48))
+        before = session.frame(depsgraph, camera, (48, 48), settings=small_settings()).display.copy()
+        records = recorded_updates(lambda: setattr(swirl.location, "x", swirl.location.x + 0.8))
+        assert changed_parts(records, session.sync.emitters_alone) == {EMITTERS}, records
+        session.note_updates(records)
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        after = session.frame(depsgraph, camera, (48, 48), settings=small_settings())
+        assert after.stats["extracted"] == [EMITTERS]
+        assert "gbuffer_ms" not in after.stats and "emitter_select_ms" in after.stats
+        right = np.s_[:, 24:, 0]  # the swirl moved toward +x: the right half of the view is lit more
+        assert after.display[right].mean() > 1.05 * before[right].mean()
     finally:
         session.release()
 

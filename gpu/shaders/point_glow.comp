@@ -1,7 +1,6 @@
 #version 450 core
-// The point emitters' glow (emitter_glow.glsl) without the rasteriser (a million particles
-// a few pixels across drawn as points took 5 ms on the H100, whose raster units are few,
-// and its largest discs drawn as points 0.8 ms on an H200): a disc adds its radiance into
+// The point emitters' glow (emitter_glow.glsl) without the rasteriser, whose units are few
+// on the H100 and H200 (docs/performance.md, "An emitter frame"): a disc adds its radiance into
 // each pixel whose centre it covers, a speck's into the pixel it falls in with the share
 // of the pixel it covers, where it lies in front of the G-buffer's depth, into sums of
 // four floats a pixel (rgb and the share covered). STAGE 0: an invocation an emitter adds

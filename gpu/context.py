@@ -12,7 +12,6 @@ A context is current on the thread that made it and used there only: each thread
 renders has its own (`GLContext.shared()`). Inside Blender that is one thread of ours
 (gpu/gl_thread.py), never Blender's drawing thread, whose own context stays current.
 """
-import ctypes
 import os
 import sys
 import threading
@@ -22,6 +21,7 @@ from pathlib import Path
 
 from .ctrl_c import ctrl_c_held
 from .errors import LPVError
+from .gl_functions import gl_functions
 from .host_buffer import UploadBuffer
 from .specular_albedo import texture_rows
 
@@ -397,15 +397,18 @@ def dispatch(program, *counts, local=(8, 8, 1)):
     submit(program.ctx)
 
 
+def dispatch_indirect(program, command):
+    """Run a compute shader as many workgroups as the dispatch command at the head of
+    `command` (a buffer the GPU filled) says, make its writes visible and hand it to the GPU."""
+    program.run_indirect(command)
+    program.ctx.memory_barrier()
+    submit(program.ctx)
+
+
 def submit(gl):
-    """Hand the commands issued so far to the GPU (glFlush, which moderngl does not wrap):
-    after each wait for a result, the driver held the next commands back, the GPU idle
-    (docs/performance.md, "An emitter frame")."""
-    flush = getattr(gl, "lpv_flush", None)
-    if flush is None:
-        try:
-            address = gl.mglo._context.load("glFlush")
-        except AttributeError:  # a loader without its functions: the driver flushes when it will
-            address = 0
-        flush = gl.lpv_flush = ctypes.CFUNCTYPE(None)(address) if address else (lambda: None)
-    flush()
+    """Hand the commands issued so far to the GPU (glFlush, which moderngl does not wrap;
+    nothing where the loader lacks it): after each wait for a result, the driver held the
+    next commands back, the GPU idle (docs/performance.md, "An emitter frame")."""
+    flush = gl_functions(gl).get("glFlush")
+    if flush is not None:
+        flush()

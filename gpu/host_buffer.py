@@ -8,6 +8,8 @@ import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
+from .gl_functions import gl_functions
+
 MAP_READ, MAP_WRITE, MAP_PERSISTENT, MAP_COHERENT, CLIENT_STORAGE = 0x1, 0x2, 0x40, 0x80, 0x200
 SYNC_GPU_COMMANDS_COMPLETE, SYNC_FLUSH_COMMANDS = 0x9117, 0x1
 WAIT_FOREVER_NS = 0xFFFFFFFFFFFFFFFF
@@ -21,31 +23,9 @@ _copy_pool = None
 _copy_pool_made = threading.Lock()
 
 
-def _functions(gl):
-    """The GL 4.5 entry points moderngl does not wrap, from its context's loader; None
-    where the loader or an entry point is missing."""
-    try:
-        load = gl.mglo._context.load
-    except AttributeError:
-        return None
-    uint, size = ctypes.c_uint, ctypes.c_ssize_t
-    prototypes = {
-        "glCreateBuffers": ctypes.CFUNCTYPE(None, ctypes.c_int, ctypes.POINTER(uint)),
-        "glNamedBufferStorage": ctypes.CFUNCTYPE(None, uint, size, ctypes.c_void_p, uint),
-        "glMapNamedBufferRange": ctypes.CFUNCTYPE(ctypes.c_void_p, uint, size, size, uint),
-        "glUnmapNamedBuffer": ctypes.CFUNCTYPE(ctypes.c_ubyte, uint),
-        "glDeleteBuffers": ctypes.CFUNCTYPE(None, ctypes.c_int, ctypes.POINTER(uint)),
-        "glFenceSync": ctypes.CFUNCTYPE(ctypes.c_void_p, uint, uint),
-        "glClientWaitSync": ctypes.CFUNCTYPE(uint, ctypes.c_void_p, uint, ctypes.c_uint64),
-        "glDeleteSync": ctypes.CFUNCTYPE(None, ctypes.c_void_p),
-    }
-    functions = {}
-    for name, prototype in prototypes.items():
-        address = load(name)
-        if not address:
-            return None
-        functions[name] = prototype(address)
-    return functions
+MAPPING_FUNCTIONS = ("glCreateBuffers", "glNamedBufferStorage", "glMapNamedBufferRange", "glUnmapNamedBuffer",
+                     "glDeleteBuffers", "glFenceSync", "glClientWaitSync", "glDeleteSync")
+"""The entry points a MappedBuffer needs (gpu/gl_functions.py)."""
 
 
 class MappedBuffer:
@@ -67,8 +47,8 @@ class MappedBuffer:
     def make(cls, gl, size):
         """One of `size` bytes, or None where the driver cannot map one (the caller then
         has the driver read or write an ordinary buffer)."""
-        functions = _functions(gl)
-        if functions is None:
+        functions = gl_functions(gl)
+        if not all(name in functions for name in MAPPING_FUNCTIONS):
             return None
         gl.clear_errors()
         host = cls(gl, size, functions)

@@ -52,8 +52,7 @@ def conserve(glc, totals, generation, senders, largest_albedo):
         for number, (buffer, count) in enumerate(sets):
             buffer.bind_to_storage_buffer(0)
             set_uniforms(program, row_count=count, slot=slot, accumulate=number > 0)
-            program.run(1)
-            program.ctx.memory_barrier()
+            dispatch(program, 1, local=(1,))  # one workgroup sums the rows
     program = glc.compute("flux_conserve")
     generation.buffer.bind_to_storage_buffer(0)
     set_uniforms(program, row_count=generation.count, largest_albedo=tuple(float(a) for a in largest_albedo))

@@ -5,7 +5,7 @@ import moderngl
 import numpy as np
 
 from .closed_meshes import BACK_ROOM_SHIFT, FRONT_ROOM_SHIFT
-from .context import clear_depth_only, dispatch, dispatch_row, set_uniforms, zero_buffer
+from .context import clear_depth_only, dispatch, dispatch_indirect, dispatch_row, set_uniforms, zero_buffer
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .host_buffer import HostBuffer
@@ -315,8 +315,7 @@ def glow_points(glc, targets, view_projection, camera, buffer, count):
     dispatch_row(program, count, "first_emitter", emitter_count=count)
     program = glc.compute("point_glow", STAGE=2)
     set_uniforms(program, **glow)
-    program.run_indirect(discs)
-    glc.gl.memory_barrier()
+    dispatch_indirect(program, discs)
     program = glc.compute("point_glow", STAGE=1)
     targets.glow.bind_to_image(0, read=True, write=True)
     sums.bind_to_storage_buffer(1)

@@ -43,7 +43,7 @@ class RecordedUpdate:
     geometry: bool        # is_updated_geometry
     transform: bool       # is_updated_transform
     shading: bool         # is_updated_shading
-    pointer: int = 0      # the original data block's address
+    pointer: int          # the original data block's address
 
     @classmethod
     def record(cls, update):
@@ -101,11 +101,12 @@ class SceneSync:
         the first time). Keeps the sanitized geometry and its content key otherwise."""
         first = self._scene is None
         read_geometry, read_lights = first or GEOMETRY in parts, first or LIGHTS in parts
-        if EMITTERS in parts and not read_geometry and not self._moved_emitters(depsgraph, view3d):
-            read_geometry = True  # an instancer no longer moves point emitters alone
-        self.extracted = tuple(part for part, read in ((GEOMETRY, read_geometry), (LIGHTS, read_lights)) if read)
-        if EMITTERS in parts and not read_geometry:
-            self.extracted += (EMITTERS,)
+        moved_alone = EMITTERS in parts and not read_geometry
+        if moved_alone:
+            moved_alone = self._moved_emitters(depsgraph, view3d)
+            read_geometry = not moved_alone  # else an instancer no longer moves point emitters alone
+        self.extracted = tuple(part for part, read in ((GEOMETRY, read_geometry), (LIGHTS, read_lights),
+                                                       (EMITTERS, moved_alone)) if read)
         if not read_geometry and not read_lights:
             self._scene = self._scene.in_local_frame(camera=camera)
             return self._scene

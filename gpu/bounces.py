@@ -71,11 +71,13 @@ class Generations:
     def flux_bound(self):
         return sum(generation.flux_bound for generation in self.made)
 
-    def build(self, first, first_bound, bounces, receivers, samples, occupancy, singularity_bound, pattern):
+    def build(self, first, first_bound, bounces, receivers, samples, occupancy, singularity_bound, pattern,
+              rooms=False):
         """Generations 2 to `bounces` from the `first` one's (buffer, count) sets, whose flux
         no channel's total exceeds `first_bound`, each on the points `receivers.draw` gives
         (gpu/emitter_bounce.py Receivers: `generation_points(samples, bounce)` of them, drawn
-        on the GPU), marching `occupancy`'s grids; returns their (buffer, count) sets.
+        on the GPU), marching `occupancy`'s grids, with `rooms` each point lit only from its
+        side's room (gpu/closed_meshes.py); returns their (buffer, count) sets.
         Nothing is read back: a generation's bound is the one before's times the largest
         albedo of the surfaces its points are drawn on, which `conserve` holds it to."""
         self._drop()
@@ -87,7 +89,8 @@ class Generations:
             points = receivers.draw(generation_points(samples, bounce), generation_seed(pattern, bounce))
             bound *= float(largest_albedo.max())
             generation = light_receivers(self.glc, points, senders, occupancy, singularity_bound,
-                                         pattern * MAX_BOUNCES + bounce, LATER_SENDERS, flux_bound=bound)
+                                         pattern * MAX_BOUNCES + bounce, LATER_SENDERS, flux_bound=bound,
+                                         sender_rooms=rooms)
             conserve(self.glc, self.totals, generation, senders, largest_albedo)
             self.made.append(generation)
             senders = [(generation.buffer, generation.count)]

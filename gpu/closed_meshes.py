@@ -15,6 +15,12 @@ FRONT_ROOM_SHIFT, BACK_ROOM_SHIFT = 2, 5
 """Where a face's byte holds the room each side looks into (three bits each, 0: outside
 every room), above its open sides (bits 0 and 1)."""
 MAX_ROOMS = 7
+ROOM_CODES = MAX_ROOMS + 1
+"""Rooms 0 (outside every room) to MAX_ROOMS: what three bits hold (shaders/rooms.glsl)."""
+ROOM_CODE_DEFINES = {"ROOM_CODES": ROOM_CODES, "FRONT_ROOM_SHIFT": FRONT_ROOM_SHIFT, "BACK_ROOM_SHIFT": BACK_ROOM_SHIFT}
+"""The defines shaders/rooms.glsl reads."""
+ROOM_DEFINES = {**ROOM_CODE_DEFINES, "ROOMS": 1}
+"""A shader's defines where it keeps light in its room."""
 ROOM_TESTS = 4_000_000
 """Face centres tested against a room's triangles, summed over the rooms (each centre
 within a room's box against each of its triangles): beyond it, faces are not sorted into
@@ -153,7 +159,19 @@ class Rooms:
         self.closed, self.holding = closed, holding
         self.faces = (front, back)
         self.lit = lit
+        self.key = (tuple(holding), None if lit is None else lit.tobytes())
+        """What the rooms' numbers and shapes depend on, beside the geometry."""
         self._lamp_rooms = lamp_rooms  # a lamp's position, rounded -> its room
+
+    def walls(self):
+        """The rooms' triangles, room 1's first, as (M, 3, 3) float32 corners, and each
+        room's first triangle, triangle count and box (low and high corners)."""
+        closed = self.closed
+        corners = [closed._corners(index) for index in self.holding]
+        counts = np.array([len(c) for c in corners], dtype=np.int32)
+        firsts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int32)
+        return (np.concatenate(corners).astype(np.float32), firsts, counts,
+                closed.low[self.holding], closed.high[self.holding])
 
     def room_of(self, light):
         """The room `light` lies in (0: none; a sun's is outside every room)."""

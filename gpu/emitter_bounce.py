@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .closed_meshes import OPEN
+from .closed_meshes import OPEN, ROOM_CODE_DEFINES
 from .context import dispatch, run_workgroups, set_uniforms
 from .occupancy import march_batch
 from .vpl import EMITTER_BYTES
@@ -59,7 +59,7 @@ class Receivers:
     def draw(self, count, pattern):
         """(buffer, count) of `count` receivers (shaders/emitter_bounce.comp Receiver) drawn
         with the random numbers of `pattern`, light reaching the sides the mesh's
-        `open_sides` hold now; (None, 0) where the lights see no surface."""
+        `open_sides` hold now, in the rooms they hold; (None, 0) where the lights see no surface."""
         mesh = self.mesh
         if self.cumulative is None or count < 1:
             return None, 0
@@ -83,11 +83,13 @@ class Receivers:
 
 
 def light_receivers(glc, receivers, emitter_sets, occupancy, singularity_bound, pattern,
-                    senders_per_receiver=RECEIVER_SENDERS, flux_bound=None):
+                    senders_per_receiver=RECEIVER_SENDERS, flux_bound=None, sender_rooms=False):
     """The receivers ((buffer, count) of `Receivers.draw`, the buffer released here) lit by
     the emitter sets ((buffer, count) pairs), each receiver gathering a strided subset of
-    `senders_per_receiver` of each set, marching every grid of `occupancy`: an EmitterVPLs
-    whose flux bound is `flux_bound` where given, else their flux read back and summed."""
+    `senders_per_receiver` of each set, marching every grid of `occupancy`, with
+    `sender_rooms` (the senders are VPLs, in rooms) each side only from its own room
+    (gpu/closed_meshes.py): an EmitterVPLs, each in its brighter side's room, whose flux
+    bound is `flux_bound` where given, else their flux read back and summed."""
     gl = glc.gl
     layers = occupancy.every_grid_layers()
     receiver_buffer, count = receivers
@@ -95,9 +97,9 @@ def light_receivers(glc, receivers, emitter_sets, occupancy, singularity_bound, 
         receiver_buffer, count = gl.buffer(np.zeros((1, 3, 4), dtype=np.float32).tobytes()), 1
     irradiance = gl.buffer(reserve=count * 32)
     lit = gl.buffer(reserve=count * EMITTER_BYTES)
-    program = glc.compute("emitter_bounce", MARCH_LEVELS=len(layers), LANES=LANES)
+    program = glc.compute("emitter_bounce", MARCH_LEVELS=len(layers), LANES=LANES, **ROOM_CODE_DEFINES)
     set_uniforms(program, **occupancy.march_uniforms(layers, first_unit=0), singularity_bound=singularity_bound,
-                 receiver_count=count, pattern=pattern)
+                 receiver_count=count, pattern=pattern, sender_rooms=sender_rooms)
     receiver_buffer.bind_to_storage_buffer(1)
     irradiance.bind_to_storage_buffer(2)
     lit.bind_to_storage_buffer(3)

@@ -39,6 +39,7 @@ class IndirectMethod:
         self.levels = self.grids[::phases]
         self.generations = Generations(glc)
         self.emitter_vpls = None  # the emitters' bounce (gpu/emitter_bounce.py)
+        self.rooms = None  # the rooms of the last build (gpu/closed_meshes.py Rooms)
         self.volumes = self._volumes()
         self._pixel_gather = None  # made when a frame has emitters (pixel_gather)
 
@@ -62,13 +63,15 @@ class IndirectMethod:
         """The longest side, in texels, of a volume it allocates."""
         raise NotImplementedError
 
-    def build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources=(), receivers=None):
+    def build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources=(), receivers=None, rooms=None):
         """Fill the grids from the lights' maps (gpu/light_maps.py LightMaps), timing each
         stage; from the emitter sets `sources` ((buffer, count) pairs) through points drawn
         on the surfaces by `receivers()` (the scene's gpu/emitter_bounce.py Receivers, made
         on first use); and with `settings.bounces` above 1 (gathering methods) from the
         later generations (gpu/bounces.py), on points it draws too, their senders' subsets
-        following the VPL `pattern`."""
+        following the VPL `pattern`. With `rooms` (gpu/closed_meshes.py Rooms) the gathering
+        methods keep each room's light in it."""
+        self.rooms = rooms
         if self.emitter_vpls is not None:
             self.emitter_vpls.release()
             self.emitter_vpls = None
@@ -78,10 +81,17 @@ class IndirectMethod:
     def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
         raise NotImplementedError
 
-    def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern, held_bound):
+    def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern, held_bound,
+                      room_sides=None):
         """Gather every pixel's light (gathers_per_pixel), the VPLs' 1/r² bounded by
-        `singularity_bound`, the held bound of the later bounces' by `held_bound`;
+        `singularity_bound`, the held bound of the later bounces' by `held_bound`, with
+        `room_sides` (the mesh's sides-and-rooms buffer) each from its own room's alone;
         `uniforms` are the G-buffer's, its textures bound."""
+
+    def cell_rooms(self):
+        """The texture of its cells' rooms (gpu/light_grid.py mark_cells) where the last
+        build kept rooms apart in cells, else None."""
+        return None
 
     def pixel_gather(self):
         """The pixel gather (gpu/vpl_gather.py) that adds the emitters' direct light (the
@@ -241,7 +251,8 @@ class GatheringMethod(IndirectMethod):
                 emitters = emitters + self.generations.build(emitters, flux_bound, settings.bounces, receivers(),
                                                              settings.emitter_bounce_samples,
                                                              self._bounce_occupancy(mesh),
-                                                             settings.singularity_bound, pattern)
+                                                             settings.singularity_bound, pattern,
+                                                             rooms=self.rooms is not None)
             flux_bound += self.generations.flux_bound
         else:
             self.generations.release()
@@ -262,6 +273,10 @@ class LightGridMethod(GatheringMethod):
 
     name = "light_grid"
     stages = ("inject_ms", "gather_ms")
+
+    def __init__(self, glc, grids, phases):
+        self._rooms_apart = False  # whether the last build kept rooms apart in its cells
+        super().__init__(glc, grids, phases)
 
     def _volumes(self):
         return [LightGrid(self.glc, self.grids)]
@@ -291,9 +306,13 @@ class LightGridMethod(GatheringMethod):
                                                        flux_bound)
         volume = self.volumes[0]
         with self.glc.timed(stats, "inject_ms"):
-            volume.cluster(emitters, flux_bound, cluster_levels(self.levels, scene_bounds))
+            self._rooms_apart = volume.mark_cells(self.rooms)
+            volume.cluster(emitters, flux_bound, cluster_levels(self.levels, scene_bounds), self._rooms_apart)
         with self.glc.timed(stats, "gather_ms"):
-            volume.gather(settings.singularity_bound, self._level_layers())
+            volume.gather(settings.singularity_bound, self._level_layers(), self._rooms_apart)
+
+    def cell_rooms(self):
+        return self.volumes[0].receiving if self._rooms_apart else None
 
     def cell_light(self):
         """A light grid's mean irradiance over its six directions."""
@@ -330,9 +349,10 @@ class VPLGatherMethod(GatheringMethod):
         self.emitter_sets, _ = self._gathered_emitters(maps, mesh, settings, stats, pattern, sources, receivers,
                                                        flux_bound)
 
-    def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern, held_bound):
+    def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern, held_bound,
+                      room_sides=None):
         self.volumes[0].gather(targets, uniforms, camera_position, self.emitter_sets, singularity_bound, pattern,
-                               held_bound)
+                               held_bound, room_sides)
 
     def pixel_gather(self):
         return self.volumes[0]  # its own occupancy and images: its gather comes later in the frame

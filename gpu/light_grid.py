@@ -16,9 +16,10 @@ import math
 import moderngl
 import numpy as np
 
+from .closed_meshes import RAY, ROOM_CODE_DEFINES, ROOM_DEFINES
 from .context import dispatch, set_uniforms, zero_buffer
 from .grids import fit_grid
-from .occupancy import VOXELS_PER_CELL, Occupancy, march_batch
+from .occupancy import LOOP_LIMIT, VOXELS_PER_CELL, Occupancy, march_batch
 from .vpl import EMITTER_BYTES
 
 CLUSTER_CELLS = 2
@@ -103,10 +104,11 @@ class LightGrid:
                 volume.filter = (moderngl.NEAREST, moderngl.NEAREST)
                 volumes.append(volume)
         self.occupancy = Occupancy(glc, self.grids)
-        # the cells a lookup can read, marked per mesh (shaders/light_grid_receiving.comp)
+        # the cells a lookup can read, marked per mesh (shaders/light_grid_receiving.comp), with their rooms
         self.receiving = gl.texture3d((n, n, n * len(self.grids)), 1, dtype="u1")
         self._no_cells = bytes(n ** 3 * len(self.grids))
         self.marked = None  # the mesh `receiving` was marked from
+        self.rooms_marked = None  # the rooms' key and whether `receiving` holds their rooms, since it was marked
         self.count = gl.buffer(reserve=COUNT_BYTES)
         self.keys = self.sums = self.blocks = self.emitters = None  # each octave's table one after another
         self.tables = []
@@ -126,15 +128,17 @@ class LightGrid:
         for buffer in (self.keys, self.sums, self.count):
             zero_buffer(self.glc, buffer)
 
-    def cluster(self, emitter_sets, flux_bound, cluster_grids):
+    def cluster(self, emitter_sets, flux_bound, cluster_grids, rooms=False):
         """Sum the emitters (buffers with counts) into clusters of `cluster_grids` (the
-        levels, finest first, and a last grid that holds every emitter), then those into
-        clusters twice as wide, octave after octave, all in one list."""
+        levels, finest first, and a last grid that holds every emitter), with `rooms` apart
+        by the room each lies in (gpu/closed_meshes.py), then those into clusters twice as
+        wide, octave after octave, all in one list."""
         size = cluster_grids[0].size
         tables = cluster_tables(sum(count for _, count in emitter_sets), size, len(cluster_grids))
         self._cluster_buffers(tables)
         defines = {"LEVELS": len(cluster_grids), "CLUSTER_INTS": CLUSTER_INTS, "DEPTH": len(tables),
-                   "AREA_UNITS": AREA_UNITS, "MEMBER_AREA_CAP": MEMBER_AREA_CAP}
+                   "AREA_UNITS": AREA_UNITS, "MEMBER_AREA_CAP": MEMBER_AREA_CAP,
+                   **(ROOM_DEFINES if rooms else ROOM_CODE_DEFINES)}
         levels = {"level_origins": np.array([g.origin for g in cluster_grids]),
                   "level_cells": np.array([g.cell_size for g in cluster_grids]), "grid_size": size,
                   "flux_scale": FIXED_POINT_RANGE / flux_bound if flux_bound > 0 else 1.0}
@@ -179,21 +183,53 @@ class LightGrid:
                          triangle_count=mesh.triangle_count)
             dispatch(program, mesh.triangle_count, local=(64,))
         self.marked = mesh
+        self.rooms_marked = None
 
-    def gather(self, singularity_bound, levels):
+    def mark_cells(self, rooms=None):
+        """Mark the cells a lookup can read, once per mesh, and with `rooms`
+        (gpu/closed_meshes.py Rooms) each one's room: the innermost holding its centre
+        (shaders/light_grid_rooms.comp); whether the rooms are marked. Not where llvmpipe's
+        loop limit cannot test every wall in one go: the grid then keeps rooms apart nowhere."""
+        if self.marked is not self.occupancy.voxelised:
+            self._mark_receiving(self.occupancy.voxelised)
+        if rooms is None:
+            return False
+        if self.rooms_marked is not None and self.rooms_marked[0] == rooms.key:
+            return self.rooms_marked[1]
+        corners, firsts, counts, lows, highs = rooms.walls()
+        self.rooms_marked = (rooms.key, not (self.glc.is_software and len(corners) > LOOP_LIMIT))
+        if not self.rooms_marked[1]:
+            return False
+        walls = np.zeros((len(corners), 3, 4), dtype=np.float32)
+        walls[:, :, :3] = corners
+        buffer = self.glc.gl.buffer(walls.tobytes())
+        program = self.glc.compute("light_grid_rooms", **ROOM_CODE_DEFINES)
+        padded = {name: np.resize(values, (ROOM_CODE_DEFINES["ROOM_CODES"],) + values.shape[1:])
+                  for name, values in (("first_wall", firsts), ("wall_count", counts), ("room_low", lows),
+                                       ("room_high", highs))}
+        buffer.bind_to_storage_buffer(0)
+        self.receiving.bind_to_image(0, read=True, write=True)
+        for layer, grid in enumerate(self.grids):
+            set_uniforms(program, **padded, room_count=len(counts), ray=tuple(float(v) for v in RAY),
+                         grid_origin=grid.origin, cell_size=grid.cell_size, grid_size=grid.size, layer=layer)
+            dispatch(program, grid.size ** 3, local=(64,))
+        buffer.release()
+        return True
+
+    def gather(self, singularity_bound, levels, rooms=False):
         """Every grid's cells gather the clustered emitters' light through the occupancy's
         levels (`levels`: the layer of each, finest first) and its outer grid, each from its
         own grid's level on, in batches of emitters whose marches stay under llvmpipe's loop
         limit (shaders/light_grid_gather.comp), its 1/r² bounded by `singularity_bound`
-        (shaders/emitter.glsl)."""
-        if self.marked is not self.occupancy.voxelised:
-            self._mark_receiving(self.occupancy.voxelised)
+        (shaders/emitter.glsl); with `rooms` (clustered apart, the cells' rooms marked:
+        mark_cells) each cell only from the clusters of its own room."""
+        self.mark_cells()
         levels = list(levels)
         phases = len(self.grids) // len(levels)
         layers = self.occupancy.march_layers(levels)
         program = self.glc.compute("light_grid_gather", UNSHADOWED=int(bool(self.unshadowed)), MARCH_LEVELS=len(layers),
                                    CLUSTER_LEVELS=len(self.cluster_uniforms["cluster_cells"]), DEPTH=len(self.tables),
-                                   NEAR_SIZES=NEAR_SIZES)
+                                   NEAR_SIZES=NEAR_SIZES, **(ROOM_DEFINES if rooms else ROOM_CODE_DEFINES))
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
         if self.glc.is_software:  # llvmpipe ends long loop nests: batches its limit allows, as many as there are

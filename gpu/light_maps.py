@@ -52,7 +52,8 @@ class LightMaps:
     sees, the map of the region it sees (`region`, the box `region_box`) that the VPLs come
     from, with `far_vpls` from the whole map outside it; and the Poisson pattern of the
     VPLs (gpu/vpl.py); for a sun, the cascade of maps its direct light looks up where the
-    camera looks (`view_maps` of the boxes `view_boxes`: fit_view_maps)."""
+    camera looks (`view_maps` of the boxes `view_boxes`: fit_view_maps); the room the light
+    lies in, which its VPLs carry (gpu/closed_meshes.py)."""
 
     rsm: object
     method: str
@@ -64,6 +65,7 @@ class LightMaps:
     pattern: int = None
     view_maps: tuple = ()
     view_boxes: tuple = None
+    room: int = 0
 
     def fit_view_maps(self, glc, mesh, resolution, boxes, bounds, stats):
         """A sun's cascade of maps for its direct light, finest first: one fitted across
@@ -98,9 +100,9 @@ class LightMaps:
         for vpls in (self.vpls, self.far_vpls):
             if vpls is not None:
                 vpls.release()
-        self.vpls = sampler.sample(self.vpl_map, count, pattern)
+        self.vpls = sampler.sample(self.vpl_map, count, pattern, room=self.room)
         self.far_vpls = None if self.region is None else sampler.sample(
-            self.rsm, max(1, int(count * FAR_FIELD_SHARE)), pattern, exclude=self.region_box)
+            self.rsm, max(1, int(count * FAR_FIELD_SHARE)), pattern, exclude=self.region_box, room=self.room)
         self.pattern = pattern
 
     def emitter_sets(self):
@@ -177,22 +179,23 @@ def sun_region(levels, bounds):
     return tuple(map(float, low)), tuple(map(float, high))
 
 
-def render_light_maps(glc, mesh, light, settings, bounds, stats, sampler, pattern, region=None):
-    """A light's LightMaps by the settings' method, its VPLs in Poisson pattern `pattern`;
-    `auto` tessellates where its first choice leaves too many texels unresolved."""
+def render_light_maps(glc, mesh, light, settings, bounds, stats, sampler, pattern, region=None, room=0):
+    """A light's LightMaps by the settings' method, its VPLs in Poisson pattern `pattern`
+    and in the light's `room` (gpu/closed_meshes.py); `auto` tessellates where its first
+    choice leaves too many texels unresolved."""
     if settings.method != "auto":
-        return _render_with(settings.method, glc, mesh, light, settings, bounds, stats, sampler, pattern, region)
-    maps = _render_with(auto_method(light), glc, mesh, light, settings, bounds, stats, sampler, pattern, region)
+        return _render_with(settings.method, glc, mesh, light, settings, bounds, stats, sampler, pattern, region, room)
+    maps = _render_with(auto_method(light), glc, mesh, light, settings, bounds, stats, sampler, pattern, region, room)
     if maps.warp is not None:
         found = sum(maps.warp.counts[name] for name in STATUS_NAMES[1:])
         unresolved = maps.warp.counts["failed"] + maps.warp.counts["approximate"]
         if unresolved > AUTO_TESSELLATION_SHARE * found:
             maps.release()
-            maps = _render_with("twdpm", glc, mesh, light, settings, bounds, stats, sampler, pattern, region)
+            maps = _render_with("twdpm", glc, mesh, light, settings, bounds, stats, sampler, pattern, region, room)
     return maps
 
 
-def _render_with(method, glc, mesh, light, s, bounds, stats, sampler, pattern, region):
+def _render_with(method, glc, mesh, light, s, bounds, stats, sampler, pattern, region, room):
     recipe = map_recipe(s, method)
     with glc.timed(stats, "rsm_ms"):
         rsm = render_rsm(glc, mesh, light, s.rsm_resolution, bounds, recipe.projection, recipe.tessellation_unit,
@@ -209,7 +212,7 @@ def _render_with(method, glc, mesh, light, s, bounds, stats, sampler, pattern, r
         with glc.timed(stats, "rsm_ms"):
             region_map = render_rsm(glc, mesh, light, s.rsm_resolution, tuple(np.array(corner) for corner in region),
                                     reach=bounds, pattern=pattern)
-    maps = LightMaps(rsm, method, status, region_map, region)
+    maps = LightMaps(rsm, method, status, region_map, region, room=room)
     with glc.timed(stats, "vpl_ms"):
         maps.sample_vpls(sampler, s.vpls_per_light, pattern)
     return maps

@@ -133,8 +133,8 @@ class Pipeline:
 
     def light_maps(self, scene, stats=None, levels=None, lights=None):
         """Each light's LightMaps (of `lights`, by default the scene's), rendered only when
-        the light, geometry, settings or (for a sun) the region of the grid `levels`
-        changed, its VPLs sampled again when the pattern (`vpl_pattern`) changed; and their
+        the light, its room (gpu/closed_meshes.py), the geometry, settings or (for a sun)
+        the region of the grid `levels` changed, its VPLs sampled again when the pattern (`vpl_pattern`) changed; and their
         cache keys."""
         stats = {} if stats is None else stats
         s = self.settings
@@ -145,13 +145,16 @@ class Pipeline:
         if any(recipe.warp_alpha is not None for recipe in recipes):
             recipes += (s.warp_iterations, s.warp_significant_figures)
         region = sun_region(levels, bounds)
+        self._sides(scene)
+        rooms = self._rooms()
         for light in scene.lights if lights is None else lights:
             light_region = region if light.kind == "SUN" else None
+            room = rooms.room_of(light) if rooms is not None else 0
             key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes, light_region,
-                   self.vpl_pattern if self._mesh.value.hashed else None)  # hashed cut-outs differ per pattern
+                   self.vpl_pattern if self._mesh.value.hashed else None, room)  # hashed cut-outs differ per pattern
             if key not in self._lights:
                 self._lights[key] = render_light_maps(self.glc, self._mesh.value, light, s, bounds, stats,
-                                                      self.vpl_sampler, self.vpl_pattern, light_region)
+                                                      self.vpl_sampler, self.vpl_pattern, light_region, room)
             light_maps = self._lights[key]
             if light.kind == "SUN" and levels:
                 light_maps.fit_view_maps(self.glc, self._mesh.value, s.sun_cascade_resolution, self._cascade_boxes, bounds,
@@ -283,8 +286,9 @@ class Pipeline:
         the method and grids are the same."""
         s = self.settings.with_changes(bounces=max(light_bounces(self.settings, scene), 1))
         method = indirect_method(s)
+        rooms = self._rooms()
         key = (method.name, tuple(keys), self.vpl_pattern, grids, s.propagation_iterations, s.occlusion,
-               sources_key) + method.key(s)
+               sources_key, rooms.key if rooms is not None else None) + method.key(s)
         if key != self._indirect.key:
             indirect = self._indirect.value
             if indirect is None or type(indirect) is not method or indirect.grids != grids:
@@ -292,7 +296,8 @@ class Pipeline:
                 indirect = method(self.glc, grids, s.grid_phases)
             mesh = self._mesh.value
             indirect.build(maps, mesh, scene.bounds(), s, stats, self.vpl_pattern, sources,
-                           lambda: self._receivers.get(scene.geometry_key(), lambda: Receivers(self.glc, scene, mesh)))
+                           lambda: self._receivers.get(scene.geometry_key(), lambda: Receivers(self.glc, scene, mesh)),
+                           rooms)
             self._indirect.put(key, indirect)
         return self._indirect.value
 
@@ -314,11 +319,11 @@ class Pipeline:
         """The direct image: the lights' with maps, the point emitters' (the `drawn` ones of
         the scene glowing too) and the emissive surfaces' with their glow."""
         s = self.settings
-        rooms = self._open_sides.value[1] if self._open_sides.value is not None else None
+        rooms = self._rooms()
         with self.glc.timed(stats, "direct_ms"):
             for m in maps:
                 shadow = shadow_uniforms(m.rsm.light, s.shadow_taps, self.vpl_pattern)
-                room = None if rooms is None else (self._mesh.value.open_sides, rooms.room_of(m.rsm.light))
+                room = None if rooms is None else (self._mesh.value.open_sides, m.room)
                 cascade = (*m.view_maps, m.rsm)  # finest first: each shades what the finer ones leave
                 for finer, rsm in zip((None, *cascade), cascade):
                     shade_direct(self.glc, targets, scene.camera, rsm, s.shadow_bias, shadow,
@@ -358,7 +363,8 @@ class Pipeline:
                 # the n-th set of a converging frame bounds 1/r² by 1/n as much: the average's bias tends to zero
                 # (the later bounces' points hold theirs: shaders/emitter.glsl)
                 indirect.gather_pixels(targets, gbuffer_uniforms(scene.camera), scene.camera.position,
-                                       s.singularity_bound / sets, self.vpl_pattern, s.singularity_bound)
+                                       s.singularity_bound / sets, self.vpl_pattern, s.singularity_bound,
+                                       self._room_sides())
         with self.glc.timed(stats, "indirect_ms"):
             world = None
             if scene.world is not None and not scene.film.transparent:
@@ -366,7 +372,16 @@ class Pipeline:
             intensity = s.indirect_intensity if light_bounces(s, scene) > 0 else 0.0  # Light Paths of no bounce
             shade_indirect(self.glc, targets, scene.camera, indirect, len(indirect.levels), s.grid_phases,
                            intensity, display, sets - 1, glow=glowing, world=world,
-                           reflections=self._reflection_inputs(scene, indirect))
+                           reflections=self._reflection_inputs(scene, indirect), room_sides=self._room_sides())
+
+    def _rooms(self):
+        """The Rooms of the scene `_sides` last sorted (gpu/closed_meshes.py); None where it
+        has none."""
+        return self._open_sides.value[1] if self._open_sides.value is not None else None
+
+    def _room_sides(self):
+        """The mesh's sides-and-rooms buffer where the scene has rooms, else None."""
+        return self._mesh.value.open_sides if self._rooms() is not None else None
 
     def _world_light(self):
         if self._world is None:

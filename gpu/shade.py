@@ -4,7 +4,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from .closed_meshes import BACK_ROOM_SHIFT, FRONT_ROOM_SHIFT
+from .closed_meshes import ROOM_DEFINES
 from .context import clear_depth_only, dispatch, dispatch_indirect, dispatch_row, set_uniforms, zero_buffer
 from .errors import LPVError
 from .grids import VIEW_LATTICE
@@ -358,8 +358,7 @@ def shade_direct(glc, targets, camera, rsm, shadow_bias, shadow, inside=None, ou
     (a sun's orthographic view maps, or None) keep to the pixels within VIEW_MAP_EDGE of
     the one and beyond it of the other. With `room` (the mesh's sides-and-rooms buffer and
     the light's room, gpu/closed_meshes.py) it lights only the pixels in its room."""
-    rooms = {"ROOMS": 1, "FRONT_ROOM_SHIFT": FRONT_ROOM_SHIFT, "BACK_ROOM_SHIFT": BACK_ROOM_SHIFT}
-    program = glc.compute("shade_direct", **(rooms if room is not None else {}))
+    program = glc.compute("shade_direct", **(dict(ROOM_DEFINES, SIDES_BINDING=0) if room is not None else {}))
     bind_gbuffer(targets)
     if room is not None:
         room[0].bind_to_storage_buffer(0)
@@ -447,16 +446,22 @@ class ReflectionInputs:
 
 
 def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, display=False, accumulated=0,
-                   glow=False, world=None, reflections=None):
+                   glow=False, world=None, reflections=None, room_sides=None):
     """Look the indirect grids (gpu/indirect.py: `levels` nested levels of `phases` grids
     each) up at every pixel and write the indirect and combined images, and with `display`
     the combined one into the display buffer too. With `accumulated` > 0 the indirect
     image holds the mean of that many VPL sets' light, which this set's joins. With `glow`
     the composite adds the glow image (render_glow); with `world` (the background map's
     texture, gpu/world_light.py) it shows the world where the camera sees no surface; with
-    `reflections` (ReflectionInputs) it adds what glossy surfaces reflect."""
+    `reflections` (ReflectionInputs) it adds what glossy surfaces reflect. With
+    `room_sides` (the mesh's sides-and-rooms buffer, where the scene has rooms) a grid
+    whose cells know their rooms (the method's `cell_rooms`) is read only in the room of
+    the side looked up (gpu/closed_meshes.py)."""
     march = reflections is not None and reflections.occupancy is not None
     defines = {"REFLECTIONS": 1} if reflections is not None else {}
+    cell_rooms = indirect.cell_rooms() if room_sides is not None else None
+    if cell_rooms is not None:
+        defines.update(ROOM_DEFINES, SIDES_BINDING=1)
     if march:
         defines.update(MARCH_ESCAPE=1, MARCH_LEVELS=len(reflections.layers))
     program = glc.compute("shade_indirect", LEVELS=levels, PHASES=phases,
@@ -496,4 +501,9 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
                      projection_z=tuple(float(camera.projection[i, j]) for i, j in ((2, 2), (2, 3), (3, 2), (3, 3))),
                      trace_length=reflections.trace_length,
                      reflection_pattern=reflections.pattern)
+    if cell_rooms is not None:  # after the march's units
+        room_sides.bind_to_storage_buffer(1)
+        targets.triangles.use(location=world_unit + 6)
+        cell_rooms.use(location=world_unit + 7)
+        set_uniforms(program, g_triangles=world_unit + 6, cell_rooms=world_unit + 7)
     dispatch(program, *targets.size)

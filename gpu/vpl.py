@@ -15,6 +15,7 @@ from functools import lru_cache
 import moderngl
 import numpy as np
 
+from .closed_meshes import ROOM_CODE_DEFINES
 from .context import dispatch, run_workgroups, set_uniforms
 from .rsm import PROJECTION_PARABOLOID
 
@@ -101,16 +102,16 @@ def shifted_pattern(points, in_disk, pattern):
 
 @dataclass
 class VPLSet:
-    """The VPLs of one light in a GPU buffer: per VPL position (w valid), normal (w surfel
-    area), flux (rgb) as three vec4."""
+    """The VPLs of one light in a GPU buffer: per VPL position (w: 1 + its room, valid
+    where above 0), normal (w surfel area), flux (rgb) as three vec4."""
 
     buffer: moderngl.Buffer
     count: int
 
     def read(self):
         data = np.frombuffer(self.buffer.read(), dtype=np.float32).reshape(self.count, 3, 4)
-        return {"position": data[:, 0, :3], "valid": data[:, 0, 3] > 0, "normal": data[:, 1, :3],
-                "area": data[:, 1, 3], "flux": data[:, 2, :3]}
+        return {"position": data[:, 0, :3], "valid": data[:, 0, 3] > 0, "room": data[:, 0, 3] - 1,
+                "normal": data[:, 1, :3], "area": data[:, 1, 3], "flux": data[:, 2, :3]}
 
     def release(self):
         self.buffer.release()
@@ -212,18 +213,19 @@ class VPLSampler:
         """The GPU resources of every cached Poisson cell layout."""
         return tuple(resource for _, cells in self._cells.values() for resource in cells.resources())
 
-    def sample(self, rsm, vpl_count, pattern=0, exclude=None):
+    def sample(self, rsm, vpl_count, pattern=0, exclude=None, room=0):
         """The VPLs of `rsm`'s cells in Poisson pattern `pattern`, leaving out the texels
-        whose surface lies in the box `exclude` ((low, high) corners) when given."""
+        whose surface lies in the box `exclude` ((low, high) corners) when given, each in
+        the light's `room` (gpu/closed_meshes.py)."""
         cells = self.cells(rsm, vpl_count, pattern)
-        program = self.glc.compute("vpl_gather")
+        program = self.glc.compute("vpl_gather", **ROOM_CODE_DEFINES)
         output = self.glc.gl.buffer(reserve=cells.count * EMITTER_BYTES)
         for unit, texture in enumerate((rsm.position, rsm.normal, rsm.flux, cells.cell_ids)):
             texture.use(location=unit)
         low, high = exclude if exclude is not None else ((0.0,) * 3, (0.0,) * 3)
         set_uniforms(program, rsm_position=0, rsm_normal=1, rsm_flux=2, cell_ids=3, cell_count=cells.count,
                      exclude=exclude is not None, exclude_low=tuple(low), exclude_high=tuple(high),
-                     pattern=pattern)
+                     pattern=pattern, room=room)
         cells.samples.bind_to_storage_buffer(0)
         cells.bounds.bind_to_storage_buffer(1)
         output.bind_to_storage_buffer(2)

@@ -4,6 +4,7 @@ grid levels, each part of a segment in the finest level that holds it; each pixe
 and a filter that heeds depth and normal puts the block back together."""
 
 
+from .closed_meshes import ROOM_DEFINES
 from .context import dispatch, set_uniforms
 from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, Occupancy, march_batch, occupancy_bytes
 
@@ -41,20 +42,28 @@ class VPLGather:
             self.gathered, self.filtered = (self.glc.gl.texture(size, 4, dtype="f4") for _ in range(2))
         return self.gathered, self.filtered
 
-    def gather(self, targets, uniforms, camera_position, emitter_sets, singularity_bound, vpl_set, held_bound=None):
+    def gather(self, targets, uniforms, camera_position, emitter_sets, singularity_bound, vpl_set, held_bound=None,
+               room_sides=None):
         """Gather every pixel's irradiance from the emitters (buffers with counts), their
         1/r² bounded by `singularity_bound` (shaders/emitter.glsl), those whose bound is
-        held by `held_bound` (None: the same), and filter it into `filtered`; the pixels'
-        subsets follow `vpl_set`. `uniforms` are the G-buffer's (gpu/shade.py
-        gbuffer_uniforms), its textures bound."""
+        held by `held_bound` (None: the same), with `room_sides` (the mesh's sides-and-rooms
+        buffer; the emitters VPLs, in rooms) only those in the room of the side each pixel
+        sees (gpu/closed_meshes.py), and filter it into `filtered`; the pixels' subsets
+        follow `vpl_set`. `uniforms` are the G-buffer's (gpu/shade.py gbuffer_uniforms),
+        its textures bound."""
         gathered, filtered = self._images(targets.size)
         layers = self.occupancy.every_grid_layers()
-        program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE, MARCH_LEVELS=len(layers))
+        rooms = dict(ROOM_DEFINES, SIDES_BINDING=1) if room_sides is not None else {}
+        program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE, MARCH_LEVELS=len(layers), **rooms)
         gathered.bind_to_image(0, read=True, write=True)
         batch = march_batch(self.occupancy.voxels, len(layers), INTERLEAVE ** 2)
         set_uniforms(program, **uniforms, **self.occupancy.march_uniforms(layers, first_unit=2),
                      batch=batch, singularity_bound=singularity_bound, subset_shift=vpl_set % INTERLEAVE ** 2,
                      held_bound=singularity_bound if held_bound is None else held_bound)
+        if room_sides is not None:  # after the march's two units
+            room_sides.bind_to_storage_buffer(1)
+            targets.triangles.use(location=4)
+            set_uniforms(program, g_triangles=4)
         accumulate = False
         for buffer, count in emitter_sets:
             buffer.bind_to_storage_buffer(0)

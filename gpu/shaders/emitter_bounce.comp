@@ -6,19 +6,22 @@
 // first + batch) into `irradiance`, each side of the surface's apart (a triangle's
 // winding says nothing of where its room is), but not the side that looks into a solid
 // (gpu/closed_meshes.py); with `finish`, the receiver becomes a VPL facing its brighter
-// side: its flux its albedo times that side's irradiance times the area it stands for. An emissive surface's emitter nearer a
+// side, in that side's room: its flux its albedo times that side's irradiance times the
+// area it stands for. With `sender_rooms` (VPLs, which carry their rooms: rooms.glsl) a
+// side gathers only the senders in its room. An emissive surface's emitter nearer a
 // receiver than GAP_VOXELS finest voxels lights it not: the occupancy cannot tell what
 // lies between (a ceiling over a panel hung just under it would send the panel's back
 // light past the panel, which holds it in); a point emitter's near light is kept.
 #include "common.glsl"
 #include "emitter.glsl"
 #include "levels_march.glsl"
+#include "rooms.glsl"
 layout(local_size_x = LANES) in;
 layout(std430, binding = 0) readonly buffer Senders { Emitter senders[]; };
-// A receiver (gpu/emitter_bounce.py Receivers.rows): position (w 1), face normal and the
-// area it stands for, albedo, and the sides light reaches (bit 0: the side its normal
-// faces, bit 1: the other; gpu/closed_meshes.py).
-struct Receiver { vec4 position; vec4 normal; vec3 albedo; float open_sides; };
+// A receiver (receiver_draw.comp): position (w 1), face normal and the area it stands
+// for, albedo, and its triangle's byte: the sides light reaches (bit 0: the side its normal
+// faces, bit 1: the other) and the room each looks into (gpu/closed_meshes.py).
+struct Receiver { vec4 position; vec4 normal; vec3 albedo; float code; };
 layout(std430, binding = 1) readonly buffer Receivers { Receiver receivers[]; };
 layout(std430, binding = 2) buffer Irradiance { vec4 irradiance[]; };  // front, back per receiver
 layout(std430, binding = 3) writeonly buffer Lit { Emitter lit[]; };
@@ -30,6 +33,7 @@ uniform int stride;
 uniform int pattern;
 uniform bool accumulate;
 uniform bool finish;
+uniform bool sender_rooms;
 
 shared vec3 sums[2][LANES];
 const float GAP_VOXELS = 3.0;  // finest voxels within which an emissive surface lights no receiver
@@ -40,7 +44,8 @@ void main() {
     int lane = int(gl_LocalInvocationID.x);
     Receiver r = receivers[index];
     vec3 offset_along = EMITTER_OFFSET * level_voxels[0] * r.normal.xyz;
-    int open_sides = int(r.open_sides);
+    uint code = uint(r.code);
+    int rooms[2] = int[2](side_room(code, true), side_room(code, false));
     int offset = (index * 7919 + pattern) % stride;
     int last = min(first_sender + batch, sender_count);
     float gap = GAP_VOXELS * level_voxels[0];
@@ -53,7 +58,7 @@ void main() {
         if (dot(d, d) < gap * gap && dot(e.normal.xyz, e.normal.xyz) > 0.5) continue;
         float facing = -dot(r.normal.xyz, d) * inversesqrt(max(dot(d, d), 1e-30));
         int side = facing > 0.0 ? 0 : 1;
-        if ((open_sides & (1 << side)) == 0) continue;
+        if ((code & (1u << side)) == 0u || (sender_rooms && emitter_room(e.position) != rooms[side])) continue;
         // a receiver holds every sender's bound: it never shrinks here
         vec3 light = bounded_emitter_light(e, d, 0.0, singularity_bound, 1.0) * abs(facing);
         if (max(light.r, max(light.g, light.b)) <= 0.0) continue;
@@ -76,7 +81,7 @@ void main() {
     if (!finish) return;
     bool back_brighter = dot(back, vec3(1.0)) > dot(front, vec3(1.0));
     Emitter vpl;
-    vpl.position = r.position;
+    vpl.position = vec4(r.position.xyz, room_word(rooms[back_brighter ? 1 : 0]));
     vpl.normal = vec4(back_brighter ? -r.normal.xyz : r.normal.xyz, r.normal.w);
     vpl.flux = vec4(r.albedo * (back_brighter ? back : front) * r.normal.w, 1.0);  // its bound held
     lit[index] = vpl;

@@ -1,6 +1,7 @@
 #version 450 core
 // Emitters into clusters: the finest level whose box holds an emitter decides its cluster
-// cell, and its normal's main axis and sign (or "no normal") the bin; a hash table finds
+// cell, its normal's main axis and sign (or "no normal") the bin and with ROOMS its room
+// (rooms.glsl) the room; a hash table finds
 // the cluster, which sums the flux and the flux-weighted place in its cell, normal and
 // share whose bound is held (emitter.glsl held_share), and the area its emitters stand
 // for, in fixed-point integer atomics (the same sums whatever order the emitters come in).
@@ -9,6 +10,7 @@
 #include "common.glsl"
 #include "emitter.glsl"
 #include "cluster_key.glsl"
+#include "rooms.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
 layout(std430, binding = 1) buffer Keys { int keys[]; };     // key + 1, 0: empty
@@ -28,9 +30,9 @@ void main() {
     int first = octave_start[octave - 1];
     if (index >= emitter_total - first) return;
     Emitter e = emitters[first + index];
-    int level, bin;
+    int level, bin, room;
     ivec3 cell;
-    cluster_cell(cluster_word_key(e.position.w), grid_size, level, cell, bin);
+    cluster_cell(cluster_word_key(e.position.w), grid_size, LEVELS, level, cell, bin, room);
     cell >>= 1;
     vec3 g = (e.position.xyz - level_origins[level]) / (level_cells[level] * float(1 << octave));
     vec3 n = e.normal.xyz;
@@ -51,8 +53,13 @@ void main() {
         int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
         bin = 2 * axis + (n[axis] < 0.0 ? 1 : 0);
     }
+#ifdef ROOMS
+    int room = emitter_room(e.position);
+#else
+    int room = 0;
 #endif
-    int key = cluster_key(level, cell, bin, grid_size);
+#endif
+    int key = cluster_key(level, cell, bin, room, grid_size, LEVELS);
     int slot = int(uint(key) * 2654435761u) & (capacity - 1);
     for (int probe = 0; probe < capacity; ++probe) {
         int held = atomicCompSwap(keys[slot], 0, key + 1);

@@ -64,9 +64,9 @@ void main() {
     float weight = float(sums[base + 9]);
     vec3 flux = vec3(sums[base], sums[base + 1], sums[base + 2]) / flux_scale;
     int key = keys[slot] - 1;
-    int level, bin;
+    int level, bin, room;
     ivec3 cell;
-    cluster_cell(key, grid_size, level, cell, bin);
+    cluster_cell(key, grid_size, LEVELS, level, cell, bin, room);
     float size = level_cells[level] * float(1 << octave);
     vec3 place = vec3(sums[base + 3], sums[base + 4], sums[base + 5]) / weight;
     vec3 n = vec3(sums[base + 6], sums[base + 7], sums[base + 8]) / weight;

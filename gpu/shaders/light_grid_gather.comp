@@ -14,7 +14,8 @@
 // first_emitter + batch) to what the ones before left: llvmpipe ends a loop nest after
 // 65,535 iterations in all, marches included. With UNSHADOWED, the light every emitter
 // would give without occluders goes beside it into `unshadowed` (gpu/emitter_shadows.py
-// takes their ratio).
+// takes their ratio). With ROOMS a cell gathers only the clusters of its own room
+// (`receiving` holds 1 + its room: light_grid_rooms.comp).
 #include "common.glsl"
 #include "emitter.glsl"
 #include "levels_march.glsl"
@@ -35,7 +36,7 @@ uniform float cell_size;
 uniform int grid_size;
 uniform int first_emitter;
 uniform int batch;
-uniform usampler3D receiving;  // the cells a lookup can read (light_grid_receiving.comp): the others are skipped
+uniform usampler3D receiving;  // the cells a lookup can read (light_grid_receiving.comp, not 0): the others are skipped
 uniform int layer;             // this grid's block of it along z
 uniform vec3 cluster_origins[CLUSTER_LEVELS];  // the clusters' levels (emitter_cluster.comp)
 uniform float cluster_cells[CLUSTER_LEVELS];
@@ -50,21 +51,30 @@ bool near_cluster(vec3 p, int level, ivec3 cell, int octave) {
     return length(max(max(low - p, p - low - size), 0.0)) <= NEAR_SIZES * size;
 }
 
-// Whether the cluster `e` is in the cut at `p`: near it stand its narrower clusters, where
-// the wider one holding it is far, that one does.
-bool in_cut(Emitter e, vec3 p) {
-    int octave = cluster_word_octave(e.position.w), level, bin;
+// Whether the cluster `e` counts at `p` in `room`: it is in the cut at p (near p stand its
+// narrower clusters, where the wider one holding it is far, that one does) and in that room.
+bool counts(Emitter e, vec3 p, int room) {
+#if DEPTH == 1 && !defined(ROOMS)
+    return true;  // one octave, one room: every cluster counts
+#else
+    int octave = cluster_word_octave(e.position.w), level, bin, own_room;
     ivec3 cell;
-    cluster_cell(cluster_word_key(e.position.w), cluster_grid_size, level, cell, bin);
-    return (octave == 0 || !near_cluster(p, level, cell, octave))
-        && (octave == DEPTH - 1 || near_cluster(p, level, cell >> 1, octave + 1));
+    cluster_cell(cluster_word_key(e.position.w), cluster_grid_size, CLUSTER_LEVELS, level, cell, bin, own_room);
+#if DEPTH > 1
+    if ((octave != 0 && near_cluster(p, level, cell, octave))
+        || (octave != DEPTH - 1 && !near_cluster(p, level, cell >> 1, octave + 1)))
+        return false;
+#endif
+    return own_room == room;
+#endif
 }
 
 void main() {
     int index = int(gl_WorkGroupID.x);
     int lane = int(gl_LocalInvocationID.x);
     ivec3 cell = ivec3(index % grid_size, (index / grid_size) % grid_size, index / (grid_size * grid_size));
-    if (texelFetch(receiving, cell + ivec3(0, 0, layer * grid_size), 0).r == 0u) {
+    uint marked = texelFetch(receiving, cell + ivec3(0, 0, layer * grid_size), 0).r;
+    if (marked == 0u) {
         if (lane < 6 && first_emitter == 0) imageStore(irradiance, ivec3(cell.xy, cell.z + lane * grid_size), vec4(0.0));
 #if UNSHADOWED
         else if (lane < 12 && first_emitter == 0)
@@ -73,14 +83,17 @@ void main() {
         return;
     }
     vec3 centre = grid_origin + (vec3(cell) + 0.5) * cell_size;
+#ifdef ROOMS
+    int room = int(marked) - 1;
+#else
+    int room = 0;
+#endif
     vec3 facing[SUMS];
     for (int k = 0; k < SUMS; ++k) facing[k] = vec3(0.0);
     int last = min(first_emitter + batch, emitter_count);
     for (int j = first_emitter + lane; j < last; j += LANES) {
         Emitter e = emitters[j];
-#if DEPTH > 1  // one octave: every cluster is in the cut
-        if (!in_cut(e, centre)) continue;
-#endif
+        if (!counts(e, centre, room)) continue;
         vec3 light, plus, minus;  // the light on surfaces facing +axis and -axis: light * plus, light * minus
         if (dot(e.normal.xyz, e.normal.xyz) > 0.5) {
             square_faces(e, centre, light, plus, minus);

@@ -14,9 +14,15 @@
 // where any centre counts, else 0: such a grid abstains (light_grid_levels.glsl) instead of
 // answering black. With PAIRED, each centre gives the luminances (`luminance_weights`,
 // declared before) of two grids' light instead: the light grid's in r and
-// `unshadowed_grid`'s in g, through the same marches.
+// `unshadowed_grid`'s in g, through the same marches. With ROOMS only the centres in the
+// room `lookup_room` count (`cell_rooms`: 1 + each cell's room, light_grid_rooms.comp),
+// which its caller sets to the surface side's room.
 #include "occupancy.glsl"
 uniform sampler3D light_grid[GRIDS];
+#ifdef ROOMS
+uniform usampler3D cell_rooms;
+int lookup_room = 0;
+#endif
 #ifdef PAIRED
 uniform sampler3D unshadowed_grid[GRIDS];
 #endif
@@ -61,6 +67,9 @@ vec4 visible_centres(int grid, vec3 p, vec3 n, vec3 shift, float radius) {
         vec3 centre_voxels = (vec3(c) + 0.5) * float(voxels_per_cell);
         vec3 to = (vec3(c) + 0.5) * cell + origin - p;
         float weight = dot(to, n) > 0.0 ? w3.x * w3.y * w3.z : 0.0;
+#ifdef ROOMS
+        if (texelFetch(cell_rooms, c + ivec3(0, 0, grid * grid_size), 0).r != uint(1 + lookup_room)) continue;
+#endif
         if (weight <= 0.0 || segment_blocked(occupancy, coarse, voxels_per_cell, grid, start_voxels, centre_voxels, surface_voxels,
                                                 radius, false))
             continue;

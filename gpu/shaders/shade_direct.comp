@@ -25,17 +25,8 @@ uniform mat4 inside_matrix;    // a sun's view maps' view-projections (gpu/shade
 uniform mat4 outside_matrix;
 uniform float view_map_edge;   // within this share of a map's half-width
 #ifdef ROOMS
-layout(std430, binding = 0) readonly buffer SidesAndRooms { uint sides_and_rooms[]; };  // a byte a triangle
-uniform usampler2D g_triangles;  // gbuffer.frag's: the triangle, bit 31 set where its front side is seen
 uniform int light_room;
-
-#include "face_codes.glsl"
-
-int seen_room(ivec2 pixel) {
-    uint seen = texelFetch(g_triangles, pixel, 0).r;
-    uint code = TRIANGLE_BYTE(sides_and_rooms, seen_triangle(seen));
-    return int(code >> (seen_front(seen) ? FRONT_ROOM_SHIFT : BACK_ROOM_SHIFT)) & 7;
-}
+#include "seen_room.glsl"
 #endif
 
 bool within(mat4 view_projection, vec3 p) {

@@ -12,7 +12,8 @@
 // 0 where it sees the background (Film Transparent); the viewport's rows stay opaque.
 // There the world's background map (gpu/world.py, equirectangular) is seen along the ray.
 // With REFLECTIONS the light glossy surfaces reflect (reflections.glsl) goes into the
-// reflections image (its mean over the sets, as the others) and the composite.
+// reflections image (its mean over the sets, as the others) and the composite. With ROOMS
+// (a light grid) each lookup reads only the cells in the room of the side it looks up.
 #include "common.glsl"
 #include "gbuffer.glsl"
 #include "occupancy.glsl"  // here, not in a branch below: an include is expanded once, where first named
@@ -31,6 +32,9 @@ uniform int grid_size;
 #endif
 #if INDIRECT != 2
 #include "light_grid_levels.glsl"
+#endif
+#ifdef ROOMS
+#include "seen_room.glsl"
 #endif
 #ifdef MARCH_ESCAPE
 #include "levels_march.glsl"
@@ -102,6 +106,9 @@ void main() {
 #endif
     for (int k = 0; k < lookups; ++k) {
         vec3 toward = k == 0 ? gbuffer_view(pixel, p) : normalize(p - points[1]);  // from the camera, the mirror
+#ifdef ROOMS
+        lookup_room = seen_room(pixels[k]);
+#endif
         vec3 irradiance = surface_irradiance(pixels[k], points[k], normals[k], toward);
         if (k == 0) {
             light = weights[0] * irradiance;

@@ -7,9 +7,11 @@
 // it) does not move the wall's light onto the floor. A cell of no flux lies at its valid
 // texel nearest the cell's sample point.
 // With `exclude`, texels whose surface lies in the box [exclude_low, exclude_high] count
-// for nothing (a sun's far field, whose near part another map samples).
+// for nothing (a sun's far field, whose near part another map samples). Each VPL carries
+// its light's room (rooms.glsl).
 #define GROUP 64
 #include "hash.glsl"
+#include "rooms.glsl"
 layout(local_size_x = GROUP) in;
 uniform sampler2D rsm_position;
 uniform sampler2D rsm_normal;
@@ -17,7 +19,7 @@ uniform sampler2D rsm_flux;
 uniform isampler2D cell_ids;
 layout(std430, binding = 0) readonly buffer Samples { vec2 sample_texel[]; };  // atlas texels
 layout(std430, binding = 1) readonly buffer Bounds { ivec4 bounds[]; };
-struct VPL { vec4 position; vec4 normal; vec4 flux; };  // w: valid, surfel area, unused
+struct VPL { vec4 position; vec4 normal; vec4 flux; };  // w: 1 + room (> 0: valid), surfel area, unused
 layout(std430, binding = 2) writeonly buffer VPLs { VPL vpls[]; };
 
 shared vec4 partial_flux[GROUP];   // rgb flux, a surfel area
@@ -29,6 +31,7 @@ uniform bool exclude;
 uniform vec3 exclude_low;
 uniform vec3 exclude_high;
 uniform uint pattern;
+uniform int room;  // the light's
 
 void main() {
     int cell = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);
@@ -80,7 +83,7 @@ void main() {
         int i = int(chosen.y >= 0.0 ? chosen.y : partial_best[0].y);
         if (i >= 0) {
             ivec2 texel = ivec2(box.x + i % width, box.y + i / width);
-            v.position = vec4(texelFetch(rsm_position, texel, 0).xyz, 1.0);
+            v.position = vec4(texelFetch(rsm_position, texel, 0).xyz, room_word(room));
             v.normal = vec4(texelFetch(rsm_normal, texel, 0).xyz, partial_flux[0].a);
             vec3 flux = texelFetch(rsm_flux, texel, 0).rgb;
             if (chosen.y >= 0.0) v.flux = vec4(flux * (chosen.x / (flux.r + flux.g + flux.b)), 0.0);

@@ -7,10 +7,14 @@
 // places to be lit from, a pattern that averaging sets would keep), its sum scaled by INTERLEAVE² (vpl_gather_filter.comp puts the
 // block's subsets back together). One dispatch adds the VPLs [first, first + batch) of
 // one set to what the ones before left: llvmpipe ends a loop nest after 65,535 iterations.
+// With ROOMS a pixel gathers only the VPLs in the room of the side it sees (rooms.glsl).
 #include "common.glsl"
 #include "gbuffer.glsl"
 #include "emitter.glsl"
 #include "levels_march.glsl"
+#ifdef ROOMS
+#include "seen_room.glsl"
+#endif
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
 layout(rgba32f, binding = 0) uniform image2D gathered;
@@ -32,11 +36,17 @@ void main() {
                      % (INTERLEAVE * INTERLEAVE);
         vec3 from_pixel = p + OFF_SURFACE * level_voxels[0] * n;
         int last = min(first_emitter + batch, emitter_count);
+#ifdef ROOMS
+        int room = seen_room(pixel);
+#endif
         int start = first_emitter + (subset - first_emitter % (INTERLEAVE * INTERLEAVE) + INTERLEAVE * INTERLEAVE)
                     % (INTERLEAVE * INTERLEAVE);
         for (int j = start; j < last; j += INTERLEAVE * INTERLEAVE) {
             Emitter e = emitters[j];
             if (e.position.w <= 0.0) continue;
+#ifdef ROOMS
+            if (emitter_room(e.position) != room) continue;
+#endif
             vec3 d = p - e.position.xyz;
             float facing = -dot(n, d) * inversesqrt(max(dot(d, d), 1e-30));
             if (facing <= 0.0) continue;

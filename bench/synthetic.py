@@ -86,9 +86,25 @@ def glossy(scene):
                                                        (len(scene.triangles), 1)))
 
 
-NAMED_SCENES = {"room1200k": lambda: room_scene(320), "room1200k_glossy": lambda: glossy(room_scene(320))}
+def boxed_lamp(scene, rooms=True):
+    """`scene` with a closed 1 m box standing 1 cm over its floor, a second point light shut
+    inside it; with `rooms`, the box known to be closed (Scene.solids), so that it is a room
+    (gpu/closed_meshes.py); without, the same triangles and lights with no rooms. Sanitized."""
+    walls = box_triangles((-0.5, 0.2, 0.01), (0.5, 1.2, 1.01))
+    triangles = np.concatenate([scene.triangles, walls])
+    albedo = np.concatenate([scene.albedo, np.full((len(walls), 3), 0.6, np.float32)])
+    solids = np.concatenate([np.full(len(scene.triangles), -1), np.zeros(len(walls))]).astype(np.int32)
+    lamp = Light("POINT", (0.0, 0.7, 0.5), (0, 0, -1), (0, 1, 0), (1, 0.8, 0.6), 50.0, name="boxed")
+    return Scene(triangles, np.zeros_like(triangles), albedo, [*scene.lights, lamp], scene.camera,
+                 solids=solids if rooms else None).sanitize()
+
+
+NAMED_SCENES = {"room1200k": lambda: room_scene(320), "room1200k_glossy": lambda: glossy(room_scene(320)),
+                "room1200k_boxed_lamp": lambda: boxed_lamp(room_scene(320)),
+                "room1200k_boxed_lamp_no_rooms": lambda: boxed_lamp(room_scene(320), rooms=False)}
 """The scenes the GPU timing scripts make by name: a closed room of 1,228,800 triangles
-around a point light, and the same with a glossy layer everywhere."""
+around a point light, the same with a glossy layer everywhere, and the same with a lamp
+shut in a closed box on its floor, a room or (no_rooms) not."""
 
 
 def scene_by_name(folder, name):

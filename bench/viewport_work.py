@@ -35,7 +35,7 @@ def edited_frames(scene, edit, frames):
                                                    *scene.lights[1:]]) for i in range(frames + 1)]
     if edit == "material edit":
         return [dataclasses.replace(scene, albedo=np.ascontiguousarray(scene.albedo * np.float32(0.99 if i % 2 else 1.0)),
-                                    _geometry_key=None) for i in range(frames + 1)]
+                                    _content_keys=None) for i in range(frames + 1)]
     raise ValueError(edit)
 
 

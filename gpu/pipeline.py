@@ -92,8 +92,8 @@ class Pipeline:
         self._emitter_shadows = KeyedCache(releases=True)  # grids -> EmitterShadows of the point emitters
         self._frame_lights = KeyedCache()  # what it depends on -> the last frame's FrameLights
         self._receivers = KeyedCache(releases=True)  # geometry key -> Receivers of the bounces' points
-        self._closed_meshes = KeyedCache()  # geometry key -> ClosedMeshes
-        self._open_sides = KeyedCache()    # geometry and emitters' keys -> the sides of faces light reaches, rooms
+        self._closed_meshes = KeyedCache()  # enclosure key -> ClosedMeshes
+        self._open_sides = KeyedCache()    # enclosure and emitters' keys -> the sides of faces light reaches, rooms
         self._targets = KeyedCache(releases=True)    # image size -> FrameTargets
         self._placement = KeyedCache()     # what it depends on -> the grids placed around the view, the sun cascades
         self._cascade_boxes = ()   # the boxes of a sun's direct-light cascade (gpu/light_maps.py cascade_boxes)
@@ -305,8 +305,8 @@ class Pipeline:
         """The sides of the scene's faces that light reaches and the rooms they look into
         (gpu/closed_meshes.py): the last array again where a lamp moved but they did not
         (the G-buffer then stays)."""
-        closed = self._closed_meshes.get(scene.geometry_key(), lambda: ClosedMeshes(scene))
-        key = (scene.geometry_key(), closed.emitters_key(scene))
+        closed = self._closed_meshes.get(scene.enclosure_key(), lambda: ClosedMeshes(scene))
+        key = (scene.enclosure_key(), closed.emitters_key(scene))
         if key != self._open_sides.key:
             last = self._open_sides.value[0] if self._open_sides.value is not None else None
             found, rooms = closed.sides_and_rooms(scene)

@@ -236,6 +236,11 @@ _ARRAY_KEYS = {}  # id of an array -> (a weak reference to it, its key)
 _NEXT_ARRAY_KEY = itertools.count()
 
 
+ENCLOSURE_ARRAYS = ("triangles", "visibility", "alpha", "alpha_layers", "transmission", "emission", "solids")
+"""A Scene's arrays that Scene.enclosure_key hashes; geometry_key hashes them and SURFACE_ARRAYS."""
+SURFACE_ARRAYS = ("normals", "albedo", "vertex_colors", "uvs", "image_layers", "specular")
+
+
 def array_key(array):
     """A key of `array` as an object, the same while it lives and never another's: a
     sanitized scene's arrays are not changed in place (make a new array), so a new array
@@ -337,7 +342,7 @@ class Scene:
     camera_triangles: tuple = None
     light_triangles: tuple = None
     _bounds: tuple = field(default=None, repr=False, compare=False)
-    _geometry_key: str = field(default=None, repr=False, compare=False)
+    _content_keys: tuple = field(default=None, repr=False, compare=False)  # geometry_key's, enclosure_key's
 
     @property
     def triangle_count(self):
@@ -504,7 +509,7 @@ class Scene:
         if bad.any():
             face = cross / np.linalg.norm(cross, axis=1, keepdims=True)
             nrm = np.where(bad, face[:, None, :], nrm)
-        self._bounds = self._geometry_key = None
+        self._bounds = self._content_keys = None
         self.triangles = np.ascontiguousarray(tri)
         self.normals = np.ascontiguousarray(nrm, dtype=np.float32)
         self.albedo = np.ascontiguousarray(np.clip(alb, 0.0, 1.0))
@@ -575,8 +580,29 @@ class Scene:
         """A content key of the triangles and their surfaces: normals, albedo, visibility,
         vertex colours, UVs and images (kept once sanitized: a sanitized scene's arrays
         are not to be changed in place; make a new Scene)."""
-        if self.sanitized and self._geometry_key is not None:
-            return self._geometry_key
+        return self._keys()[0]
+
+    def enclosure_key(self):
+        """A content key of what tells solids and rooms apart (gpu/closed_meshes.py): the
+        triangles, which cast shadows, which let light through, which emit and which
+        meshes are closed. A material edit that changes colours alone keeps it: sorting a
+        large scene's faces into rooms took longer than the rest of the edit."""
+        return self._keys()[1]
+
+    def _keys(self):
+        """geometry_key and enclosure_key, hashed in one pass over the arrays."""
+        if self.sanitized and self._content_keys is not None:
+            return self._content_keys
+        enclosure, geometry = hashlib.sha1(), hashlib.sha1()
+        for hashed, names in ((enclosure, ENCLOSURE_ARRAYS), (geometry, SURFACE_ARRAYS)):
+            for name in names:
+                array = getattr(self, name)
+                hashed.update(b"-" if array is None else memoryview(np.ascontiguousarray(array)).cast("B"))  # no copy
+        geometry.update(enclosure.digest())
+        for image in self.images:
+            geometry.update(image.key().encode())
+        self._content_keys = (geometry.hexdigest()[:16], enclosure.hexdigest()[:16])
+        return self._content_keys
         h = hashlib.sha1()
         for array in (self.triangles, self.normals, self.albedo, self.visibility, self.vertex_colors, self.uvs,
                       self.image_layers, self.emission, self.alpha, self.alpha_layers, self.transmission,

@@ -8,7 +8,9 @@ stages' medians beside it.
 
 NAME is DIR/NAME.npz (`python -m lpv_preview export NAME`) or `room1200k`, a closed room of
 1,228,800 triangles around a point light (bench/synthetic.py NAMED_SCENES), made here, or
-`room1200k_glossy`, the same with the Principled BSDF's default glossy layer everywhere. Every
+`room1200k_glossy`, the same with the Principled BSDF's default glossy layer everywhere, or
+`room1200k_boxed_lamp`, the same with a second lamp shut in a closed box on the floor (a room:
+gpu/closed_meshes.py), and `room1200k_boxed_lamp_no_rooms`, the same with no rooms. Every
 frame is one `Pipeline.render` of one VPL set at 1920×1080 with the combined image read
 into a float buffer, as a viewport redraw does (`display_into`), after a frame of the
 same scene that warms it up (for half a second): camera moves, light edits and material

@@ -200,3 +200,24 @@ def test_a_camera_inside_a_solid_sees_it_black_and_one_outside_sees_it_lit():
         seen_out = render_once(floor_and_box(reverse=reverse), settings)
         box_pixels = seen_out.passes["combined"][8:24, 20:28]  # the box, in the view's middle
         assert box_pixels.mean() > 0.05
+
+
+def test_a_colour_edit_keeps_the_closed_meshes_and_an_emission_edit_sorts_them_again(glc):
+    scene = dataclasses.replace(floor_and_box([SUN, LAMP]), camera=Camera.look_at((1.5, -1.5, 1.0), (0, 0, 0.4)))
+    recoloured = dataclasses.replace(scene, albedo=scene.albedo * np.float32(0.5), _content_keys=None)
+    glowing = np.zeros((len(scene.triangles), 3), np.float32)
+    glowing[0] = 1.0
+    lit = dataclasses.replace(scene, emission=glowing, _content_keys=None)
+    assert recoloured.geometry_key() != scene.geometry_key()
+    assert recoloured.enclosure_key() == scene.enclosure_key()
+    assert lit.enclosure_key() != scene.enclosure_key()
+    pipeline = Pipeline(Settings(width=32, height=24, rsm_resolution=64, vpls_per_light=64, lpv_resolution=8), glc)
+    try:
+        pipeline.render(scene, passes=("combined",))
+        closed = pipeline._closed_meshes.value
+        pipeline.render(recoloured, passes=("combined",))
+        assert pipeline._closed_meshes.value is closed
+        pipeline.render(lit, passes=("combined",))
+        assert pipeline._closed_meshes.value is not closed
+    finally:
+        pipeline.release()

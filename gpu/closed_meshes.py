@@ -163,6 +163,11 @@ class Rooms:
         """What the rooms' numbers and shapes depend on, beside the geometry."""
         self._lamp_rooms = lamp_rooms  # a lamp's position, rounded -> its room
 
+    @property
+    def count(self):
+        """The rooms, numbered 1 to count (0 is outside every room)."""
+        return len(self.holding)
+
     def walls(self):
         """The rooms' triangles, room 1's first, as (M, 3, 3) float32 corners, and each
         room's first triangle, triangle count and box (low and high corners)."""

@@ -307,7 +307,8 @@ class LightGridMethod(GatheringMethod):
         volume = self.volumes[0]
         with self.glc.timed(stats, "inject_ms"):
             self._rooms_apart = volume.mark_cells(self.rooms)
-            volume.cluster(emitters, flux_bound, cluster_levels(self.levels, scene_bounds), self._rooms_apart)
+            volume.cluster(emitters, flux_bound, cluster_levels(self.levels, scene_bounds),
+                           1 + self.rooms.count if self._rooms_apart else 1)
         with self.glc.timed(stats, "gather_ms"):
             volume.gather(settings.singularity_bound, self._level_layers(), self._rooms_apart)
 

@@ -54,16 +54,16 @@ def cluster_capacity(emitter_total):
     return min(1 << max(10, math.ceil(math.log2(max(2 * emitter_total, 1)))), 1 << 20)
 
 
-def cluster_tables(emitter_total, cluster_size, levels):
+def cluster_tables(emitter_total, cluster_size, levels, rooms=1):
     """Slots of each octave's hash table, finest first (the finest alone for grids under
     CUT_GRID_CELLS), for `levels` cluster grids of `cluster_size` cells a side: twice the
-    clusters it can hold, which are no more than the
-    emitters and no more than the cells times the normals' bins (a million particles in a
-    16³ grid's levels make a few thousand clusters at most)."""
+    clusters it can hold, which are no more than the emitters and no more than the cells
+    times the normals' bins times the `rooms` kept apart (a million particles in a 16³
+    grid's levels make a few thousand clusters at most)."""
     tables = []
     octaves = cluster_size.bit_length() if cluster_size * CLUSTER_CELLS >= CUT_GRID_CELLS else 1
     for octave in range(octaves):
-        cells = levels * BINS * (((cluster_size - 1) >> octave) + 1) ** 3
+        cells = levels * BINS * rooms * (((cluster_size - 1) >> octave) + 1) ** 3
         tables.append(min(cluster_capacity(emitter_total), 1 << max(6, math.ceil(math.log2(2 * cells)))))
     return tables
 
@@ -128,17 +128,17 @@ class LightGrid:
         for buffer in (self.keys, self.sums, self.count):
             zero_buffer(self.glc, buffer)
 
-    def cluster(self, emitter_sets, flux_bound, cluster_grids, rooms=False):
+    def cluster(self, emitter_sets, flux_bound, cluster_grids, rooms=1):
         """Sum the emitters (buffers with counts) into clusters of `cluster_grids` (the
-        levels, finest first, and a last grid that holds every emitter), with `rooms` apart
-        by the room each lies in (gpu/closed_meshes.py), then those into clusters twice as
-        wide, octave after octave, all in one list."""
+        levels, finest first, and a last grid that holds every emitter), with more than one
+        of `rooms` apart by the room each lies in (gpu/closed_meshes.py), then those into
+        clusters twice as wide, octave after octave, all in one list."""
         size = cluster_grids[0].size
-        tables = cluster_tables(sum(count for _, count in emitter_sets), size, len(cluster_grids))
+        tables = cluster_tables(sum(count for _, count in emitter_sets), size, len(cluster_grids), rooms)
         self._cluster_buffers(tables)
         defines = {"LEVELS": len(cluster_grids), "CLUSTER_INTS": CLUSTER_INTS, "DEPTH": len(tables),
                    "AREA_UNITS": AREA_UNITS, "MEMBER_AREA_CAP": MEMBER_AREA_CAP,
-                   **(ROOM_DEFINES if rooms else ROOM_CODE_DEFINES)}
+                   **(ROOM_DEFINES if rooms > 1 else ROOM_CODE_DEFINES)}
         levels = {"level_origins": np.array([g.origin for g in cluster_grids]),
                   "level_cells": np.array([g.cell_size for g in cluster_grids]), "grid_size": size,
                   "flux_scale": FIXED_POINT_RANGE / flux_bound if flux_bound > 0 else 1.0}

@@ -112,6 +112,30 @@ def test_a_lamp_shut_in_a_closed_box_adds_no_bounced_light_outside_it(method, bo
     assert added < 0.001
 
 
+def test_a_lights_vpls_and_the_points_it_bounces_onto_carry_their_rooms(glc):
+    """The lamp's VPLs lie in the box (room 1), the sun's outside it (room 0); a later
+    bounce's point takes the room of the side it faces (shaders/emitter_bounce.comp)."""
+    scene = dataclasses.replace(floor_and_box([SUN, LAMP]), camera=Camera.look_at((1.5, -1.5, 1.0), (0, 0, 0.4)))
+    settings = Settings(width=48, height=32, rsm_resolution=64, vpls_per_light=64, lpv_resolution=16, bounces=2)
+    pipeline = Pipeline(settings, glc)
+    try:
+        pipeline.render(scene, passes=("indirect",))
+        rooms = {maps.rsm.light.kind: maps.vpls.read() for maps in pipeline._lights.values()}
+        assert set(rooms["POINT"]["room"][rooms["POINT"]["valid"]]) == {1.0}
+        assert set(rooms["SUN"]["room"][rooms["SUN"]["valid"]]) == {0.0}
+        second = pipeline._indirect.value.generations.made[0]
+        rows = np.frombuffer(second.buffer.read(), np.float32).reshape(second.count, 3, 4)
+        on_floor = rows[:, 0, 2] < 0.005
+        lit = rows[:, 2, :3].max(axis=1) > 0
+        assert on_floor.any() and np.all(rows[on_floor, 0, 3] == 1.0)  # room 0, lit or not
+        on_box = lit & ~on_floor  # each facing its brighter side: in, the box's room (1); out, room 0
+        facing_in = np.einsum("ij,ij->i", rows[:, 1, :3], np.array([0.0, 0.0, 0.51]) - rows[:, 0, :3]) > 0
+        assert (on_box & facing_in).any()
+        np.testing.assert_array_equal(rows[on_box, 0, 3], np.where(facing_in[on_box], 2.0, 1.0))
+    finally:
+        pipeline.release()
+
+
 def test_the_light_grid_cells_take_the_room_their_centre_lies_in(glc):
     """shaders/light_grid_rooms.comp's parity on the GPU against gpu/closed_meshes.py's on
     the host, at every cell a lookup can read (1 + its room; 0: not read)."""

@@ -71,13 +71,12 @@ class Generations:
     def flux_bound(self):
         return sum(generation.flux_bound for generation in self.made)
 
-    def build(self, first, first_bound, bounces, receivers, samples, occupancy, singularity_bound, pattern,
-              rooms=False):
+    def build(self, first, first_bound, bounces, receivers, samples, occupancy, singularity_bound, pattern):
         """Generations 2 to `bounces` from the `first` one's (buffer, count) sets, whose flux
         no channel's total exceeds `first_bound`, each on the points `receivers.draw` gives
         (gpu/emitter_bounce.py Receivers: `generation_points(samples, bounce)` of them, drawn
-        on the GPU), marching `occupancy`'s grids, with `rooms` each point lit only from its
-        side's room (gpu/closed_meshes.py); returns their (buffer, count) sets.
+        on the GPU), marching `occupancy`'s grids, each side lit only from its room
+        (gpu/closed_meshes.py); returns their (buffer, count) sets.
         Nothing is read back: a generation's bound is the one before's times the largest
         albedo of the surfaces its points are drawn on, which `conserve` holds it to."""
         self._drop()
@@ -89,8 +88,7 @@ class Generations:
             points = receivers.draw(generation_points(samples, bounce), generation_seed(pattern, bounce))
             bound *= float(largest_albedo.max())
             generation = light_receivers(self.glc, points, senders, occupancy, singularity_bound,
-                                         pattern * MAX_BOUNCES + bounce, LATER_SENDERS, flux_bound=bound,
-                                         sender_rooms=rooms)
+                                         pattern * MAX_BOUNCES + bounce, LATER_SENDERS, flux_bound=bound)
             conserve(self.glc, self.totals, generation, senders, largest_albedo)
             self.made.append(generation)
             senders = [(generation.buffer, generation.count)]

@@ -33,6 +33,12 @@ RAY = np.array([0.5773, 0.5781, 0.5766]) / np.linalg.norm([0.5773, 0.5781, 0.576
 edge of an axis-aligned mesh."""
 
 
+def side_rooms(sides):
+    """The room the front and the back side of each face looks into, from the sides
+    array of `ClosedMeshes.sides_and_rooms` ((T,) uint8 each)."""
+    return (sides >> FRONT_ROOM_SHIFT) & (ROOM_CODES - 1), (sides >> BACK_ROOM_SHIFT) & (ROOM_CODES - 1)
+
+
 class ClosedMeshes:
     """A sanitized scene's closed meshes (Scene.solids): which of them could be solids or
     rooms, by their shape and surfaces alone (a volume, nothing that lets light through,
@@ -82,8 +88,7 @@ class ClosedMeshes:
         rooms = self._rooms(scene, lamps, held)
         if not solid.any() and rooms is None:
             return None, None
-        made = (np.flatnonzero(solid).tobytes(), None if rooms is None else
-                (tuple(rooms.holding), None if rooms.lit is None else rooms.lit.tobytes()))
+        made = (np.flatnonzero(solid).tobytes(), None if rooms is None else rooms.key)
         if self._last_sides is not None and self._last_sides[0] == made:  # lamps moved within their rooms
             return self._last_sides[1], rooms
         code = np.full(int(self.pieces.max()) + 1, OPEN, dtype=np.uint8)
@@ -127,7 +132,7 @@ class ClosedMeshes:
             return None
         room = np.zeros(len(centres), dtype=np.uint8)
         for number, index, faces in reversed(list(zip(range(1, len(holding) + 1), holding, within))):
-            room[faces[_inside_all(centres[faces], self._corners(index))]] = number
+            room[faces[_inside_all(centres[faces], self.corners(index))]] = number
         front, back = room.copy(), room.copy()
         for number, index in enumerate(holding, start=1):
             own = self.order[self.starts[index]:self.ends[index]]
@@ -137,9 +142,10 @@ class ClosedMeshes:
     def _holding(self, point, among):
         """The indices of the closed meshes `among` (bool per closed mesh) `point` lies in."""
         boxed = among & np.all((point >= self.low) & (point <= self.high), axis=1)
-        return {int(index) for index in np.flatnonzero(boxed) if _inside(point, self._corners(index))}
+        return {int(index) for index in np.flatnonzero(boxed) if _inside(point, self.corners(index))}
 
-    def _corners(self, index):
+    def corners(self, index):
+        """The triangles (m, 3, 3) float64 of closed mesh `index`."""
         return np.asarray(self.triangles[self.order[self.starts[index]:self.ends[index]]], dtype=np.float64)
 
     def emitters_key(self, scene):
@@ -160,7 +166,7 @@ class Rooms:
         self.faces = (front, back)
         self.lit = lit
         self.key = (tuple(holding), None if lit is None else lit.tobytes())
-        """What the rooms' numbers and shapes depend on, beside the geometry."""
+        """What the rooms' numbers, shapes and lit ones depend on, beside the geometry."""
         self._lamp_rooms = lamp_rooms  # a lamp's position, rounded -> its room
 
     @property
@@ -172,7 +178,7 @@ class Rooms:
         """The rooms' triangles, room 1's first, as (M, 3, 3) float32 corners, and each
         room's first triangle, triangle count and box (low and high corners)."""
         closed = self.closed
-        corners = [closed._corners(index) for index in self.holding]
+        corners = [closed.corners(index) for index in self.holding]
         counts = np.array([len(c) for c in corners], dtype=np.int32)
         firsts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int32)
         return (np.concatenate(corners).astype(np.float32), firsts, counts,

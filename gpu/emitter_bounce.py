@@ -83,13 +83,13 @@ class Receivers:
 
 
 def light_receivers(glc, receivers, emitter_sets, occupancy, singularity_bound, pattern,
-                    senders_per_receiver=RECEIVER_SENDERS, flux_bound=None, sender_rooms=False):
+                    senders_per_receiver=RECEIVER_SENDERS, flux_bound=None):
     """The receivers ((buffer, count) of `Receivers.draw`, the buffer released here) lit by
     the emitter sets ((buffer, count) pairs), each receiver gathering a strided subset of
-    `senders_per_receiver` of each set, marching every grid of `occupancy`, with
-    `sender_rooms` (the senders are VPLs, in rooms) each side only from its own room
-    (gpu/closed_meshes.py): an EmitterVPLs, each in its brighter side's room, whose flux
-    bound is `flux_bound` where given, else their flux read back and summed."""
+    `senders_per_receiver` of each set, marching every grid of `occupancy`, each side
+    only from the senders that light its room (gpu/closed_meshes.py): an EmitterVPLs,
+    each in its brighter side's room, whose flux bound is `flux_bound` where given, else
+    their flux read back and summed."""
     gl = glc.gl
     layers = occupancy.every_grid_layers()
     receiver_buffer, count = receivers
@@ -99,7 +99,7 @@ def light_receivers(glc, receivers, emitter_sets, occupancy, singularity_bound, 
     lit = gl.buffer(reserve=count * EMITTER_BYTES)
     program = glc.compute("emitter_bounce", MARCH_LEVELS=len(layers), LANES=LANES, **ROOM_CODE_DEFINES)
     set_uniforms(program, **occupancy.march_uniforms(layers, first_unit=0), singularity_bound=singularity_bound,
-                 receiver_count=count, pattern=pattern, sender_rooms=sender_rooms)
+                 receiver_count=count, pattern=pattern)
     receiver_buffer.bind_to_storage_buffer(1)
     irradiance.bind_to_storage_buffer(2)
     lit.bind_to_storage_buffer(3)

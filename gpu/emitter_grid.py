@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
+from .closed_meshes import ROOM_CODE_DEFINES
 from .colour import LUMINANCE_WEIGHTS
 from .context import dispatch, dispatch_row, set_uniforms, zero_buffer
 from .settings import EMITTER_INTERPOLATIONS
@@ -168,7 +169,7 @@ class EmitterGrid:
             buffer.bind_to_storage_buffer(binding)
         for stage in range(4):
             program = self.glc.compute("emitter_select", STAGE=stage, POINT_EMITTER_COLUMNS=POINT_EMITTER_COLUMNS,
-                                       SKIP_BINS=SKIP_BINS, BINS_PER_OCTAVE=BINS_PER_OCTAVE)
+                                       SKIP_BINS=SKIP_BINS, BINS_PER_OCTAVE=BINS_PER_OCTAVE, **ROOM_CODE_DEFINES)
             if stage == 2:
                 set_uniforms(program, cutoff=float(cutoff))
                 dispatch(program, 1, local=(64,))

@@ -251,8 +251,7 @@ class GatheringMethod(IndirectMethod):
                 emitters = emitters + self.generations.build(emitters, flux_bound, settings.bounces, receivers(),
                                                              settings.emitter_bounce_samples,
                                                              self._bounce_occupancy(mesh),
-                                                             settings.singularity_bound, pattern,
-                                                             rooms=self.rooms is not None)
+                                                             settings.singularity_bound, pattern)
             flux_bound += self.generations.flux_bound
         else:
             self.generations.release()

@@ -16,7 +16,7 @@ import math
 import moderngl
 import numpy as np
 
-from .closed_meshes import RAY, ROOM_CODE_DEFINES, ROOM_DEFINES
+from .closed_meshes import RAY, ROOM_CODE_DEFINES, ROOM_DEFINES, ROOM_TESTS
 from .context import dispatch, set_uniforms, zero_buffer
 from .grids import fit_grid
 from .occupancy import LOOP_LIMIT, VOXELS_PER_CELL, Occupancy, march_batch
@@ -40,6 +40,10 @@ AREA_UNITS = 1 << 16
 MEMBER_AREA_CAP = 256
 """The most finest cluster cells' area one emitter adds to a cluster's: 2^31 units hold 128
 such emitters, and no light map's VPL stands for that much of one cell."""
+CELL_ROOM_TESTS = 1 << 28
+"""Cell centres tested against a room's walls, every grid's cells times every room's walls,
+at most on a GPU (on llvmpipe closed_meshes.py ROOM_TESTS): beyond it the grid keeps
+rooms apart nowhere (a room of a million walls would take seconds)."""
 DIRECTIONS = 6  # +x, -x, +y, -y, +z, -z
 GATHER_LANES = 64  # invocations sharing one cell's emitters (shaders/light_grid_gather.comp)
 LIGHT_GRID_BYTES_PER_CELL = DIRECTIONS * 16
@@ -54,16 +58,16 @@ def cluster_capacity(emitter_total):
     return min(1 << max(10, math.ceil(math.log2(max(2 * emitter_total, 1)))), 1 << 20)
 
 
-def cluster_tables(emitter_total, cluster_size, levels, rooms=1):
+def cluster_tables(emitter_total, cluster_size, levels, room_count=1):
     """Slots of each octave's hash table, finest first (the finest alone for grids under
     CUT_GRID_CELLS), for `levels` cluster grids of `cluster_size` cells a side: twice the
     clusters it can hold, which are no more than the emitters and no more than the cells
-    times the normals' bins times the `rooms` kept apart (a million particles in a 16³
+    times the normals' bins times the `room_count` rooms kept apart (a million particles in a 16³
     grid's levels make a few thousand clusters at most)."""
     tables = []
     octaves = cluster_size.bit_length() if cluster_size * CLUSTER_CELLS >= CUT_GRID_CELLS else 1
     for octave in range(octaves):
-        cells = levels * BINS * rooms * (((cluster_size - 1) >> octave) + 1) ** 3
+        cells = levels * BINS * room_count * (((cluster_size - 1) >> octave) + 1) ** 3
         tables.append(min(cluster_capacity(emitter_total), 1 << max(6, math.ceil(math.log2(2 * cells)))))
     return tables
 
@@ -128,17 +132,17 @@ class LightGrid:
         for buffer in (self.keys, self.sums, self.count):
             zero_buffer(self.glc, buffer)
 
-    def cluster(self, emitter_sets, flux_bound, cluster_grids, rooms=1):
+    def cluster(self, emitter_sets, flux_bound, cluster_grids, room_count=1):
         """Sum the emitters (buffers with counts) into clusters of `cluster_grids` (the
-        levels, finest first, and a last grid that holds every emitter), with more than one
-        of `rooms` apart by the room each lies in (gpu/closed_meshes.py), then those into
-        clusters twice as wide, octave after octave, all in one list."""
+        levels, finest first, and a last grid that holds every emitter), with a
+        `room_count` over 1 apart by the room each lies in (gpu/closed_meshes.py), then
+        those into clusters twice as wide, octave after octave, all in one list."""
         size = cluster_grids[0].size
-        tables = cluster_tables(sum(count for _, count in emitter_sets), size, len(cluster_grids), rooms)
+        tables = cluster_tables(sum(count for _, count in emitter_sets), size, len(cluster_grids), room_count)
         self._cluster_buffers(tables)
         defines = {"LEVELS": len(cluster_grids), "CLUSTER_INTS": CLUSTER_INTS, "DEPTH": len(tables),
                    "AREA_UNITS": AREA_UNITS, "MEMBER_AREA_CAP": MEMBER_AREA_CAP,
-                   **(ROOM_DEFINES if rooms > 1 else ROOM_CODE_DEFINES)}
+                   **(ROOM_DEFINES if room_count > 1 else ROOM_CODE_DEFINES)}
         levels = {"level_origins": np.array([g.origin for g in cluster_grids]),
                   "level_cells": np.array([g.cell_size for g in cluster_grids]), "grid_size": size,
                   "flux_scale": FIXED_POINT_RANGE / flux_bound if flux_bound > 0 else 1.0}
@@ -188,8 +192,9 @@ class LightGrid:
     def mark_cells(self, rooms=None):
         """Mark the cells a lookup can read, once per mesh, and with `rooms`
         (gpu/closed_meshes.py Rooms) each one's room: the innermost holding its centre
-        (shaders/light_grid_rooms.comp); whether the rooms are marked. Not where llvmpipe's
-        loop limit cannot test every wall in one go: the grid then keeps rooms apart nowhere."""
+        (shaders/light_grid_rooms.comp); whether the rooms are marked. Not where the
+        tests would pass CELL_ROOM_TESTS (on llvmpipe ROOM_TESTS, or its loop limit in one
+        cell): the grid then keeps rooms apart nowhere."""
         if self.marked is not self.occupancy.voxelised:
             self._mark_receiving(self.occupancy.voxelised)
         if rooms is None:
@@ -197,7 +202,10 @@ class LightGrid:
         if self.rooms_marked is not None and self.rooms_marked[0] == rooms.key:
             return self.rooms_marked[1]
         corners, firsts, counts, lows, highs = rooms.walls()
-        self.rooms_marked = (rooms.key, not (self.glc.is_software and len(corners) > LOOP_LIMIT))
+        tests = sum(grid.size ** 3 for grid in self.grids) * len(corners)
+        affordable = tests <= ROOM_TESTS and len(corners) <= LOOP_LIMIT if self.glc.is_software else \
+            tests <= CELL_ROOM_TESTS
+        self.rooms_marked = (rooms.key, affordable)
         if not self.rooms_marked[1]:
             return False
         walls = np.zeros((len(corners), 3, 4), dtype=np.float32)
@@ -216,20 +224,20 @@ class LightGrid:
         buffer.release()
         return True
 
-    def gather(self, singularity_bound, levels, rooms=False):
+    def gather(self, singularity_bound, levels, rooms_apart=False):
         """Every grid's cells gather the clustered emitters' light through the occupancy's
         levels (`levels`: the layer of each, finest first) and its outer grid, each from its
         own grid's level on, in batches of emitters whose marches stay under llvmpipe's loop
         limit (shaders/light_grid_gather.comp), its 1/r² bounded by `singularity_bound`
-        (shaders/emitter.glsl); with `rooms` (clustered apart, the cells' rooms marked:
-        mark_cells) each cell only from the clusters of its own room."""
+        (shaders/emitter.glsl); with `rooms_apart` (clustered apart, the cells' rooms
+        marked: mark_cells) each cell only from the clusters of its own room."""
         self.mark_cells()
         levels = list(levels)
         phases = len(self.grids) // len(levels)
         layers = self.occupancy.march_layers(levels)
         program = self.glc.compute("light_grid_gather", UNSHADOWED=int(bool(self.unshadowed)), MARCH_LEVELS=len(layers),
                                    CLUSTER_LEVELS=len(self.cluster_uniforms["cluster_cells"]), DEPTH=len(self.tables),
-                                   NEAR_SIZES=NEAR_SIZES, **(ROOM_DEFINES if rooms else ROOM_CODE_DEFINES))
+                                   NEAR_SIZES=NEAR_SIZES, **(ROOM_DEFINES if rooms_apart else ROOM_CODE_DEFINES))
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
         if self.glc.is_software:  # llvmpipe ends long loop nests: batches its limit allows, as many as there are

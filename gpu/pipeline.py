@@ -350,7 +350,8 @@ class Pipeline:
         bind_gbuffer(targets)
         world = [(self._world.emitters, self._world.count)] if world_lights(scene, self.settings) else []
         self._emission.add_light(gather, self._mesh.value, targets, gbuffer_uniforms(scene.camera),
-                                 scene.camera.position, s.singularity_bound, self.vpl_pattern, world)
+                                 scene.camera.position, s.singularity_bound, self.vpl_pattern, world,
+                                 self._room_sides())
 
     def _composite(self, scene, targets, indirect, sets, display, glowing, stats):
         """The indirect image (the method's per-pixel gather first, when it has one; this
@@ -526,9 +527,10 @@ class Pipeline:
         if (scene.emission is not None or world_lights(scene, self.settings)) and self._emission is None:
             self._emission = SurfaceEmission(self.glc)
         if scene.emission is not None:
-            self._emission.sample(scene, s.emission_samples, self.vpl_pattern)
+            sides = self._open_sides.value[0] if self._rooms() is not None else None
+            self._emission.sample(scene, s.emission_samples, self.vpl_pattern, sides)
             sources.append((self._emission.emitters, self._emission.count))
-            key += (scene.geometry_key(), s.emission_samples)
+            key += (scene.geometry_key(), s.emission_samples, None if sides is None else array_key(sides))
         if world_lights(scene, self.settings):
             self._world_light().sample(scene, s.world_samples, self.vpl_pattern)
             sources.append((self._world.emitters, self._world.count))

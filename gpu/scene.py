@@ -236,9 +236,10 @@ _ARRAY_KEYS = {}  # id of an array -> (a weak reference to it, its key)
 _NEXT_ARRAY_KEY = itertools.count()
 
 
-ENCLOSURE_ARRAYS = ("triangles", "visibility", "alpha", "alpha_layers", "transmission", "emission", "solids")
-"""A Scene's arrays that Scene.enclosure_key hashes; geometry_key hashes them and SURFACE_ARRAYS."""
-SURFACE_ARRAYS = ("normals", "albedo", "vertex_colors", "uvs", "image_layers", "specular")
+ENCLOSURE_ARRAYS = ("triangles", "visibility", "alpha", "alpha_layers", "solids")
+"""A Scene's arrays that Scene.enclosure_key hashes whole (beside which triangles emit and
+which transmit); geometry_key hashes its digest and SURFACE_ARRAYS."""
+SURFACE_ARRAYS = ("normals", "albedo", "vertex_colors", "uvs", "image_layers", "emission", "transmission", "specular")
 
 
 def array_key(array):
@@ -584,9 +585,10 @@ class Scene:
 
     def enclosure_key(self):
         """A content key of what tells solids and rooms apart (gpu/closed_meshes.py): the
-        triangles, which cast shadows, which let light through, which emit and which
-        meshes are closed. A material edit that changes colours alone keeps it: sorting a
-        large scene's faces into rooms took longer than the rest of the edit."""
+        triangles, which cast shadows, which let light through (alpha, and whether each
+        transmits), which emit (not how much) and which meshes are closed. A material edit
+        of colours or strengths keeps it: sorting a large scene's faces into rooms took
+        longer than the rest of the edit."""
         return self._keys()[1]
 
     def _keys(self):
@@ -594,21 +596,14 @@ class Scene:
         if self.sanitized and self._content_keys is not None:
             return self._content_keys
         enclosure, geometry = hashlib.sha1(), hashlib.sha1()
-        for hashed, names in ((enclosure, ENCLOSURE_ARRAYS), (geometry, SURFACE_ARRAYS)):
-            for name in names:
-                array = getattr(self, name)
+        emits = None if self.emission is None else np.max(self.emission, axis=1) > 0
+        transmits = None if self.transmission is None else self.transmission[:, 3] > 0
+        for hashed, arrays in ((enclosure, [getattr(self, name) for name in ENCLOSURE_ARRAYS] + [emits, transmits]),
+                               (geometry, [getattr(self, name) for name in SURFACE_ARRAYS])):
+            for array in arrays:
                 hashed.update(b"-" if array is None else memoryview(np.ascontiguousarray(array)).cast("B"))  # no copy
         geometry.update(enclosure.digest())
         for image in self.images:
             geometry.update(image.key().encode())
         self._content_keys = (geometry.hexdigest()[:16], enclosure.hexdigest()[:16])
         return self._content_keys
-        h = hashlib.sha1()
-        for array in (self.triangles, self.normals, self.albedo, self.visibility, self.vertex_colors, self.uvs,
-                      self.image_layers, self.emission, self.alpha, self.alpha_layers, self.transmission,
-                      self.specular, self.solids):
-            h.update(b"-" if array is None else memoryview(np.ascontiguousarray(array)).cast("B"))  # no copy
-        for image in self.images:
-            h.update(image.key().encode())
-        self._geometry_key = h.hexdigest()[:16]
-        return self._geometry_key

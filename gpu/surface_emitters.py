@@ -7,7 +7,9 @@ two cosine emitters facing either way, each of flux π L A, A the area it stands
 """
 import numpy as np
 
+from .closed_meshes import side_rooms
 from .colour import LUMINANCE_WEIGHTS
+from .scene import array_key
 from .shade import add_irradiance
 
 
@@ -42,23 +44,27 @@ class EmissiveSurfaces:
 
     def __init__(self, triangles, emission):
         emissive = np.flatnonzero(np.max(emission, axis=1) > 0)
+        self.triangles = emissive  # their numbers in the scene
         self.radiance = emission[emissive].astype(np.float64)
         luminance = np.maximum(self.radiance @ LUMINANCE_WEIGHTS, 1e-30)
         self.points = TrianglePoints(triangles[emissive].astype(np.float64), lambda doubled: luminance * doubled / 2)
 
-    def rows(self, count, pattern):
+    def rows(self, count, pattern, sides=None):
         """(2 count, 3, 4) float32 rows of shaders/emitter.glsl: `count` points drawn with
-        the random numbers of `pattern`, each two cosine emitters facing either side."""
+        the random numbers of `pattern`, each two cosine emitters facing either side, each
+        in the room that side looks into (`sides`: gpu/closed_meshes.py's array, or None:
+        outside every room)."""
         points = self.points
         picked, positions = points.draw(count, pattern)
+        rooms = (0, 0) if sides is None else [room[self.triangles[picked]] for room in side_rooms(sides)]
         power = points.weights
         normals = points.cross[picked] / points.doubled_area[picked, None]
         # each sample stands for area A_t / (count p_t), p_t = power_t / total power
         area = (points.doubled_area[picked] / 2) * (power.sum() / power[picked]) / count
         flux = np.pi * self.radiance[picked] * area[:, None]
         rows = np.zeros((2, count, 3, 4), dtype=np.float32)
-        for side, sign in enumerate((1.0, -1.0)):
-            rows[side, :, 0, :3], rows[side, :, 0, 3] = positions, 1.0
+        for side, sign in enumerate((1.0, -1.0)):  # the front (the winding's side), then the back
+            rows[side, :, 0, :3], rows[side, :, 0, 3] = positions, 1.0 + rooms[side]
             rows[side, :, 1, :3], rows[side, :, 1, 3] = sign * normals, area
             rows[side, :, 2, :3] = flux
         return rows.reshape(2 * count, 3, 4)
@@ -80,25 +86,28 @@ class SurfaceEmission:
         self._key = None
         self._surfaces = None  # (geometry key, EmissiveSurfaces)
 
-    def sample(self, scene, count, pattern):
-        """Sample the emitters, once per scene geometry, count and pattern."""
-        key = (scene.geometry_key(), count, pattern)
+    def sample(self, scene, count, pattern, sides=None):
+        """Sample the emitters, once per scene geometry, count, pattern and `sides` (the
+        rooms their sides look into: EmissiveSurfaces.rows)."""
+        key = (scene.geometry_key(), count, pattern, None if sides is None else array_key(sides))
         if key != self._key:
             if self._surfaces is None or self._surfaces[0] != key[0]:
                 self._surfaces = (key[0], EmissiveSurfaces(scene.triangles, scene.emission))
-            rows = self._surfaces[1].rows(count, pattern)
+            rows = self._surfaces[1].rows(count, pattern, sides)
             if self.emitters is not None:
                 self.emitters.release()
             self.emitters, self.count, self._key = self.glc.gl.buffer(rows.tobytes()), len(rows), key
 
-    def add_light(self, gather, mesh, targets, uniforms, camera_position, singularity_bound, pattern, others=()):
+    def add_light(self, gather, mesh, targets, uniforms, camera_position, singularity_bound, pattern, others=(),
+                  room_sides=None):
         """Gather the irradiance of the emitters (and of the emitter sets `others`: the
         world's) at every pixel with `gather` (a VPLGather; its occupancy voxelised once
-        per mesh) and add albedo / π times it to the direct image. `uniforms` are the
-        G-buffer's, its textures bound."""
+        per mesh), with `room_sides` (the mesh's sides-and-rooms buffer) only those that
+        light the pixel's room, and add albedo / π times it to the direct image.
+        `uniforms` are the G-buffer's, its textures bound."""
         sets = ([(self.emitters, self.count)] if self.emitters is not None else []) + list(others)
         gather.occupancy.voxelise(mesh)
-        gather.gather(targets, uniforms, camera_position, sets, singularity_bound, pattern)
+        gather.gather(targets, uniforms, camera_position, sets, singularity_bound, pattern, room_sides=room_sides)
         add_irradiance(self.glc, targets, uniforms, gather.filtered)
 
     def resources(self):

@@ -7,8 +7,8 @@
 // winding says nothing of where its room is), but not the side that looks into a solid
 // (gpu/closed_meshes.py); with `finish`, the receiver becomes a VPL facing its brighter
 // side, in that side's room: its flux its albedo times that side's irradiance times the
-// area it stands for. With `sender_rooms` (VPLs, which carry their rooms: rooms.glsl) a
-// side gathers only the senders in its room. An emissive surface's emitter nearer a
+// area it stands for. A side gathers only the senders that light its room (rooms.glsl).
+// An emissive surface's emitter nearer a
 // receiver than GAP_VOXELS finest voxels lights it not: the occupancy cannot tell what
 // lies between (a ceiling over a panel hung just under it would send the panel's back
 // light past the panel, which holds it in); a point emitter's near light is kept.
@@ -33,7 +33,6 @@ uniform int stride;
 uniform int pattern;
 uniform bool accumulate;
 uniform bool finish;
-uniform bool sender_rooms;
 
 shared vec3 sums[2][LANES];
 const float GAP_VOXELS = 3.0;  // finest voxels within which an emissive surface lights no receiver
@@ -58,7 +57,7 @@ void main() {
         if (dot(d, d) < gap * gap && dot(e.normal.xyz, e.normal.xyz) > 0.5) continue;
         float facing = -dot(r.normal.xyz, d) * inversesqrt(max(dot(d, d), 1e-30));
         int side = facing > 0.0 ? 0 : 1;
-        if ((code & (1u << side)) == 0u || (sender_rooms && emitter_room(e.position) != rooms[side])) continue;
+        if ((code & (1u << side)) == 0u || !lights_room(e.position, rooms[side])) continue;
         // a receiver holds every sender's bound: it never shrinks here
         vec3 light = bounded_emitter_light(e, d, 0.0, singularity_bound, 1.0) * abs(facing);
         if (max(light.r, max(light.g, light.b)) <= 0.0) continue;

@@ -9,12 +9,13 @@
 // flux or area, or no flux is dropped and counted here (gpu/scene.py leaves the values of
 // a million rows a frame to this pass). STAGE 0: the strongest bound; 1: the weighted
 // bins; 2 (one invocation): the first skipped bin; 3: the rows (gpu/scene.py
-// point_emitters: position xyz, flux rgb, area) into emitter rows, a skipped one with
-// position.w 0 (a dropped one all zeros), the kept ones' count, flux and box, and the
+// point_emitters: position xyz, flux rgb, area) into emitter rows, in any room (rooms.glsl),
+// a skipped one with position.w 0 (a dropped one all zeros), the kept ones' count, flux and box, and the
 // dropped ones' count.
 #extension GL_NV_shader_atomic_float : require
 #include "common.glsl"
 #include "emitter.glsl"
+#include "rooms.glsl"
 layout(local_size_x = 64) in;  // GROUP
 layout(std430, binding = 0) readonly buffer Packed { float columns[]; };
 layout(std430, binding = 1) writeonly buffer Emitters { Emitter emitters[]; };
@@ -130,7 +131,7 @@ void main() {
     vec3 p = row && sane ? position_of(at) : vec3(0.0);
     if (row) {
         Emitter e;
-        e.position = vec4(p, keep ? 1.0 : 0.0);
+        e.position = vec4(p, keep ? room_word(ANY_ROOM) : 0.0);  // its room not told
         e.normal = vec4(0.0, 0.0, 0.0, sane ? columns[at + 6] : 0.0);
         e.flux = vec4(sane ? flux_of(at) : vec3(0.0), 0.0);
         emitters[index] = e;

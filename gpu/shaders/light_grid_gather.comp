@@ -53,7 +53,7 @@ bool near_cluster(vec3 p, int level, ivec3 cell, int octave) {
 
 // Whether the cluster `e` counts at `p` in `room`: it is in the cut at p (near p stand its
 // narrower clusters, where the wider one holding it is far, that one does) and in that room.
-bool counts(Emitter e, vec3 p, int room) {
+bool in_cut_and_room(Emitter e, vec3 p, int room) {
 #if DEPTH == 1 && !defined(ROOMS)
     return true;  // one octave, one room: every cluster counts
 #else
@@ -93,7 +93,7 @@ void main() {
     int last = min(first_emitter + batch, emitter_count);
     for (int j = first_emitter + lane; j < last; j += LANES) {
         Emitter e = emitters[j];
-        if (!counts(e, centre, room)) continue;
+        if (!in_cut_and_room(e, centre, room)) continue;
         vec3 light, plus, minus;  // the light on surfaces facing +axis and -axis: light * plus, light * minus
         if (dot(e.normal.xyz, e.normal.xyz) > 0.5) {
             square_faces(e, centre, light, plus, minus);

@@ -7,7 +7,8 @@
 // places to be lit from, a pattern that averaging sets would keep), its sum scaled by INTERLEAVE² (vpl_gather_filter.comp puts the
 // block's subsets back together). One dispatch adds the VPLs [first, first + batch) of
 // one set to what the ones before left: llvmpipe ends a loop nest after 65,535 iterations.
-// With ROOMS a pixel gathers only the VPLs in the room of the side it sees (rooms.glsl).
+// With ROOMS a pixel gathers only the emitters that light the room of the side it sees
+// (rooms.glsl).
 #include "common.glsl"
 #include "gbuffer.glsl"
 #include "emitter.glsl"
@@ -45,7 +46,7 @@ void main() {
             Emitter e = emitters[j];
             if (e.position.w <= 0.0) continue;
 #ifdef ROOMS
-            if (emitter_room(e.position) != room) continue;
+            if (!lights_room(e.position, room)) continue;
 #endif
             vec3 d = p - e.position.xyz;
             float facing = -dot(n, d) * inversesqrt(max(dot(d, d), 1e-30));

@@ -136,6 +136,24 @@ def test_a_lights_vpls_and_the_points_it_bounces_onto_carry_their_rooms(glc):
         pipeline.release()
 
 
+@pytest.mark.parametrize("method", ["light_grid", "vpl_gather"])
+def test_a_glowing_floor_outside_adds_no_light_inside_a_closed_box(method):
+    """An emissive surface's samples lie in the rooms its sides look into: the floor's
+    glow lights the box's outside, not its inside, directly or bounced."""
+    settings = Settings(width=64, height=48, rsm_resolution=128, vpls_per_light=256, lpv_resolution=16, bounces=3,
+                        indirect_method=method)
+    inside = Camera.look_at((0.3, -0.35, 0.8), (-0.3, 0.3, 0.05), fov_y=1.4, aspect=4 / 3)
+    glowing = np.zeros((14, 3), np.float32)
+    glowing[:2] = 2.0
+    passes = ("direct", "indirect")
+    lamp_only = render_once(dataclasses.replace(floor_and_box([LAMP]), camera=inside), settings, passes=passes).passes
+    both = render_once(dataclasses.replace(floor_and_box([LAMP], emission=glowing), camera=inside), settings,
+                       passes=passes).passes
+    added = sum(np.abs(both[name] - lamp_only[name]).mean() for name in passes) / lamp_only["direct"].mean()
+    print(f"\n{method}: the glowing floor outside changes the box's light by {100 * added:.3f} % of its direct light")
+    assert added < 0.001
+
+
 def test_the_light_grid_cells_take_the_room_their_centre_lies_in(glc):
     """shaders/light_grid_rooms.comp's parity on the GPU against gpu/closed_meshes.py's on
     the host, at every cell a lookup can read (1 + its room; 0: not read)."""
@@ -226,7 +244,7 @@ def test_a_camera_inside_a_solid_sees_it_black_and_one_outside_sees_it_lit():
         assert box_pixels.mean() > 0.05
 
 
-def test_a_colour_edit_keeps_the_closed_meshes_and_an_emission_edit_sorts_them_again(glc):
+def test_a_colour_edit_keeps_the_closed_meshes_and_new_emission_sorts_them_again(glc):
     scene = dataclasses.replace(floor_and_box([SUN, LAMP]), camera=Camera.look_at((1.5, -1.5, 1.0), (0, 0, 0.4)))
     recoloured = dataclasses.replace(scene, albedo=scene.albedo * np.float32(0.5), _content_keys=None)
     glowing = np.zeros((len(scene.triangles), 3), np.float32)
@@ -235,6 +253,8 @@ def test_a_colour_edit_keeps_the_closed_meshes_and_an_emission_edit_sorts_them_a
     assert recoloured.geometry_key() != scene.geometry_key()
     assert recoloured.enclosure_key() == scene.enclosure_key()
     assert lit.enclosure_key() != scene.enclosure_key()
+    brighter = dataclasses.replace(lit, emission=lit.emission * np.float32(3.0), _content_keys=None)
+    assert brighter.enclosure_key() == lit.enclosure_key() and brighter.geometry_key() != lit.geometry_key()
     pipeline = Pipeline(Settings(width=32, height=24, rsm_resolution=64, vpls_per_light=64, lpv_resolution=8), glc)
     try:
         pipeline.render(scene, passes=("combined",))

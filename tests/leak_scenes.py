@@ -268,6 +268,24 @@ def lamp_on_wall(size=(64, 48)):
     return LeakScene("lamp_on_wall", scene)
 
 
+def sunlit_cube_room(size=(64, 48)):
+    """A room made as artists make one quickly: a cube scaled to 4 x 5 x 2.7 m that the
+    camera stands in, a table inside and a lamp, and outside a sun, a sky-blue world and
+    the ground. Cycles shows the lamp's light alone inside: nothing of the sun or the sky
+    gets in."""
+    scene = empty_scene(size)
+    box("Room", (-2.0, -2.5, 0.0), (2.0, 2.5, 2.7), diffuse("walls", GREY))
+    box("Table", (0.2, 0.6, 0.0), (1.4, 1.4, 0.8), diffuse("table", WARM))
+    quad("Ground", 20.0, -0.01, diffuse("ground", COOL))
+    light("POINT", (-0.5, -0.5, 2.2), energy=300.0)
+    light("SUN", (0.0, 0.0, 10.0), (math.radians(40), 0.0, math.radians(30)), energy=5.0)
+    scene.world = bpy.data.worlds.new("Sky")
+    scene.world.use_nodes = True
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.6, 0.7, 1.0, 1.0)
+    scene.camera = camera("Inside", (1.6, -2.2, 1.5), (-0.5, 1.0, 0.8), lens=18.0)
+    return LeakScene("sunlit_cube_room", scene)
+
+
 BUILDERS = {
     "closed_box": closed_box,
     "thin_wall": thin_wall,
@@ -279,5 +297,6 @@ BUILDERS = {
     "camera_in_box": camera_in_box,
     "lamp_in_box_on_floor": lamp_in_box_on_floor,
     "lamp_on_wall": lamp_on_wall,
+    "sunlit_cube_room": sunlit_cube_room,
 }
 """Every leak scene by name, each built at an image size."""

@@ -91,6 +91,8 @@ def draw_statistics(layout, stats):
         column.label(text=f"Lights: {stats['mapped_lights']} with maps, {stats['lights_as_emitters']} through the "
                           f"emitter grid, {stats['skipped_lights']} skipped")
         column.label(text=f"{stats['point_emitters']:,} point emitters, {stats['skipped_emitters']:,} skipped")
+    if stats.get("rooms"):
+        column.label(text=f"Rooms: {stats['rooms']} closed meshes holding a lamp, each lit by its own lights alone")
     methods = stats.get("light_methods")
     if methods:
         column.label(text="Methods: " + ", ".join(m.upper() for m in methods))

@@ -423,6 +423,7 @@ class Pipeline:
             "method": s.method, "light_methods": [m.method for m in maps], "vpl_count": vpl_count,
             "vpl_pattern": self.vpl_pattern, "vpl_sets": sets, "accumulated_vpls": accumulated_vpls,
             "lights": len(scene.lights), "mapped_lights": len(lit.mapped), "lights_as_emitters": lit.lights_as_emitters,
+            "rooms": self._rooms().count if self._rooms() is not None else 0,
             "skipped_lights": lit.skipped_lights, "point_emitters": selection.kept if selection else 0,
             "skipped_emitters": selection.skipped if selection else 0, "triangles": scene.triangle_count,
             "dropped_triangles": {**scene.dropped, **({"emitters": selection.dropped} if selection and selection.dropped

@@ -119,7 +119,7 @@ def test_a_lights_vpls_and_the_points_it_bounces_onto_carry_their_rooms(glc):
     settings = Settings(width=48, height=32, rsm_resolution=64, vpls_per_light=64, lpv_resolution=16, bounces=2)
     pipeline = Pipeline(settings, glc)
     try:
-        pipeline.render(scene, passes=("indirect",))
+        assert pipeline.render(scene, passes=("indirect",)).stats["rooms"] == 1
         rooms = {maps.rsm.light.kind: maps.vpls.read() for maps in pipeline._lights.values()}
         assert set(rooms["POINT"]["room"][rooms["POINT"]["valid"]]) == {1.0}
         assert set(rooms["SUN"]["room"][rooms["SUN"]["valid"]]) == {0.0}

@@ -144,9 +144,13 @@ class ClosedMeshes:
         boxed = among & np.all((point >= self.low) & (point <= self.high), axis=1)
         return {int(index) for index in np.flatnonzero(boxed) if _inside(point, self.corners(index))}
 
+    def faces(self, index):
+        """The numbers of closed mesh `index`'s triangles in the scene."""
+        return self.order[self.starts[index]:self.ends[index]]
+
     def corners(self, index):
         """The triangles (m, 3, 3) float64 of closed mesh `index`."""
-        return np.asarray(self.triangles[self.order[self.starts[index]:self.ends[index]]], dtype=np.float64)
+        return np.asarray(self.triangles[self.faces(index)], dtype=np.float64)
 
     def emitters_key(self, scene):
         """What `sides_and_rooms` depends on beyond the geometry: where the lamps (not suns) and
@@ -175,13 +179,13 @@ class Rooms:
         return len(self.holding)
 
     def walls(self):
-        """The rooms' triangles, room 1's first, as (M, 3, 3) float32 corners, and each
-        room's first triangle, triangle count and box (low and high corners)."""
+        """The rooms' triangles (their numbers in the scene, int32), room 1's first, and
+        each room's first of them, their count and its box (low and high corners)."""
         closed = self.closed
-        corners = [closed.corners(index) for index in self.holding]
-        counts = np.array([len(c) for c in corners], dtype=np.int32)
+        faces = [closed.faces(index) for index in self.holding]
+        counts = np.array([len(f) for f in faces], dtype=np.int32)
         firsts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int32)
-        return (np.concatenate(corners).astype(np.float32), firsts, counts,
+        return (np.concatenate(faces).astype(np.int32), firsts, counts,
                 closed.low[self.holding], closed.high[self.holding])
 
     def room_of(self, light):

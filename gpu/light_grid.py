@@ -201,21 +201,20 @@ class LightGrid:
             return False
         if self.rooms_marked is not None and self.rooms_marked[0] == rooms.key:
             return self.rooms_marked[1]
-        corners, firsts, counts, lows, highs = rooms.walls()
-        tests = sum(grid.size ** 3 for grid in self.grids) * len(corners)
-        affordable = tests <= ROOM_TESTS and len(corners) <= LOOP_LIMIT if self.glc.is_software else \
+        walls, firsts, counts, lows, highs = rooms.walls()
+        tests = sum(grid.size ** 3 for grid in self.grids) * len(walls)
+        affordable = tests <= ROOM_TESTS and len(walls) <= LOOP_LIMIT if self.glc.is_software else \
             tests <= CELL_ROOM_TESTS
         self.rooms_marked = (rooms.key, affordable)
         if not self.rooms_marked[1]:
             return False
-        walls = np.zeros((len(corners), 3, 4), dtype=np.float32)
-        walls[:, :, :3] = corners
         buffer = self.glc.gl.buffer(walls.tobytes())
         program = self.glc.compute("light_grid_rooms", **ROOM_CODE_DEFINES)
         padded = {name: np.resize(values, (ROOM_CODE_DEFINES["ROOM_CODES"],) + values.shape[1:])
                   for name, values in (("first_wall", firsts), ("wall_count", counts), ("room_low", lows),
                                        ("room_high", highs))}
-        buffer.bind_to_storage_buffer(0)
+        self.marked.buffer.bind_to_storage_buffer(0)
+        buffer.bind_to_storage_buffer(1)
         self.receiving.bind_to_image(0, read=True, write=True)
         for layer, grid in enumerate(self.grids):
             set_uniforms(program, **padded, room_count=len(counts), ray=tuple(float(v) for v in RAY),

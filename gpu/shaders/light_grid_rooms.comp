@@ -5,9 +5,11 @@
 // gpu/closed_meshes.py sorts the faces; 1 outside every room. The gather then sums only
 // that room's clusters: the light of a lamp shut in a closed mesh reaches no cell outside
 // it, whatever wall a march from the cell misses.
+#include "vertex_layout.glsl"
 layout(local_size_x = 64) in;
-struct Wall { vec4 a; vec4 b; vec4 c; };
-layout(std430, binding = 0) readonly buffer Walls { Wall walls[]; };  // the rooms' triangles, room 1's first
+layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // vertex_layout.glsl
+#include "vertex_position.glsl"
+layout(std430, binding = 1) readonly buffer Walls { int walls[]; };  // the rooms' triangles' numbers, room 1's first
 layout(r8ui, binding = 0) uniform uimage3D receiving;
 uniform vec3 grid_origin;
 uniform float cell_size;
@@ -20,14 +22,15 @@ uniform vec3 room_low[ROOM_CODES];
 uniform vec3 room_high[ROOM_CODES];
 uniform vec3 ray;  // off every axis and diagonal (gpu/closed_meshes.py RAY)
 
-// Whether the ray from p crosses the triangle (Moller and Trumbore 1997).
-bool crosses(vec3 p, Wall w) {
-    vec3 edge1 = w.b.xyz - w.a.xyz, edge2 = w.c.xyz - w.a.xyz;
+// Whether the ray from p crosses triangle `triangle` (Moller and Trumbore 1997).
+bool crosses(vec3 p, int triangle) {
+    vec3 a = vertex_position(3 * triangle), b = vertex_position(3 * triangle + 1), c = vertex_position(3 * triangle + 2);
+    vec3 edge1 = b - a, edge2 = c - a;
     vec3 q = cross(ray, edge2);
     float det = dot(edge1, q);
     if (abs(det) <= 1e-30) return false;
     float inverse = 1.0 / det;
-    vec3 s = p - w.a.xyz;
+    vec3 s = p - a;
     float u = dot(s, q) * inverse;
     vec3 r = cross(s, edge1);
     float v = dot(ray, r) * inverse;

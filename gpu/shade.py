@@ -352,18 +352,30 @@ of its half-width of its centre (the filter's taps beyond its edge would find no
 blocker); coarser maps the rest."""
 
 
+def seen_room_defines(binding):
+    """The defines of a pass that reads shaders/seen_room.glsl, its sides buffer at `binding`."""
+    return dict(ROOM_DEFINES, SIDES_BINDING=binding)
+
+
+def bind_seen_room(program, targets, room_sides, binding, unit):
+    """Bind what shaders/seen_room.glsl reads: the mesh's sides-and-rooms buffer at
+    `binding` (seen_room_defines) and the G-buffer's triangles at texture `unit`."""
+    room_sides.bind_to_storage_buffer(binding)
+    targets.triangles.use(location=unit)
+    set_uniforms(program, g_triangles=unit)
+
+
 def shade_direct(glc, targets, camera, rsm, shadow_bias, shadow, inside=None, outside=None, room=None):
     """Add one light's shadowed Lambert and glossy terms into the direct image; `shadow` the uniforms
     of its soft shadow (gpu/soft_shadows.py shadow_uniforms). `inside` and `outside`
     (a sun's orthographic view maps, or None) keep to the pixels within VIEW_MAP_EDGE of
     the one and beyond it of the other. With `room` (the mesh's sides-and-rooms buffer and
     the light's room, gpu/closed_meshes.py) it lights only the pixels in its room."""
-    program = glc.compute("shade_direct", **(dict(ROOM_DEFINES, SIDES_BINDING=0) if room is not None else {}))
+    program = glc.compute("shade_direct", **(seen_room_defines(0) if room is not None else {}))
     bind_gbuffer(targets)
     if room is not None:
-        room[0].bind_to_storage_buffer(0)
-        targets.triangles.use(location=TRIANGLES_UNIT)
-        set_uniforms(program, g_triangles=TRIANGLES_UNIT, light_room=room[1])
+        bind_seen_room(program, targets, room[0], 0, TRIANGLES_UNIT)
+        set_uniforms(program, light_room=room[1])
     rsm.position.use(location=2)
     targets.specular.use(location=SPECULAR_UNIT)
     if rsm.tint is not None:
@@ -461,7 +473,7 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
     defines = {"REFLECTIONS": 1} if reflections is not None else {}
     cell_rooms = indirect.cell_rooms() if room_sides is not None else None
     if cell_rooms is not None:
-        defines.update(ROOM_DEFINES, SIDES_BINDING=1)
+        defines.update(seen_room_defines(1))
     if march:
         defines.update(MARCH_ESCAPE=1, MARCH_LEVELS=len(reflections.layers))
     program = glc.compute("shade_indirect", LEVELS=levels, PHASES=phases,
@@ -502,8 +514,7 @@ def shade_indirect(glc, targets, camera, indirect, levels, phases, intensity, di
                      trace_length=reflections.trace_length,
                      reflection_pattern=reflections.pattern)
     if cell_rooms is not None:  # after the march's units
-        room_sides.bind_to_storage_buffer(1)
-        targets.triangles.use(location=world_unit + 6)
+        bind_seen_room(program, targets, room_sides, 1, world_unit + 6)
         cell_rooms.use(location=world_unit + 7)
-        set_uniforms(program, g_triangles=world_unit + 6, cell_rooms=world_unit + 7)
+        set_uniforms(program, cell_rooms=world_unit + 7)
     dispatch(program, *targets.size)

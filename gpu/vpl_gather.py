@@ -4,9 +4,9 @@ grid levels, each part of a segment in the finest level that holds it; each pixe
 and a filter that heeds depth and normal puts the block back together."""
 
 
-from .closed_meshes import ROOM_DEFINES
 from .context import dispatch, set_uniforms
 from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, Occupancy, march_batch, occupancy_bytes
+from .shade import bind_seen_room, seen_room_defines
 
 INTERLEAVE = 4
 """Pixels along each side of an interleaving block: each pixel gathers one VPL in
@@ -53,7 +53,7 @@ class VPLGather:
         its textures bound."""
         gathered, filtered = self._images(targets.size)
         layers = self.occupancy.every_grid_layers()
-        rooms = dict(ROOM_DEFINES, SIDES_BINDING=1) if room_sides is not None else {}
+        rooms = seen_room_defines(1) if room_sides is not None else {}
         program = self.glc.compute("vpl_gather_pixels", INTERLEAVE=INTERLEAVE, MARCH_LEVELS=len(layers), **rooms)
         gathered.bind_to_image(0, read=True, write=True)
         batch = march_batch(self.occupancy.voxels, len(layers), INTERLEAVE ** 2)
@@ -61,9 +61,7 @@ class VPLGather:
                      batch=batch, singularity_bound=singularity_bound, subset_shift=vpl_set % INTERLEAVE ** 2,
                      held_bound=singularity_bound if held_bound is None else held_bound)
         if room_sides is not None:  # after the march's two units
-            room_sides.bind_to_storage_buffer(1)
-            targets.triangles.use(location=4)
-            set_uniforms(program, g_triangles=4)
+            bind_seen_room(program, targets, room_sides, 1, 4)
         accumulate = False
         for buffer, count in emitter_sets:
             buffer.bind_to_storage_buffer(0)

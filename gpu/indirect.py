@@ -39,7 +39,6 @@ class IndirectMethod:
         self.levels = self.grids[::phases]
         self.generations = Generations(glc)
         self.emitter_vpls = None  # the emitters' bounce (gpu/emitter_bounce.py)
-        self.rooms = None  # the rooms of the last build (gpu/closed_meshes.py Rooms)
         self.volumes = self._volumes()
         self._pixel_gather = None  # made when a frame has emitters (pixel_gather)
 
@@ -69,16 +68,15 @@ class IndirectMethod:
         on the surfaces by `receivers()` (the scene's gpu/emitter_bounce.py Receivers, made
         on first use); and with `settings.bounces` above 1 (gathering methods) from the
         later generations (gpu/bounces.py), on points it draws too, their senders' subsets
-        following the VPL `pattern`. With `rooms` (gpu/closed_meshes.py Rooms) the gathering
-        methods keep each room's light in it."""
-        self.rooms = rooms
+        following the VPL `pattern`. With `rooms` (gpu/closed_meshes.py Rooms) a light grid
+        keeps each room's light in its cells (the VPLs carry their rooms themselves)."""
         if self.emitter_vpls is not None:
             self.emitter_vpls.release()
             self.emitter_vpls = None
-        self._build(maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers,
+        self._build(maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, rooms,
                     sum(m.vpl_map.flux_bound for m in maps))
 
-    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
+    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, rooms, flux_bound):
         raise NotImplementedError
 
     def gather_pixels(self, targets, uniforms, camera_position, singularity_bound, pattern, held_bound,
@@ -185,7 +183,7 @@ class LPVMethod(IndirectMethod):
     def longest_side(settings):
         return settings.lpv_resolution + 1  # the geometry volume
 
-    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
+    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, rooms, flux_bound):
         vpl_sets = [vpls for m in maps for vpls in (m.vpls, m.far_vpls) if vpls is not None]
         if sources:
             flux_bound += self._bounce_emitters(mesh, settings, stats, pattern, sources, receivers)
@@ -300,14 +298,14 @@ class LightGridMethod(GatheringMethod):
     def _layers(self):
         return self.volumes[0].occupancy.march_layers(self._level_layers())
 
-    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
+    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, rooms, flux_bound):
         emitters, flux_bound = self._gathered_emitters(maps, mesh, settings, stats, pattern, sources, receivers,
                                                        flux_bound)
         volume = self.volumes[0]
         with self.glc.timed(stats, "inject_ms"):
-            self._rooms_apart = volume.mark_cells(self.rooms)
+            self._rooms_apart = volume.mark_cells(rooms)
             volume.cluster(emitters, flux_bound, cluster_levels(self.levels, scene_bounds),
-                           1 + self.rooms.count if self._rooms_apart else 1)
+                           1 + rooms.count if self._rooms_apart else 1)
         with self.glc.timed(stats, "gather_ms"):
             volume.gather(settings.singularity_bound, self._level_layers(), self._rooms_apart)
 
@@ -345,7 +343,7 @@ class VPLGatherMethod(GatheringMethod):
     def _layers(self):
         return self.volumes[0].occupancy.every_grid_layers()
 
-    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, flux_bound):
+    def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, rooms, flux_bound):
         self.emitter_sets, _ = self._gathered_emitters(maps, mesh, settings, stats, pattern, sources, receivers,
                                                        flux_bound)
 

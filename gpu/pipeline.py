@@ -417,13 +417,14 @@ class Pipeline:
     def _statistics(self, scene, maps, lit, selection, indirect, vpl_count, sets, accumulated_vpls):
         s = self.settings
         bounces = light_bounces(s, scene)
+        rooms = self._rooms()
         warped = [m.warp for m in maps if m.warp is not None]
         stats = {"warp_status": {name: sum(w.counts[name] for w in warped) for name in STATUS_NAMES}} if warped else {}
         stats.update({
             "method": s.method, "light_methods": [m.method for m in maps], "vpl_count": vpl_count,
             "vpl_pattern": self.vpl_pattern, "vpl_sets": sets, "accumulated_vpls": accumulated_vpls,
             "lights": len(scene.lights), "mapped_lights": len(lit.mapped), "lights_as_emitters": lit.lights_as_emitters,
-            "rooms": self._rooms().count if self._rooms() is not None else 0,
+            "rooms": rooms.count if rooms is not None else 0,
             "skipped_lights": lit.skipped_lights, "point_emitters": selection.kept if selection else 0,
             "skipped_emitters": selection.skipped if selection else 0, "triangles": scene.triangle_count,
             "dropped_triangles": {**scene.dropped, **({"emitters": selection.dropped} if selection and selection.dropped

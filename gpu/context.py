@@ -392,6 +392,9 @@ def dispatch(program, *counts, local=(8, 8, 1)):
     to the GPU (`submit`)."""
     groups = [max(1, -(-c // l)) for c, l in zip(counts, local)]
     groups += [1] * (3 - len(groups))
+    limits = program.ctx.info["GL_MAX_COMPUTE_WORK_GROUP_COUNT"]
+    if any(g > limit for g, limit in zip(groups, limits)):  # GL would run nothing and say so only in glGetError
+        raise ValueError(f"{groups} workgroups exceed the driver's {limits}: dispatch them in rows")
     program.run(*groups)
     program.ctx.memory_barrier()
     submit(program.ctx)

@@ -17,7 +17,7 @@ import moderngl
 import numpy as np
 
 from .closed_meshes import RAY, ROOM_CODE_DEFINES, ROOM_DEFINES, ROOM_TESTS
-from .context import dispatch, set_uniforms, zero_buffer
+from .context import dispatch, dispatch_row, run_workgroups, set_uniforms, zero_buffer
 from .grids import fit_grid
 from .occupancy import LOOP_LIMIT, VOXELS_PER_CELL, Occupancy, march_batch
 from .vpl import EMITTER_BYTES
@@ -183,9 +183,8 @@ class LightGrid:
         mesh.buffer.bind_to_storage_buffer(0)
         program = self.glc.compute("light_grid_receiving")
         for layer, grid in enumerate(self.grids):
-            set_uniforms(program, grid_origin=grid.origin, cell_size=grid.cell_size, grid_size=grid.size, layer=layer,
-                         triangle_count=mesh.triangle_count)
-            dispatch(program, mesh.triangle_count, local=(64,))
+            dispatch_row(program, mesh.triangle_count, "first_triangle", grid_origin=grid.origin,
+                         cell_size=grid.cell_size, grid_size=grid.size, layer=layer, triangle_count=mesh.triangle_count)
         self.marked = mesh
         self.rooms_marked = None
 
@@ -257,7 +256,7 @@ class LightGrid:
                          layer=layer)
             for first in range(0, max(count, 1), batch):
                 set_uniforms(program, first_emitter=first)
-                dispatch(program, grid.size ** 3, local=(1,))  # a workgroup per cell
+                run_workgroups(program, grid.size ** 3)  # a workgroup per cell
 
     def lookup_uniforms(self, first_unit, paired=False):
         """Bind the volumes for shaders/light_grid_lookup.glsl from texture unit `first_unit`

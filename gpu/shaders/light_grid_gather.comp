@@ -70,7 +70,8 @@ bool in_cut_and_room(Emitter e, vec3 p, int room) {
 }
 
 void main() {
-    int index = int(gl_WorkGroupID.x);
+    int index = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);  // context.py run_workgroups
+    if (index >= grid_size * grid_size * grid_size) return;
     int lane = int(gl_LocalInvocationID.x);
     ivec3 cell = ivec3(index % grid_size, (index / grid_size) % grid_size, index / (grid_size * grid_size));
     uint marked = texelFetch(receiving, cell + ivec3(0, 0, layer * grid_size), 0).r;

@@ -16,6 +16,7 @@ uniform float cell_size;
 uniform int grid_size;
 uniform int layer;  // this grid's block along z
 uniform int triangle_count;
+uniform int first_triangle;  // this dispatch's first (context.py dispatch_row)
 const float LOOKUP_REACH = 1.5;
 
 vec3 corner_cells(int triangle, int k) {
@@ -23,7 +24,7 @@ vec3 corner_cells(int triangle, int k) {
 }
 
 void main() {
-    int triangle = int(gl_GlobalInvocationID.x);
+    int triangle = first_triangle + int(gl_GlobalInvocationID.x);
     if (triangle >= triangle_count) return;
     vec3 a = corner_cells(triangle, 0), b = corner_cells(triangle, 1), c = corner_cells(triangle, 2);
     ivec3 first = max(ivec3(ceil(min(a, min(b, c)) - LOOKUP_REACH)), ivec3(0));

@@ -22,3 +22,12 @@ def test_the_automatic_resolution_is_32_on_a_gpu_and_the_coarser_one_in_software
     assert Settings().refined(software=False).lpv_resolution == 32
     assert Settings().refined(software=True) == Settings()
     assert Settings(lpv_resolution=64).refined(software=False).lpv_resolution == 64  # never coarser
+
+
+def test_grids_of_more_cells_than_a_row_of_workgroups_gather_their_light(glc):
+    """41³ cells are more than the 65,535 workgroups GL promises along x (one a cell): the
+    gather runs them in rows, and lights the room as 32³ does."""
+    scene = room_scene(4)
+    fine, finer = (render_once(scene, SMALL.with_changes(lpv_resolution=n), glc).passes["indirect"].mean()
+                   for n in (32, 41))
+    assert fine > 0 and abs(finer / fine - 1) < 0.1, (fine, finer)

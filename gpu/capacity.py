@@ -10,7 +10,7 @@ import os
 
 from .bounces import light_bounces
 from .emitter_bounce import RECEIVER_BYTES, RECEIVER_TRIANGLE_BYTES
-from .emitter_grid import CLUSTER_FLOATS, grid_resolution
+from .emitter_grid import CLUSTER_FLOATS, GRID_TEXEL_BYTES, grid_resolution, largest_texture_side
 from .errors import LPVError
 from .grids import VIEW_LATTICE
 from .indirect import indirect_method
@@ -88,8 +88,9 @@ def emitter_bytes(s, scene, pixels, lamps):
     if not count:
         return bounce
     side = grid_resolution(s.emitter_grid_resolution)
-    fine = 8 * 3 * 16 if s.emitter_interpolation == "supersampled" else 0
-    grid = side ** 3 * (CLUSTER_FLOATS * 4 * 8 // 7 + 3 * 16 + fine) + count * (EMITTER_BYTES + POINT_EMITTER_COLUMNS * 4)
+    fine = 8 * 3 * GRID_TEXEL_BYTES if s.emitter_interpolation == "supersampled" else 0
+    grid = (side ** 3 * (CLUSTER_FLOATS * 4 * 8 // 7 + 3 * GRID_TEXEL_BYTES + fine)
+            + count * (EMITTER_BYTES + POINT_EMITTER_COLUMNS * 4))
     n = s.lpv_resolution
     shadows = (2 * s.grid_levels * s.grid_phases * n ** 3 * LIGHT_GRID_BYTES_PER_CELL
                + occupancy_bytes(s.grid_levels * s.grid_phases, n, VOXELS_PER_CELL)
@@ -188,12 +189,25 @@ FLOAT_ATOMICS = "GL_NV_shader_atomic_float"
 """The extension the emitter grid's clustering adds floats with (shaders/emitter_bin.comp)."""
 
 
-def check_emitter_grid(extensions, renderer, settings, scene):
-    """Refuse a frame that needs the emitter grid on a driver without float atomics."""
+SOFTWARE_TEXTURE_BYTES = GIB
+"""The largest texture llvmpipe makes (Mesa's LP_MAX_TEXTURE_SIZE): a larger one is
+GL_OUT_OF_MEMORY, and nothing drawn into it."""
+
+
+def check_emitter_grid(extensions, renderer, settings, scene, software=False):
+    """Refuse a frame that needs the emitter grid on a driver without float atomics, or
+    whose textures the software rasterizer (`software`) cannot make."""
     lamps = len(scene.lights) - len(mapped_lights(settings, scene))
-    if settings.emitter_light == "grid" and (scene.point_emitter_count or lamps) and FLOAT_ATOMICS not in extensions:
+    if settings.emitter_light != "grid" or not (scene.point_emitter_count or lamps):
+        return
+    if FLOAT_ATOMICS not in extensions:
         raise LPVError(f"{renderer} lacks {FLOAT_ATOMICS}, which the emitter grid needs for the scene's point "
                        f"emitters; set emitter_light to brute_force.")
+    side = largest_texture_side(settings)
+    if software and side ** 3 * GRID_TEXEL_BYTES > SOFTWARE_TEXTURE_BYTES:
+        raise LPVError(f"An emitter grid resolution of {settings.emitter_grid_resolution} needs textures of {side}³ "
+                       f"texels, {side ** 3 * GRID_TEXEL_BYTES / GIB:.0f} GiB each, more than {renderer} makes "
+                       f"({SOFTWARE_TEXTURE_BYTES / GIB:.0f} GiB); lower the emitter grid resolution.")
 
 
 def check_frame_fits(glc, settings, scene, passes=PASS_NAMES, display=False, held_bytes=0):
@@ -201,7 +215,7 @@ def check_frame_fits(glc, settings, scene, passes=PASS_NAMES, display=False, hel
     free cannot hold; `held_bytes` of GPU memory are already allocated for it (a
     pipeline's earlier frame) and are used again."""
     check_limits(glc.gl.info, glc.renderer, settings, scene)
-    check_emitter_grid(glc.gl.extensions, glc.renderer, settings, scene)
+    check_emitter_grid(glc.gl.extensions, glc.renderer, settings, scene, glc.is_software)
     available = available_host_bytes()
     if available is None:
         return

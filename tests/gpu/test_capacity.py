@@ -5,7 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from lpv_preview.gpu.capacity import available_host_bytes, check_limits, frame_bytes
+from lpv_preview.bench.synthetic import particle_room
+from lpv_preview.gpu.capacity import available_host_bytes, check_emitter_grid, check_limits, frame_bytes
+from lpv_preview.gpu.emitter_grid import EmitterGrid
 from lpv_preview.gpu.errors import LPVError
 from lpv_preview.gpu.passes import PASS_NAMES, render_passes
 from lpv_preview.gpu.pipeline import Pipeline
@@ -92,3 +94,31 @@ def test_images_the_driver_cannot_make_are_refused_in_one_sentence(glc):
         FrameTargets(glc.gl, 16384, 16384)
     assert str(error.value) == (f"{glc.renderer} cannot make 16384 x 16384 images (GL_OUT_OF_MEMORY); lower the "
                                 f"resolution.")
+
+
+def test_an_emitter_grid_the_driver_cannot_make_is_refused_in_one_sentence(glc):
+    """llvmpipe makes no texture over 1 GiB and says so only through glGetError: a grid of
+    256 cells, read super-sampled from 512³ textures, drew no emitter's light."""
+    if not glc.is_software:
+        pytest.skip("llvmpipe makes no texture over 1 GiB; a GPU's limit lies elsewhere")
+    scene = particle_room(64, seed=1)
+    settings = Settings(width=32, height=24, rsm_resolution=64, vpls_per_light=64, emitter_grid_resolution=256)
+    pipeline = Pipeline(settings, glc)
+    try:
+        with pytest.raises(LPVError) as error:
+            pipeline.render(scene)
+        assert pipeline.gpu_bytes() == 0  # refused before anything was allocated
+    finally:
+        pipeline.release()
+    assert str(error.value) == (f"An emitter grid resolution of 256 needs textures of 512³ texels, 2 GiB each, more "
+                                f"than {glc.renderer} makes (1 GiB); lower the emitter grid resolution.")
+    check_emitter_grid(glc.gl.extensions, glc.renderer, settings.with_changes(emitter_grid_resolution=128), scene,
+                       software=True)  # 256³ textures of 256 MiB
+    grid = EmitterGrid(glc, 256)
+    try:
+        with pytest.raises(LPVError) as error:
+            grid.supersampled_textures()
+    finally:
+        grid.release()
+    assert str(error.value) == (f"{glc.renderer} cannot make the emitter grid's 512³ textures (GL_OUT_OF_MEMORY); "
+                                f"lower the emitter grid resolution.")

@@ -76,6 +76,10 @@ class Occupancy:
         self._empty_coarse = bytes(n ** 3 * layers)
         self._canvas = gl.renderbuffer((self.voxels, self.voxels), 1, dtype="f1")
         self._framebuffer = gl.framebuffer(color_attachments=[self._canvas])
+        # Nothing is written to the canvas: llvmpipe drops what earlier triangles drew in a
+        # tile that a later one covers whole with colour written (their voxels with it),
+        # which left a floor under a ceiling with holes a tile wide from 216 voxels a side.
+        self._framebuffer.color_mask = (False, False, False, False)
         self.large = gl.buffer(reserve=3 * 4)  # the large triangles' vertex indices, grown as needed
         self.command = gl.buffer(reserve=5 * 4)
         self.voxelised = None  # the mesh the volumes hold

@@ -8,9 +8,7 @@ in vec3 voxel_position;
 uniform int layer;
 uniform vec3 grid_origin;
 uniform float voxel_size;
-layout(location = 0) out vec4 unused;
 
 void main() {
     mark_voxel(layer, ivec3(floor((voxel_position - grid_origin) / voxel_size)));
-    unused = vec4(0.0);
 }

@@ -24,3 +24,23 @@ def test_the_occupancy_reaches_every_triangle_of_a_scene_larger_than_one_dispatc
     assert voxels[0].any()
     np.testing.assert_array_equal(voxels[1], voxels[0])
     mesh.release()
+
+
+def test_a_floor_under_a_ceiling_is_voxelised_whole_at_fine_grids(glc):
+    """Both project onto the same tiles of the voxelisation's canvas: where the ceiling,
+    drawn later, covered a tile whole, llvmpipe dropped the floor's voxels there, and light
+    leaked through the floor's holes at grids of 36 cells and more."""
+    scene = room_scene(1)
+    mesh = MeshBuffer(glc, scene)
+    for cells in (16, 48):
+        grid = fit_grid(scene.bounds(), cells)
+        occupancy = Occupancy(glc, [grid], 6)
+        occupancy.voxelise(mesh)
+        n = occupancy.voxels
+        voxels = np.frombuffer(occupancy.occupancy.read(), dtype=np.uint8).reshape(-1, n, n)[:n]
+        voxel = grid.cell_size / 6
+        floor = voxels[int(np.floor(-grid.origin[2] / voxel))]  # the layer z = 0 lies in
+        inside = [slice(int(np.ceil((-2 - o) / voxel)), int(np.floor((2 - o) / voxel))) for o in grid.origin[1::-1]]
+        assert floor[tuple(inside)].all(), (cells, float(floor[tuple(inside)].mean()))
+        occupancy.release()
+    mesh.release()

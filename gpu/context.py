@@ -343,9 +343,10 @@ def set_uniforms(program, **values):
             member.value = value
 
 
-ROW_INVOCATIONS = 64 * 65535
-"""Invocations one dispatch of a row of 64-wide workgroups reaches: GL promises 65,535
-workgroups along x."""
+GUARANTEED_WORKGROUPS = 65535
+"""Workgroups GL promises a dispatch along each axis (GL_MAX_COMPUTE_WORK_GROUP_COUNT's least)."""
+ROW_INVOCATIONS = 64 * GUARANTEED_WORKGROUPS
+"""Invocations one dispatch of a row of 64-wide workgroups reaches."""
 
 
 def dispatch_row(program, count, first, **uniforms):
@@ -392,9 +393,10 @@ def dispatch(program, *counts, local=(8, 8, 1)):
     to the GPU (`submit`)."""
     groups = [max(1, -(-c // l)) for c, l in zip(counts, local)]
     groups += [1] * (3 - len(groups))
-    limits = program.ctx.info["GL_MAX_COMPUTE_WORK_GROUP_COUNT"]
-    if any(g > limit for g, limit in zip(groups, limits)):  # GL would run nothing and say so only in glGetError
-        raise ValueError(f"{groups} workgroups exceed the driver's {limits}: dispatch them in rows")
+    if max(groups) > GUARANTEED_WORKGROUPS:  # past the driver's limit GL runs nothing, and says so only in glGetError
+        limits = program.ctx.info["GL_MAX_COMPUTE_WORK_GROUP_COUNT"]
+        if any(g > limit for g, limit in zip(groups, limits)):
+            raise ValueError(f"{groups} workgroups exceed the driver's {limits}: dispatch them in rows")
     program.run(*groups)
     program.ctx.memory_barrier()
     submit(program.ctx)

@@ -5,7 +5,7 @@ import signal
 import numpy as np
 import pytest
 
-from lpv_preview.gpu.context import GLContext, install_hint, platform_backends
+from lpv_preview.gpu.context import GLContext, dispatch, install_hint, platform_backends
 from lpv_preview.gpu.ctrl_c import ctrl_c_held
 from lpv_preview.gpu.emitter_grid import EmitterGrid
 from lpv_preview.gpu.errors import LPVError
@@ -159,3 +159,11 @@ def test_each_bad_point_emitter_is_dropped_and_counted(bad, why):
     assert (dirty.kept, dirty.skipped, dirty.dropped) == (4, 0, 2)
     assert np.isfinite(rows).all() and not rows[[bad[0], 5]].any()
     np.testing.assert_allclose(dirty.box[0], [0.0, 0.0, 1.0])
+
+
+def test_a_dispatch_past_the_drivers_workgroups_fails_loudly(glc):
+    """GL runs nothing past GL_MAX_COMPUTE_WORK_GROUP_COUNT and says so only in glGetError:
+    a light grid of 48³ cells drew no indirect light on llvmpipe that way."""
+    limit = glc.gl.info["GL_MAX_COMPUTE_WORK_GROUP_COUNT"][0]
+    with pytest.raises(ValueError, match="workgroups exceed the driver's"):
+        dispatch(glc.compute("zero_buffer"), (limit + 1) * 64, local=(64,))

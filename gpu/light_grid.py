@@ -156,11 +156,10 @@ class LightGrid:
             if octave == 0:
                 for buffer, count in emitter_sets:
                     buffer.bind_to_storage_buffer(0)
-                    set_uniforms(program, emitter_count=count)
-                    dispatch(program, count, local=(64,))
+                    dispatch_row(program, count, "first_emitter", emitter_count=count)
             else:  # the octave before's clusters
                 self.emitters.bind_to_storage_buffer(0)
-                dispatch(program, tables[octave - 1], local=(64,))
+                dispatch_row(program, tables[octave - 1], "first_emitter")
             self.emitters.bind_to_storage_buffer(0)
             self.blocks.bind_to_storage_buffer(4, offset=first_block * 4, size=_block_words(slots) * 4)
             for stage in range(3):

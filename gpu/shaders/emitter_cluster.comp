@@ -23,9 +23,10 @@ uniform float level_cells[LEVELS];
 uniform int grid_size;
 uniform int octave;                    // the clusters' width: level_cells << octave
 uniform float flux_scale;              // fixed-point units per W
+uniform int first_emitter;             // this dispatch's first (gpu/context.py dispatch_row)
 
 void main() {
-    int index = int(gl_GlobalInvocationID.x);
+    int index = first_emitter + int(gl_GlobalInvocationID.x);
 #if WIDER
     int first = octave_start[octave - 1];
     if (index >= emitter_total - first) return;

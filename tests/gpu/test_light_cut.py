@@ -2,7 +2,7 @@
 CUT_GRID_CELLS takes far emitters in wide clusters and near ones in the finest, each
 emitter once, so its light is the one every finest cluster gives. Real GL through llvmpipe."""
 from lpv_preview.bench.synthetic import room_scene
-from lpv_preview.gpu import light_grid
+from lpv_preview.gpu import context, light_grid
 from lpv_preview.gpu.metrics import image_errors
 from lpv_preview.gpu.pipeline import render_once
 from lpv_preview.gpu.settings import Settings
@@ -26,3 +26,15 @@ def test_the_cut_gives_the_light_of_every_finest_cluster(monkeypatch):
     assert abs(errors["mean"] / errors["reference_mean"] - 1) < 0.015  # each emitter counted once
     assert errors["psnr"] > 38
     assert widest_errors["psnr"] < errors["psnr"] - 5  # the cut is not the widest clusters alone
+
+
+def test_emitters_clustered_in_rows_of_dispatches_give_the_same_light(monkeypatch):
+    """GL promises 65,535 workgroups a dispatch: more emitters than 4,194,240 (a million
+    particles' shadows, several times over) go in rows. Rows of 128 here split the VPLs
+    and the octaves' clusters into many dispatches, and the light is the same to the bit
+    (the clusters' sums are fixed-point)."""
+    whole = render_once(room_scene(4), Settings(**SMALL), passes=("indirect",)).passes["indirect"]
+    monkeypatch.setattr(context, "ROW_INVOCATIONS", 128)
+    rows = render_once(room_scene(4), Settings(**SMALL), passes=("indirect",)).passes["indirect"]
+    assert whole.mean() > 0
+    assert (rows == whole).all()

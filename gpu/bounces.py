@@ -7,6 +7,8 @@ Unlike VPLs lit by one another, the points lie wherever the surfaces are, so the
 bounce reaches what no light's map sees (the shadowed side of a sunlit room), and light
 that several lights bring to one surface bounces once (docs/method.md, "Bounces").
 """
+import numpy as np
+
 from .context import dispatch, set_uniforms
 from .emitter_bounce import light_receivers
 
@@ -40,15 +42,21 @@ def generation_points(samples, bounce):
     return samples if samples < 2 * factor else -(-samples // factor)
 
 
-def conserve(glc, totals, generation, senders, largest_albedo):
+def conserve(glc, totals, generation, senders, largest_albedo, senders_bound=None):
     """Scale a generation's flux down, channel by channel, to at most its senders' total
-    times their receivers' `largest_albedo` (light cannot grow from bounce to bounce), on
-    the GPU (shaders/flux_total.comp, flux_conserve.comp; `totals` a buffer of two vec4s).
-    Only the faces of a slab thinner than a voxel, whose points the occupancy lights on the
-    same side, carry more (docs/method.md, "Bounces")."""
+    (summed on the GPU, or `senders_bound` where the host knows a bound on it) times their
+    receivers' `largest_albedo` (light cannot grow from bounce to bounce), on the GPU
+    (shaders/flux_total.comp, flux_conserve.comp; `totals` a buffer of two vec4s). Only the
+    faces of a slab thinner than a voxel, whose points the occupancy lights on the same
+    side, carry more (docs/method.md, "Bounces")."""
     program = glc.compute("flux_total")
     totals.bind_to_storage_buffer(1)
-    for slot, sets in ((0, senders), (1, [(generation.buffer, generation.count)])):
+    sums = [(1, [(generation.buffer, generation.count)])]
+    if senders_bound is None:  # one workgroup sums each set: fine for a generation, slow for a million particles
+        sums.insert(0, (0, senders))
+    else:
+        totals.write(np.full(4, senders_bound, dtype=np.float32).tobytes())
+    for slot, sets in sums:
         for number, (buffer, count) in enumerate(sets):
             buffer.bind_to_storage_buffer(0)
             set_uniforms(program, row_count=count, slot=slot, accumulate=number > 0)
@@ -65,7 +73,7 @@ class Generations:
     def __init__(self, glc):
         self.glc = glc
         self.made = []
-        self.totals = None  # conserve's sums, made on the first build
+        self.totals = None  # conserve's sums (`sums`), made on first use
 
     @property
     def flux_bound(self):
@@ -79,31 +87,37 @@ class Generations:
         (gpu/closed_meshes.py); returns their (buffer, count) sets.
         Nothing is read back: a generation's bound is the one before's times the largest
         albedo of the surfaces its points are drawn on, which `conserve` holds it to."""
-        self._drop()
-        if self.totals is None:
-            self.totals = self.glc.gl.buffer(reserve=2 * 16)
+        self.drop()
         senders, bound = list(first), first_bound
         largest_albedo = receivers.largest_albedo
         for bounce in range(1, bounces):
             points = receivers.draw(generation_points(samples, bounce), generation_seed(pattern, bounce))
             bound *= float(largest_albedo.max())
             generation = light_receivers(self.glc, points, senders, occupancy, singularity_bound,
-                                         pattern * MAX_BOUNCES + bounce, LATER_SENDERS, flux_bound=bound)
-            conserve(self.glc, self.totals, generation, senders, largest_albedo)
+                                         pattern * MAX_BOUNCES + bounce, bound, LATER_SENDERS)
+            conserve(self.glc, self.sums(), generation, senders, largest_albedo)
             self.made.append(generation)
             senders = [(generation.buffer, generation.count)]
         return [(generation.buffer, generation.count) for generation in self.made]
 
+    def sums(self):
+        """The two vec4s `conserve` sums a generation's and its senders' flux into (the
+        emitters' bounce's too: gpu/indirect.py), made on first use."""
+        if self.totals is None:
+            self.totals = self.glc.gl.buffer(reserve=2 * 16)
+        return self.totals
+
     def resources(self):
         return tuple(generation.buffer for generation in self.made) + ((self.totals,) if self.totals else ())
 
-    def _drop(self):
+    def drop(self):
+        """Let the generations made go."""
         for generation in self.made:
             generation.release()
         self.made = []
 
     def release(self):
-        self._drop()
+        self.drop()
         if self.totals is not None:
             self.totals.release()
             self.totals = None

@@ -22,6 +22,26 @@ RECEIVER_BYTES = 2 * EMITTER_BYTES + 32  # a receiver's row, its VPL and its irr
 RECEIVER_TRIANGLE_BYTES = 20  # a light triangle's cumulative area share and bounce colour (Receivers)
 
 
+def flux_bound(rows):
+    """The largest channel of the summed flux of emitter rows ((N, 3, 4) as
+    shaders/emitter.glsl lays them out) made on the host."""
+    return float(rows[:, 2, :3].sum(axis=0, dtype=np.float64).max()) if len(rows) else 0.0
+
+
+@dataclass
+class EmitterSources:
+    """The emitter sets whose light bounces ((buffer, count) pairs: the point emitters, the
+    emissive surfaces' samples, the world's directions) and a bound on any channel of the
+    flux of theirs that reaches the surfaces, known on the host (their rows are made or
+    counted there; the world's emitters stand far off: gpu/world.py SCENE_SHARE)."""
+
+    sets: tuple = ()
+    flux_bound: float = 0.0
+
+    def __bool__(self):
+        return bool(self.sets)
+
+
 @dataclass
 class EmitterVPLs:
     """The receivers as VPLs: a buffer of shaders/emitter.glsl rows, their count and a
@@ -82,14 +102,14 @@ class Receivers:
         self.cumulative = self.colours = None
 
 
-def light_receivers(glc, receivers, emitter_sets, occupancy, singularity_bound, pattern,
-                    senders_per_receiver=RECEIVER_SENDERS, flux_bound=None):
+def light_receivers(glc, receivers, emitter_sets, occupancy, singularity_bound, pattern, flux_bound,
+                    senders_per_receiver=RECEIVER_SENDERS):
     """The receivers ((buffer, count) of `Receivers.draw`, the buffer released here) lit by
     the emitter sets ((buffer, count) pairs), each receiver gathering a strided subset of
     `senders_per_receiver` of each set, marching every grid of `occupancy`, each side
     only from the senders that light its room (gpu/closed_meshes.py): an EmitterVPLs,
-    each in its brighter side's room, whose flux bound is `flux_bound` where given, else
-    their flux read back and summed."""
+    each in its brighter side's room, whose flux bound is `flux_bound` (gpu/bounces.py
+    conserve holds their flux to it on the GPU: nothing is read back)."""
     gl = glc.gl
     layers = occupancy.every_grid_layers()
     receiver_buffer, count = receivers
@@ -117,6 +137,4 @@ def light_receivers(glc, receivers, emitter_sets, occupancy, singularity_bound, 
         buffer.release()
     if not passes:
         lit.write(np.zeros((count, 3, 4), dtype=np.float32).tobytes())
-    if flux_bound is None:
-        flux_bound = float(np.frombuffer(lit.read(), dtype=np.float32).reshape(count, 3, 4)[:, 2, :3].sum(axis=0).max())
     return EmitterVPLs(lit, count, flux_bound)

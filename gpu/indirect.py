@@ -8,8 +8,8 @@ import math
 
 import numpy as np
 
-from .bounces import Generations, light_bounces
-from .emitter_bounce import RECEIVER_BYTES, light_receivers
+from .bounces import Generations, conserve, light_bounces
+from .emitter_bounce import RECEIVER_BYTES, EmitterSources, light_receivers
 from .light_grid import DIRECTIONS, LIGHT_GRID_BYTES_PER_CELL, LightGrid, cluster_bytes, cluster_levels
 from .lpv import GEOMETRY_VOLUME_BYTES_PER_CELL, LPV_BYTES_PER_CELL, LightPropagationVolume
 from .occupancy import GATHER_VOXELS_PER_CELL, LARGE_TRIANGLE_BYTES, VOXELS_PER_CELL, occupancy_bytes
@@ -62,9 +62,10 @@ class IndirectMethod:
         """The longest side, in texels, of a volume it allocates."""
         raise NotImplementedError
 
-    def build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources=(), receivers=None, rooms=None):
+    def build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources=EmitterSources(), receivers=None,
+              rooms=None):
         """Fill the grids from the lights' maps (gpu/light_maps.py LightMaps), timing each
-        stage; from the emitter sets `sources` ((buffer, count) pairs) through points drawn
+        stage; from the emitters `sources` (gpu/emitter_bounce.py EmitterSources) through points drawn
         on the surfaces by `receivers()` (the scene's gpu/emitter_bounce.py Receivers, made
         on first use); and with `settings.bounces` above 1 (gathering methods) from the
         later generations (gpu/bounces.py), on points it draws too, their senders' subsets
@@ -109,12 +110,19 @@ class IndirectMethod:
         return occupancy
 
     def _bounce_emitters(self, mesh, settings, stats, pattern, sources, receivers):
-        """The emitters' bounce: `sources`' light on points `receivers()` draws, marched
-        through the pixel gather's occupancy; adds it to the flux bound it returns."""
+        """The emitters' bounce: the light of `sources` (gpu/emitter_bounce.py
+        EmitterSources) on points `receivers()` draws, marched through the pixel gather's
+        occupancy and held on the GPU to at most their flux times the largest albedo of the
+        surfaces (gpu/bounces.py conserve), so its flux bound is known without waiting for
+        the GPU; returns that bound."""
         with self.glc.timed(stats, "emitter_bounce_ms"):
-            points = receivers().draw(settings.emitter_bounce_samples, pattern)
-            self.emitter_vpls = light_receivers(self.glc, points, sources, self._bounce_occupancy(mesh),
-                                                settings.singularity_bound, pattern)
+            receiving = receivers()
+            points = receiving.draw(settings.emitter_bounce_samples, pattern)
+            albedo = receiving.largest_albedo
+            self.emitter_vpls = light_receivers(self.glc, points, sources.sets, self._bounce_occupancy(mesh),
+                                                settings.singularity_bound, pattern,
+                                                sources.flux_bound * float(np.max(albedo)))
+            conserve(self.glc, self.generations.sums(), self.emitter_vpls, sources.sets, albedo, sources.flux_bound)
         return self.emitter_vpls.flux_bound
 
     def forget(self):
@@ -252,7 +260,7 @@ class GatheringMethod(IndirectMethod):
                                                              settings.singularity_bound, pattern)
             flux_bound += self.generations.flux_bound
         else:
-            self.generations.release()
+            self.generations.drop()
         return emitters, flux_bound
 
     def forget(self):

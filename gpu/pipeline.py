@@ -18,7 +18,7 @@ from .capacity import check_frame_fits
 from .closed_meshes import ClosedMeshes
 from .context import GLContext, resource_bytes
 from .debug_views import render_debug_passes
-from .emitter_bounce import Receivers
+from .emitter_bounce import EmitterSources, Receivers
 from .emitter_grid import EmitterGrid, grid_resolution
 from .emitter_shadows import EmitterShadows
 from .errors import LPVError
@@ -508,8 +508,9 @@ class Pipeline:
     def _emitter_sources(self, scene, s, selection, box, grids, stats):
         """Build the emitter grid of the frame's point emitters (when it keeps any) and their
         shadows' light grid over `grids`, and sample the emissive surfaces' emitters; the
-        (buffer, count) sets whose light bounces, and a key of what they hold."""
-        sources, key = [], ()
+        emitters whose light bounces (gpu/emitter_bounce.py EmitterSources), and a key of
+        what they hold."""
+        sources, bound, key = [], 0.0, ()
         emitting = selection is not None and selection.kept
         if not emitting or not s.emitter_shadows:
             self._emitter_shadows.clear()
@@ -525,6 +526,7 @@ class Pipeline:
                                   selection.bounds(scene.bounds()), s.singularity_bound,
                                   (selection.chosen, self._mesh.key, s.singularity_bound))
             sources.append((grid.emitters, grid.count))
+            bound += selection.flux_bound
             key += selection.chosen
         if (scene.emission is not None or world_lights(scene, self.settings)) and self._emission is None:
             self._emission = SurfaceEmission(self.glc)
@@ -532,13 +534,16 @@ class Pipeline:
             sides = self._open_sides.value[0] if self._rooms() is not None else None
             self._emission.sample(scene, s.emission_samples, self.vpl_pattern, sides)
             sources.append((self._emission.emitters, self._emission.count))
+            bound += self._emission.flux_bound
             key += (scene.geometry_key(), s.emission_samples, None if sides is None else array_key(sides))
         if world_lights(scene, self.settings):
             self._world_light().sample(scene, s.world_samples, self.vpl_pattern)
             sources.append((self._world.emitters, self._world.count))
+            bound += self._world.flux_bound
             key += (scene.world.key(), s.world_samples)
         # what the bounce marches through and bounds, whichever method gathers it
-        return sources, key + ((self._mesh.key, s.emitter_bounce_samples, s.singularity_bound) if sources else ())
+        return (EmitterSources(tuple(sources), bound),
+                key + ((self._mesh.key, s.emitter_bounce_samples, s.singularity_bound) if sources else ()))
 
     def gpu_bytes(self):
         """GPU memory the pipeline holds now: mesh, light maps, VPLs, LPV, camera images."""

@@ -9,6 +9,7 @@ import numpy as np
 
 from .closed_meshes import side_rooms
 from .colour import LUMINANCE_WEIGHTS
+from .emitter_bounce import flux_bound
 from .scene import array_key
 from .shade import add_irradiance
 
@@ -83,6 +84,7 @@ class SurfaceEmission:
         self.glc = glc
         self.emitters = None
         self.count = 0
+        self.flux_bound = 0.0  # the largest channel of the emitters' summed flux
         self._key = None
         self._surfaces = None  # (geometry key, EmissiveSurfaces)
 
@@ -97,6 +99,7 @@ class SurfaceEmission:
             if self.emitters is not None:
                 self.emitters.release()
             self.emitters, self.count, self._key = self.glc.gl.buffer(rows.tobytes()), len(rows), key
+            self.flux_bound = flux_bound(rows)
 
     def add_light(self, gather, mesh, targets, uniforms, camera_position, singularity_bound, pattern, others=(),
                   room_sides=None):

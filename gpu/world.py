@@ -18,6 +18,9 @@ from .colour import LUMINANCE_WEIGHTS
 DISTANCE_SCALE = 1000.0
 """A world emitter lies this many scene diagonals from the scene's centre: its light
 falls off by at most 0.1 % across the scene, as a distant light's does not at all."""
+SCENE_SHARE = 1.0 / (2.0 * DISTANCE_SCALE) ** 2
+"""The most of a world emitter's flux that reaches the scene: what crosses the disc of its
+bounding sphere (half a diagonal across), DISTANCE_SCALE diagonals off (R² / D²)."""
 
 
 def directions_of(height, width):

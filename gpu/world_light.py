@@ -5,7 +5,9 @@ along each camera ray where the camera sees no surface, and its lighting map wit
 mip chain, which glossy surfaces reflect (docs/method.md, "Specular light")."""
 import numpy as np
 
+from .emitter_bounce import flux_bound
 from .keyed_cache import KeyedCache
+from .world import SCENE_SHARE
 
 
 
@@ -21,6 +23,7 @@ class WorldLight:
     def __init__(self, glc):
         self.glc = glc
         self.count = 0
+        self.flux_bound = 0.0  # the largest channel of the emitters' summed flux that reaches the scene
         self._emitters, self._background, self._reflection = (KeyedCache(releases=True) for _ in range(3))
 
     @property
@@ -34,7 +37,7 @@ class WorldLight:
 
         def draw():
             rows = world.emitter_rows(count, pattern, (low + high) / 2, float(np.linalg.norm(high - low)))
-            self.count = len(rows)
+            self.count, self.flux_bound = len(rows), flux_bound(rows) * SCENE_SHARE
             return self.glc.gl.buffer(rows.tobytes() if len(rows) else np.zeros((1, 3, 4), np.float32).tobytes())
         self._emitters.get((world.key(), count, pattern, tuple(low), tuple(high)), draw)
 
@@ -67,4 +70,4 @@ class WorldLight:
     def release(self):
         for cache in (self._emitters, self._background, self._reflection):
             cache.clear()
-        self.count = 0
+        self.count, self.flux_bound = 0, 0.0

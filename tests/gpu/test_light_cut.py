@@ -31,10 +31,11 @@ def test_the_cut_gives_the_light_of_every_finest_cluster(monkeypatch):
 def test_emitters_clustered_in_rows_of_dispatches_give_the_same_light(monkeypatch):
     """GL promises 65,535 workgroups a dispatch: more emitters than 4,194,240 (a million
     particles' shadows, several times over) go in rows. Rows of 128 here split the VPLs
-    and the octaves' clusters into many dispatches, and the light is the same to the bit
-    (the clusters' sums are fixed-point)."""
+    and the octaves' clusters into many dispatches, and the light is the same to float
+    rounding (two frames of the same settings differ by as much: the gather's threads add
+    in no set order)."""
     whole = render_once(room_scene(4), Settings(**SMALL), passes=("indirect",)).passes["indirect"]
     monkeypatch.setattr(context, "ROW_INVOCATIONS", 128)
     rows = render_once(room_scene(4), Settings(**SMALL), passes=("indirect",)).passes["indirect"]
     assert whole.mean() > 0
-    assert (rows == whole).all()
+    assert abs(rows - whole).max() < 1e-6 * whole.max()

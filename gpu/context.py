@@ -373,6 +373,20 @@ IMAGE_FORMATS = {("f4", 4): "rgba32f", ("f2", 4): "rgba16f", ("f4", 1): "r32f", 
 """The GLSL image format of a float texture's (dtype, components)."""
 
 
+def made_or_refused(gl, make, what, remedy):
+    """The textures `make()` returns (a tuple), or, where the driver refused them within its
+    size limits (GL_OUT_OF_MEMORY, which moderngl does not raise: llvmpipe makes no texture
+    over 1 GiB), an LPVError in one sentence naming `what` and the `remedy`."""
+    while gl.error != "GL_NO_ERROR":
+        pass  # forget earlier errors: Mesa keeps only the first, which would hide these
+    textures = make()
+    if gl.error == "GL_OUT_OF_MEMORY":
+        for texture in textures:
+            texture.release()
+        raise LPVError(f"{gl.info['GL_RENDERER']} cannot make {what} (GL_OUT_OF_MEMORY); {remedy}.")
+    return textures
+
+
 def clear_depth_only(framebuffer):
     """Clear a framebuffer's depth and leave its colour as it is."""
     masks = framebuffer.color_mask

@@ -23,8 +23,7 @@ import numpy as np
 
 from .closed_meshes import ROOM_CODE_DEFINES
 from .colour import LUMINANCE_WEIGHTS
-from .context import dispatch, dispatch_row, set_uniforms, zero_buffer
-from .errors import LPVError
+from .context import dispatch, dispatch_row, made_or_refused, set_uniforms, zero_buffer
 from .settings import EMITTER_INTERPOLATIONS
 from .scene import POINT_EMITTER_COLUMNS
 from .shade import add_irradiance, bind_gbuffer
@@ -100,17 +99,10 @@ def largest_texture_side(settings):
 
 def _grid_textures(gl, resolution):
     """The colour sum and the direction sum's halves: three RGBA32F cubes of `resolution`
-    texels a side, read with trilinear filtering, clamped at their edges. A driver that
-    cannot make them (GL_OUT_OF_MEMORY, which moderngl does not raise) is named in one
-    sentence."""
-    while gl.error != "GL_NO_ERROR":
-        pass  # forget earlier errors: Mesa keeps only the first
-    textures = tuple(gl.texture3d((resolution,) * 3, 4, dtype="f4") for _ in range(3))
-    if gl.error == "GL_OUT_OF_MEMORY":
-        for texture in textures:
-            texture.release()
-        raise LPVError(f"{gl.info['GL_RENDERER']} cannot make the emitter grid's {resolution}³ textures "
-                       f"(GL_OUT_OF_MEMORY); lower the emitter grid resolution.")
+    texels a side, read with trilinear filtering, clamped at their edges; refused in one
+    sentence where the driver cannot make them."""
+    textures = made_or_refused(gl, lambda: tuple(gl.texture3d((resolution,) * 3, 4, dtype="f4") for _ in range(3)),
+                               f"the emitter grid's {resolution}³ textures", "lower the emitter grid resolution")
     for texture in textures:
         texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
         texture.repeat_x = texture.repeat_y = texture.repeat_z = False

@@ -5,8 +5,8 @@ import moderngl
 import numpy as np
 
 from .closed_meshes import ROOM_DEFINES
-from .context import clear_depth_only, dispatch, dispatch_indirect, dispatch_row, set_uniforms, zero_buffer
-from .errors import LPVError
+from .context import (clear_depth_only, dispatch, dispatch_indirect, dispatch_row, made_or_refused, set_uniforms,
+                      zero_buffer)
 from .grids import VIEW_LATTICE
 from .host_buffer import HostBuffer
 from .mesh_buffer import SURFACE_VERTICES_BINDING
@@ -37,21 +37,13 @@ class FrameTargets:
     def __init__(self, gl, width, height):
         self.gl = gl
         self.size = (width, height)
-        while gl.error != "GL_NO_ERROR":
-            pass  # forget earlier errors: Mesa keeps only the first, which would hide an allocation's
         # `direct` is a VPL set's direct light, `direct_mean` the mean of the sets averaged
-        self.direct, self.direct_mean, self.indirect, self.combined = (gl.texture(self.size, 4, dtype="f4")
-                                                                       for _ in range(4))
-        self.surface = gl.texture(self.size, 4, dtype="u4")
-        self.triangles = gl.texture(self.size, 1, dtype="u4")
-        self.specular = gl.texture(self.size, 4, dtype="u2")
-        self.depth = gl.depth_texture(self.size)
-        if gl.error == "GL_OUT_OF_MEMORY":  # within the limits yet refused: llvmpipe makes no image of 1.5 GiB
-            for texture in (self.direct, self.direct_mean, self.indirect, self.combined, self.surface, self.triangles,
-                            self.specular, self.depth):
-                texture.release()
-            raise LPVError(f"{gl.info['GL_RENDERER']} cannot make {width} x {height} images (GL_OUT_OF_MEMORY); "
-                           f"lower the resolution.")
+        (self.direct, self.direct_mean, self.indirect, self.combined, self.surface, self.triangles, self.specular,
+         self.depth) = made_or_refused(
+            gl, lambda: (*(gl.texture(self.size, 4, dtype="f4") for _ in range(4)),
+                         gl.texture(self.size, 4, dtype="u4"), gl.texture(self.size, 1, dtype="u4"),
+                         gl.texture(self.size, 4, dtype="u2"), gl.depth_texture(self.size)),
+            f"{width} x {height} images", "lower the resolution")
         for texture in (self.surface, self.triangles, self.specular, self.depth):
             texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self.depth.compare_func = ""

@@ -62,9 +62,11 @@ def extract_scene(depsgraph, resolution=None, view3d=None):
 
 
 def render_settings_of(scene, viewport=False):
-    """The Scene fields a bpy scene's render settings give: its film (`film_of`) and its
-    Light Paths' diffuse bounces (`diffuse_bounces_of`)."""
-    return {"film": film_of(scene, viewport), "diffuse_bounces": diffuse_bounces_of(scene)}
+    """The Scene fields a bpy scene's render settings give: its film (`film_of`), its
+    Light Paths' diffuse bounces (`diffuse_bounces_of`) and Filter Glossy."""
+    cycles = getattr(scene, "cycles", None)
+    return {"film": film_of(scene, viewport), "diffuse_bounces": diffuse_bounces_of(scene),
+            "filter_glossy": float(cycles.blur_glossy) if cycles is not None else 0.0}
 
 
 def film_of(scene, viewport=False):

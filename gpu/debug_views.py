@@ -48,8 +48,7 @@ def vpl_points(light_maps, origin=(0.0, 0.0, 0.0)):
     """The VPLPoints of `light_maps`, positions in world space (the maps' are relative to
     the scene's `origin`)."""
     positions, flux = [], []
-    for maps in light_maps:
-        vpls = maps.vpls.read()
+    for vpls in (vpl_set.read() for maps in light_maps for vpl_set in maps.vpl_sets()):
         positions.append(vpls["position"][vpls["valid"]])
         flux.append(vpls["flux"][vpls["valid"]])
     positions = np.concatenate(positions) if positions else np.zeros((0, 3), np.float32)
@@ -122,7 +121,7 @@ def render_debug_passes(glc, targets, camera, light_maps, point_size):
                  camera_position=tuple(float(v) for v in camera.position), point_size=float(point_size),
                  pixel_angle=camera.pixel_angle(targets.size[1]))
     gl.enable(moderngl.DEPTH_TEST)
-    draw_points(gl, program, [(maps.vpls.buffer, maps.vpls.count) for maps in light_maps])
+    draw_points(gl, program, [set_and_count for maps in light_maps for set_and_count in maps.emitter_sets()])
     program = glc.compute("warp_status_pass")
     bind_gbuffer(targets)
     status.bind_to_image(0, read=True, write=True)

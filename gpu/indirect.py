@@ -75,7 +75,7 @@ class IndirectMethod:
             self.emitter_vpls.release()
             self.emitter_vpls = None
         self._build(maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, rooms,
-                    sum(m.vpl_map.flux_bound for m in maps))
+                    sum(m.flux_bound for m in maps))
 
     def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, rooms, flux_bound):
         raise NotImplementedError
@@ -192,7 +192,7 @@ class LPVMethod(IndirectMethod):
         return settings.lpv_resolution + 1  # the geometry volume
 
     def _build(self, maps, mesh, scene_bounds, settings, stats, pattern, sources, receivers, rooms, flux_bound):
-        vpl_sets = [vpls for m in maps for vpls in (m.vpls, m.far_vpls) if vpls is not None]
+        vpl_sets = [vpls for m in maps for vpls in m.vpl_sets()]
         if sources:
             flux_bound += self._bounce_emitters(mesh, settings, stats, pattern, sources, receivers)
             vpl_sets.append(self.emitter_vpls)

@@ -32,8 +32,10 @@ ones every finest cluster, which costs the H100 as little and llvmpipe less (doc
 NEAR_SIZES = 1.5
 """A cluster stands for its emitters at cell centres farther than NEAR_SIZES times its width
 from its cell; nearer, the clusters half as wide inside it do (docs/method.md)."""
-BINS = 7  # a cluster's normal: the main axis and its sign, or none
-CLUSTER_INTS = 12  # flux rgb, weighted place xyz, weighted normal xyz, weight, weight whose bound is held, area
+BINS = 13  # a cluster's lobe: a cosine normal's main axis and sign, none, or a glossy lobe's axis and sign
+CLUSTER_INTS = 12
+"""flux rgb, weighted place xyz, weighted normal (or glossy axis) xyz, weight, weight whose bound is held (a glossy
+cluster's: weight over lobe exponent), area"""
 FIXED_POINT_RANGE = 2.0 ** 30
 AREA_UNITS = 1 << 16
 """Fixed-point units of a cluster's area sum per area of a finest cluster cell."""
@@ -140,7 +142,7 @@ class LightGrid:
         size = cluster_grids[0].size
         tables = cluster_tables(sum(count for _, count in emitter_sets), size, len(cluster_grids), room_count)
         self._cluster_buffers(tables)
-        defines = {"LEVELS": len(cluster_grids), "CLUSTER_INTS": CLUSTER_INTS, "DEPTH": len(tables),
+        defines = {"LEVELS": len(cluster_grids), "CLUSTER_INTS": CLUSTER_INTS, "DEPTH": len(tables), "CLUSTER_BINS": BINS,
                    "AREA_UNITS": AREA_UNITS, "MEMBER_AREA_CAP": MEMBER_AREA_CAP,
                    **(ROOM_DEFINES if room_count > 1 else ROOM_CODE_DEFINES)}
         levels = {"level_origins": np.array([g.origin for g in cluster_grids]),
@@ -234,7 +236,7 @@ class LightGrid:
         layers = self.occupancy.march_layers(levels)
         program = self.glc.compute("light_grid_gather", UNSHADOWED=int(bool(self.unshadowed)), MARCH_LEVELS=len(layers),
                                    CLUSTER_LEVELS=len(self.cluster_uniforms["cluster_cells"]), DEPTH=len(self.tables),
-                                   NEAR_SIZES=NEAR_SIZES, **(ROOM_DEFINES if rooms_apart else ROOM_CODE_DEFINES))
+                                   NEAR_SIZES=NEAR_SIZES, CLUSTER_BINS=BINS, **(ROOM_DEFINES if rooms_apart else ROOM_CODE_DEFINES))
         self.emitters.bind_to_storage_buffer(0)
         self.count.bind_to_storage_buffer(1)
         if self.glc.is_software:  # llvmpipe ends long loop nests: batches its limit allows, as many as there are

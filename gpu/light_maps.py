@@ -44,16 +44,23 @@ FAR_FIELD_SHARE = 0.25
 """A sun with a map of its own region gets this share of its VPL count again from its
 whole map outside that region: the far ground a house's walls see to the horizon."""
 
+GLOSSY_VPL_SHARE = 0.125
+"""In a scene with glossy layers, each light gets this share of its VPL count again as
+glossy VPLs, which carry what the layers reflect along their lobes (gpu/vpl.py): a
+layer reflects 4-15 % of a dielectric's light, a metal's all of it."""
+
 
 @dataclass
 class LightMaps:
     """One light's RSM (warped for WDPM), its VPLs, the method that made them, for the
     warped methods the warp status, and for a sun whose map spans far more than the camera
     sees, the map of the region it sees (`region`, the box `region_box`) that the VPLs come
-    from, with `far_vpls` from the whole map outside it; and the Poisson pattern of the
+    from, with `far_vpls` from the whole map outside it; in a scene with glossy layers
+    `glossy_vpls` of what they reflect (the region's, for such a sun); and the Poisson pattern of the
     VPLs (gpu/vpl.py); for a sun, the cascade of maps its direct light looks up where the
     camera looks (`view_maps` of the boxes `view_boxes`: fit_view_maps); the room the light
-    lies in, which its VPLs carry (gpu/closed_meshes.py)."""
+    lies in, which its VPLs carry (gpu/closed_meshes.py); the least GGX alpha of its glossy
+    VPLs' lobes (gpu/vpl.py glossy_blur_alpha)."""
 
     rsm: object
     method: str
@@ -62,10 +69,12 @@ class LightMaps:
     region_box: tuple = None
     vpls: object = None
     far_vpls: object = None
+    glossy_vpls: object = None
     pattern: int = None
     view_maps: tuple = ()
     view_boxes: tuple = None
     room: int = 0
+    least_glossy_alpha: float = 0.0
 
     def fit_view_maps(self, glc, mesh, resolution, boxes, bounds, stats):
         """A sun's cascade of maps for its direct light, finest first: one fitted across
@@ -97,17 +106,30 @@ class LightMaps:
 
     def sample_vpls(self, sampler, count, pattern):
         """(Re)sample the VPLs (and a sun's far field) in Poisson pattern `pattern`."""
-        for vpls in (self.vpls, self.far_vpls):
-            if vpls is not None:
-                vpls.release()
+        for vpls in self.vpl_sets():
+            vpls.release()
         self.vpls = sampler.sample(self.vpl_map, count, pattern, room=self.room)
         self.far_vpls = None if self.region is None else sampler.sample(
             self.rsm, max(1, int(count * FAR_FIELD_SHARE)), pattern, exclude=self.region_box, room=self.room)
+        self.glossy_vpls = None if not self.vpl_map.glossy else sampler.sample(
+            self.vpl_map, max(1, int(count * GLOSSY_VPL_SHARE)), pattern, room=self.room, glossy=True,
+            least_alpha=self.least_glossy_alpha)
         self.pattern = pattern
+
+    def vpl_sets(self):
+        """The light's VPL sets (gpu/vpl.py VPLSet)."""
+        return [vpls for vpls in (self.vpls, self.far_vpls, self.glossy_vpls) if vpls is not None]
 
     def emitter_sets(self):
         """The light's VPL buffers with their counts, for the indirect stage."""
-        return [(vpls.buffer, vpls.count) for vpls in (self.vpls, self.far_vpls) if vpls is not None]
+        return [(vpls.buffer, vpls.count) for vpls in self.vpl_sets()]
+
+    @property
+    def flux_bound(self):
+        """No channel of the VPLs' summed flux exceeds this: the map's bound, twice it with
+        glossy VPLs, which give back what their lobes send below the surface (up to as much
+        again: gpu/vpl.py)."""
+        return self.vpl_map.flux_bound * (2.0 if self.glossy_vpls is not None else 1.0)
 
     @property
     def vpl_count(self):
@@ -122,7 +144,7 @@ class LightMaps:
         return held
 
     def release(self):
-        for resource in (self.rsm, self.vpls, self.far_vpls, self.warp, self.region, *self.view_maps):
+        for resource in (self.rsm, *self.vpl_sets(), self.warp, self.region, *self.view_maps):
             if resource is not None:
                 resource.release()
 
@@ -179,23 +201,26 @@ def sun_region(levels, bounds):
     return tuple(map(float, low)), tuple(map(float, high))
 
 
-def render_light_maps(glc, mesh, light, settings, bounds, stats, sampler, pattern, region=None, room=0):
+def render_light_maps(glc, mesh, light, settings, bounds, stats, sampler, pattern, region=None, room=0,
+                      least_glossy_alpha=0.0):
     """A light's LightMaps by the settings' method, its VPLs in Poisson pattern `pattern`
-    and in the light's `room` (gpu/closed_meshes.py); `auto` tessellates where its first
+    and in the light's `room` (gpu/closed_meshes.py), its glossy VPLs' lobes at least
+    `least_glossy_alpha` wide (gpu/vpl.py glossy_blur_alpha); `auto` tessellates where its first
     choice leaves too many texels unresolved."""
+    args = (glc, mesh, light, settings, bounds, stats, sampler, pattern, region, room, least_glossy_alpha)
     if settings.method != "auto":
-        return _render_with(settings.method, glc, mesh, light, settings, bounds, stats, sampler, pattern, region, room)
-    maps = _render_with(auto_method(light), glc, mesh, light, settings, bounds, stats, sampler, pattern, region, room)
+        return _render_with(settings.method, *args)
+    maps = _render_with(auto_method(light), *args)
     if maps.warp is not None:
         found = sum(maps.warp.counts[name] for name in STATUS_NAMES[1:])
         unresolved = maps.warp.counts["failed"] + maps.warp.counts["approximate"]
         if unresolved > AUTO_TESSELLATION_SHARE * found:
             maps.release()
-            maps = _render_with("twdpm", glc, mesh, light, settings, bounds, stats, sampler, pattern, region, room)
+            maps = _render_with("twdpm", *args)
     return maps
 
 
-def _render_with(method, glc, mesh, light, s, bounds, stats, sampler, pattern, region, room):
+def _render_with(method, glc, mesh, light, s, bounds, stats, sampler, pattern, region, room, least_glossy_alpha):
     recipe = map_recipe(s, method)
     with glc.timed(stats, "rsm_ms"):
         rsm = render_rsm(glc, mesh, light, s.rsm_resolution, bounds, recipe.projection, recipe.tessellation_unit,
@@ -212,7 +237,7 @@ def _render_with(method, glc, mesh, light, s, bounds, stats, sampler, pattern, r
         with glc.timed(stats, "rsm_ms"):
             region_map = render_rsm(glc, mesh, light, s.rsm_resolution, tuple(np.array(corner) for corner in region),
                                     reach=bounds, pattern=pattern)
-    maps = LightMaps(rsm, method, status, region_map, region, room=room)
+    maps = LightMaps(rsm, method, status, region_map, region, room=room, least_glossy_alpha=least_glossy_alpha)
     with glc.timed(stats, "vpl_ms"):
         maps.sample_vpls(sampler, s.vpls_per_light, pattern)
     return maps

@@ -81,7 +81,7 @@ class LightPropagationVolume:
 
         `flux_bound` bounds any channel's total flux, so the fixed-point sums cannot overflow.
         """
-        largest = flux_bound / math.pi * LOBE_C1
+        largest = flux_bound / math.pi * LOBE_C1 * 1.5  # a glossy lobe's (lpv_inject.comp)
         self.fixed_point_scale = LPV_FIXED_POINT_RANGE / largest if largest > 0 else 1.0
         zero_buffer(self.glc, self.accumulator)
         program = self.glc.compute("lpv_inject")

@@ -36,7 +36,7 @@ from .shade import (FrameTargets, ReflectionInputs, bind_gbuffer, gbuffer_unifor
                     render_glow, seen_points, shade_direct, shade_indirect)
 from .soft_shadows import shadow_uniforms
 from .surface_emitters import SurfaceEmission
-from .vpl import VPLSampler
+from .vpl import VPLSampler, glossy_blur_alpha
 from .warp import STATUS_NAMES
 from .world_light import WorldLight, world_lights
 
@@ -151,10 +151,12 @@ class Pipeline:
             light_region = region if light.kind == "SUN" else None
             room = rooms.room_of(light) if rooms is not None else 0
             key = (light.key(), geometry_key, s.method, s.rsm_resolution, s.vpls_per_light, recipes, light_region,
-                   self.vpl_pattern if self._mesh.value.hashed else None, room)  # hashed cut-outs differ per pattern
+                   self.vpl_pattern if self._mesh.value.hashed else None, room,  # hashed cut-outs differ per pattern
+                   scene.filter_glossy)
             if key not in self._lights:
                 self._lights[key] = render_light_maps(self.glc, self._mesh.value, light, s, bounds, stats,
-                                                      self.vpl_sampler, self.vpl_pattern, light_region, room)
+                                                      self.vpl_sampler, self.vpl_pattern, light_region, room,
+                                                      glossy_blur_alpha(scene.filter_glossy))
             light_maps = self._lights[key]
             if light.kind == "SUN" and levels:
                 light_maps.fit_view_maps(self.glc, self._mesh.value, s.sun_cascade_resolution, self._cascade_boxes, bounds,
@@ -422,6 +424,7 @@ class Pipeline:
         stats = {"warp_status": {name: sum(w.counts[name] for w in warped) for name in STATUS_NAMES}} if warped else {}
         stats.update({
             "method": s.method, "light_methods": [m.method for m in maps], "vpl_count": vpl_count,
+            "glossy_vpl_count": sum(m.glossy_vpls.count for m in maps if m.glossy_vpls is not None),
             "vpl_pattern": self.vpl_pattern, "vpl_sets": sets, "accumulated_vpls": accumulated_vpls,
             "lights": len(scene.lights), "mapped_lights": len(lit.mapped), "lights_as_emitters": lit.lights_as_emitters,
             "rooms": rooms.count if rooms is not None else 0,

@@ -46,6 +46,7 @@ class ReflectiveShadowMap:
     ortho_texel: float                  # sun: a texel's width in world units, else 0
     flux_bound: float                   # no channel of the total flux can exceed this
     tint: moderngl.Texture = None       # what transmitting surfaces in front multiply its light by (None: no such surface)
+    glossy: bool = False                # its flux.w holds its surfaces' glossy share (shaders/glossy_word.glsl)
 
     @property
     def face_count(self):
@@ -287,4 +288,4 @@ def render_rsm(glc, mesh, light, resolution, bounds, method="cm", tessellation_u
     framebuffer.release()
     glc.recycle(depth, *nearest)
     return ReflectiveShadowMap(glc, light, resolution, kind, np.array(faces), origins, atlas_size, *textures,
-                               uniforms, ortho_texel, flux_bound, tint)
+                               uniforms, ortho_texel, flux_bound, tint, mesh.glossy)

@@ -302,7 +302,8 @@ class Scene:
     what the camera sees where it sees no surface; `film` (Film) says how the pixels are
     filtered and whether that world is seen; `diffuse_bounces` is how often diffuse light
     may bounce, as its Light Paths say (Cycles' Diffuse bounces within Max Bounces; None:
-    the scene says nothing).
+    the scene says nothing), and `filter_glossy` how much they blur a glossy layer reached
+    after a diffuse bounce (Cycles' Filter Glossy; 0: not at all, gpu/vpl.py glossy_blur_alpha).
     `approximated_materials` names the materials the extraction could only approximate:
     a name alone when their colour is approximated, "name: what" for shaders the preview
     does not support ("Smoke: volume (rendered as an opaque surface)"); `missing_images`
@@ -335,6 +336,7 @@ class Scene:
     world: object = None
     film: Film = Film()
     diffuse_bounces: int = None
+    filter_glossy: float = 0.0
     images: list = field(default_factory=list)
     approximated_materials: list = field(default_factory=list)
     missing_images: list = field(default_factory=list)

@@ -32,6 +32,7 @@ def save_scene(scene, path):
     film = {"film": np.array([scene.film.filter_width, float(scene.film.transparent)])}
     if scene.diffuse_bounces is not None:
         film["diffuse_bounces"] = np.array(scene.diffuse_bounces)
+    film["filter_glossy"] = np.array(scene.filter_glossy)
     try:
         np.savez_compressed(path, triangles=scene.triangles, normals=scene.normals, albedo=scene.albedo,
                             light_count=len(scene.lights), **lights, **camera, **surface,
@@ -76,7 +77,8 @@ def load_scene(path):
                  **{name: data[name] for name in SURFACE_FIELDS if name in data}, images=images,
                  approximated_materials=[str(name) for name in data.get("approximated_materials", [])],
                  world=world, film=film,
-                 diffuse_bounces=int(data["diffuse_bounces"]) if "diffuse_bounces" in data else None)
+                 diffuse_bounces=int(data["diffuse_bounces"]) if "diffuse_bounces" in data else None,
+                 filter_glossy=float(data["filter_glossy"]) if "filter_glossy" in data else 0.0)
 
 
 def cycles_reference_path(scene_path):

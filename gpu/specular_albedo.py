@@ -112,7 +112,8 @@ def bounce_colours(albedo, f0, metallic, roughness):
     """What surfaces of diffuse colour `albedo` (T, 3) under glossy layers (F0 (T, 3),
     metallic (T,), roughness (T,)) send on of light arriving from every direction, counted
     as diffuse: the diffuse the layer keeps and what it reflects, both with the layer's
-    albedo meaned over directions (shaders/specular.glsl bounce_colour)."""
+    albedo meaned over directions (a light map's texel sends the layer's along its lobe:
+    shaders/rsm_surface.glsl)."""
     layer = _albedo(f0, metallic, _read(roughness))
     kept = 1.0 - np.clip(layer.max(axis=1), 0.0, 1.0)
     return np.asarray(albedo, np.float64) * kept[:, None] + layer

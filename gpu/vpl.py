@@ -6,6 +6,8 @@ flux, carrying that texel's flux over the chance of drawing it: the VPLs' fluxes
 to the RSM's in expectation, and no cell moves one surface's light onto another.
 Pattern k > 0 is the same set moved by a random toroidal shift, so a still image that
 averages the VPL sets of patterns 0, 1, 2, ... converges toward every texel's light.
+Where surfaces have a glossy layer, a smaller set of glossy VPLs carries what the layers
+reflect, each along the mirror direction of the light's ray (shaders/vpl_gather.comp).
 """
 import math
 from collections import OrderedDict
@@ -21,6 +23,21 @@ from .rsm import PROJECTION_PARABOLOID
 
 EMITTER_BYTES = 3 * 16
 """A VPL's or any point emitter's bytes (shaders/emitter.glsl): position, normal, flux vec4s."""
+SHARPEST_ALPHA = 0.09
+"""The least GGX alpha of a glossy VPL's lobe (shaders/emitter.glsl glossy_lobe): half its
+peak 6.6° off its axis. A mirror's would be a ray, which the light grid's cells and a set's
+VPLs would catch on a few cells only (docs/method.md, "Glossy VPLs")."""
+
+
+def glossy_blur_alpha(filter_glossy):
+    """The GGX alpha Cycles' Filter Glossy (`filter_glossy`; 0: off) widens a glossy layer
+    to, at least, where a path reaches it after a diffuse bounce: 0.5 sqrt(1 - pdf /
+    filter_glossy) for the bounce's pdf, cos / pi, here at its mean over cosine-weighted
+    directions, 2 / (3 pi). The light a glossy layer sends onto diffuse surfaces is such a
+    path seen from the camera."""
+    if filter_glossy <= 0.0:
+        return 0.0
+    return 0.5 * math.sqrt(max(1.0 - 2.0 / (3.0 * math.pi * filter_glossy), 0.0))
 
 
 @lru_cache(maxsize=64)
@@ -103,7 +120,8 @@ def shifted_pattern(points, in_disk, pattern):
 @dataclass
 class VPLSet:
     """The VPLs of one light in a GPU buffer: per VPL position (w: 1 + its room, valid
-    where above 0), normal (w surfel area), flux (rgb) as three vec4."""
+    where above 0), normal (a glossy VPL's: its lobe's axis; w surfel area), flux (rgb; w
+    a glossy VPL's lobe alpha, negated, else 0) as three vec4."""
 
     buffer: moderngl.Buffer
     count: int
@@ -111,7 +129,7 @@ class VPLSet:
     def read(self):
         data = np.frombuffer(self.buffer.read(), dtype=np.float32).reshape(self.count, 3, 4)
         return {"position": data[:, 0, :3], "valid": data[:, 0, 3] > 0, "room": data[:, 0, 3] - 1,
-                "normal": data[:, 1, :3], "area": data[:, 1, 3], "flux": data[:, 2, :3]}
+                "normal": data[:, 1, :3], "area": data[:, 1, 3], "flux": data[:, 2, :3], "lobe": -data[:, 2, 3]}
 
     def release(self):
         self.buffer.release()
@@ -213,19 +231,23 @@ class VPLSampler:
         """The GPU resources of every cached Poisson cell layout."""
         return tuple(resource for _, cells in self._cells.values() for resource in cells.resources())
 
-    def sample(self, rsm, vpl_count, pattern=0, exclude=None, room=0):
+    def sample(self, rsm, vpl_count, pattern=0, exclude=None, room=0, glossy=False, least_alpha=0.0):
         """The VPLs of `rsm`'s cells in Poisson pattern `pattern`, leaving out the texels
         whose surface lies in the box `exclude` ((low, high) corners) when given, each in
-        the light's `room` (gpu/closed_meshes.py)."""
-        cells = self.cells(rsm, vpl_count, pattern)
-        program = self.glc.compute("vpl_gather", **ROOM_CODE_DEFINES)
+        the light's `room` (gpu/closed_meshes.py); with `glossy`, of the light its surfaces'
+        glossy layers reflect, their lobes of GGX alpha at least `least_alpha`, else of the rest.
+        Glossy VPLs keep pattern 0's cells and draw their texels anew in each pattern: over
+        sets they still converge toward every texel's light, without a second layout
+        assigned each set."""
+        cells = self.cells(rsm, vpl_count, 0 if glossy else pattern)
+        program = self.glc.compute("vpl_gather", SHARPEST_ALPHA=SHARPEST_ALPHA, **ROOM_CODE_DEFINES)
         output = self.glc.gl.buffer(reserve=cells.count * EMITTER_BYTES)
         for unit, texture in enumerate((rsm.position, rsm.normal, rsm.flux, cells.cell_ids)):
             texture.use(location=unit)
         low, high = exclude if exclude is not None else ((0.0,) * 3, (0.0,) * 3)
         set_uniforms(program, rsm_position=0, rsm_normal=1, rsm_flux=2, cell_ids=3, cell_count=cells.count,
                      exclude=exclude is not None, exclude_low=tuple(low), exclude_high=tuple(high),
-                     pattern=pattern, room=room)
+                     pattern=pattern, room=room, glossy=glossy, least_alpha=least_alpha, **rsm.light_uniforms)
         cells.samples.bind_to_storage_buffer(0)
         cells.bounds.bind_to_storage_buffer(1)
         output.bind_to_storage_buffer(2)

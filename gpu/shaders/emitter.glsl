@@ -1,7 +1,32 @@
 // A point emitter (gpu/light_grid.py): a VPL, or a cluster of them. position.w > 0: valid;
-// normal.xyz: the unit normal of a cosine emitter, zero for one that emits alike in every
-// direction; normal.w: the area it stands for; flux.rgb: its flux (W).
+// normal.xyz: the unit normal of a cosine emitter, the axis of a glossy one's lobe, zero
+// for one that emits alike in every direction; normal.w: the area it stands for; flux.rgb:
+// its flux (W); flux.w: below 0 a glossy emitter's lobe width, negated, else the share
+// whose bound is held (held_share).
 struct Emitter { vec4 position; vec4 normal; vec4 flux; };
+
+// A glossy emitter sends a glossy layer's reflection of its light (gpu/vpl.py) about its
+// mirror direction m as a GGX surface of alpha a = -flux.w reflects light arriving along
+// its normal: toward w at angle theta from m, D_a(theta / 2) / 4 of its flux per sr, the
+// half-vector's GGX density over the reflection's Jacobian (4 cos(theta / 2)) times
+// cos(theta / 2). It sums to the flux over the sphere; toward the light it keeps GGX's
+// tail.
+bool glossy_lobe(Emitter e) { return e.flux.w < 0.0; }
+
+// An emitter's radiant intensity toward unit direction w over its flux.
+float emitter_intensity(Emitter e, vec3 w) {
+    if (glossy_lobe(e)) {
+        float a2 = e.flux.w * e.flux.w;
+        float half_cos2 = 0.5 + 0.5 * dot(e.normal.xyz, w);  // cos^2(theta / 2)
+        float denominator = half_cos2 * (a2 - 1.0) + 1.0;
+        return 0.25 * a2 / (PI * denominator * denominator);
+    }
+    bool cosine = dot(e.normal.xyz, e.normal.xyz) > 0.5;
+    return cosine ? max(0.0, dot(e.normal.xyz, w)) / PI : 0.25 / PI;
+}
+
+// Whether the emitter lights as a square of its area facing its normal (square_faces).
+bool square_emitter(Emitter e) { return dot(e.normal.xyz, e.normal.xyz) > 0.5 && !glossy_lobe(e); }
 
 // Irradiance an emitter gives a surface at distance vector d from it, facing it: its
 // radiant intensity toward d over r^2, bounded next to it by the area A it stands for,
@@ -15,15 +40,14 @@ uniform float singularity_bound;
 vec3 bounded_emitter_light(Emitter e, vec3 d, float grown, float held, float h) {
     float r2 = dot(d, d);
     vec3 w = d * inversesqrt(max(r2, 1e-30));
-    bool cosine = dot(e.normal.xyz, e.normal.xyz) > 0.5;
-    float intensity = cosine ? max(0.0, dot(e.normal.xyz, w)) / PI : 0.25 / PI;
+    float intensity = emitter_intensity(e, w);
     float area = e.normal.w / PI;
     return e.flux.rgb * intensity * ((1.0 - h) / (r2 + grown * area + 1e-30) + h / (max(r2, held * area) + 1e-30));
 }
 
 // The share of an emitter's flux whose bound is held (flux.w): 1 for a point the emitters'
 // bounce or a later bounce lit (emitter_bounce.comp), a light grid cluster's flux-weighted
-// share of such points (emitter_cluster.comp), 0 for the lights' VPLs and the rest.
+// share of such points (emitter_cluster.comp), 0 for the lights' VPLs, glossy emitters and the rest.
 float held_share(Emitter e) { return clamp(e.flux.w, 0.0, 1.0); }
 
 // With `singularity_bound` grown for all of its flux (settings.py singularity_bound).

@@ -1,10 +1,11 @@
 #version 450 core
 // Emitters into clusters: the finest level whose box holds an emitter decides its cluster
-// cell, its normal's main axis and sign (or "no normal") the bin and with ROOMS its room
-// (rooms.glsl) the room; a hash table finds
-// the cluster, which sums the flux and the flux-weighted place in its cell, normal and
-// share whose bound is held (emitter.glsl held_share), and the area its emitters stand
-// for, in fixed-point integer atomics (the same sums whatever order the emitters come in).
+// cell, its lobe's main axis and sign (a cosine normal's or a glossy lobe's, or "no
+// normal": cluster_key.glsl) the bin and with ROOMS its room (rooms.glsl) the room; a hash
+// table finds the cluster, which sums the flux and the flux-weighted place in its cell,
+// normal (or lobe axis) and share whose bound is held (emitter.glsl held_share; a glossy
+// lobe's: its alpha squared), and the area its emitters stand for, in fixed-point
+// integer atomics (the same sums whatever order the emitters come in).
 // With WIDER, the emitters are the clusters of the octave before (emitter_compact.comp's list) and each goes into the cell twice as
 // wide that holds its own, by its name (cluster_key.glsl), not its place.
 #include "common.glsl"
@@ -48,12 +49,7 @@ void main() {
     vec3 g = clamp((e.position.xyz - level_origins[level]) / level_cells[level], vec3(0.0), vec3(grid_size) - 1e-3);
     ivec3 cell = ivec3(floor(g));
     vec3 n = e.normal.xyz;
-    int bin = 6;
-    if (dot(n, n) > 0.5) {
-        vec3 a = abs(n);
-        int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-        bin = 2 * axis + (n[axis] < 0.0 ? 1 : 0);
-    }
+    int bin = dot(n, n) > 0.5 ? axis_bin(n, glossy_lobe(e)) : NO_NORMAL_BIN;
 #ifdef ROOMS
     int room = emitter_room(e.position);
 #else
@@ -80,7 +76,7 @@ void main() {
         atomicAdd(sums[base + 6 + k], int(round(turned[k])));
     }
     atomicAdd(sums[base + 9], int(round(weight)));
-    atomicAdd(sums[base + 10], int(round(weight * held_share(e))));
+    atomicAdd(sums[base + 10], int(round(weight * (glossy_lobe(e) ? e.flux.w * e.flux.w : held_share(e)))));
     float cell_area = level_cells[level] * level_cells[level];
     atomicAdd(sums[base + 11], int(round(min(e.normal.w / cell_area, float(MEMBER_AREA_CAP)) * float(AREA_UNITS))));
 }

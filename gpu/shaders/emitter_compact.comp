@@ -4,7 +4,10 @@
 // is held, and its name and octave in position.w (cluster_key.glsl). A cluster with a
 // normal stands for the area its emitters stand for, at most its cell's face (a square:
 // emitter.glsl square_faces); one without, for a disk as wide as the finest clusters'
-// cell. The list keeps the hash table's slot order, so a frame's sums come out the same
+// cell. A glossy cluster's lobe lies along its emitters' mean axis, as wide as theirs and
+// their axes' spread together: to its emitters' mean alpha squared (a lobe's spread of
+// angles squared, over 2) adds half of one minus their mean axis' length (the axes' mean
+// angle squared, over 4) (docs/method.md, "Glossy VPLs"). The list keeps the hash table's slot order, so a frame's sums come out the same
 // every time: STAGE 0 counts each block of 64 slots,
 // STAGE 1 (one invocation) turns the counts into offsets after the octaves listed before
 // and the total into `emitter_total`, STAGE 2 writes each cluster at its block's offset
@@ -70,14 +73,16 @@ void main() {
     float size = level_cells[level] * float(1 << octave);
     vec3 place = vec3(sums[base + 3], sums[base + 4], sums[base + 5]) / weight;
     vec3 n = vec3(sums[base + 6], sums[base + 7], sums[base + 8]) / weight;
-    vec3 normal = bin < 6 && dot(n, n) > 1e-12 ? normalize(n) : vec3(0.0);
+    vec3 normal = bin != NO_NORMAL_BIN && dot(n, n) > 1e-12 ? normalize(n) : vec3(0.0);
     float cell_area = level_cells[level] * level_cells[level];
     float area = dot(normal, normal) > 0.5 ? min(float(uint(sums[base + 11])) / float(AREA_UNITS) * cell_area, size * size)
                                            : PI * 0.25 * cell_area;
+    float share = float(sums[base + 10]) / weight;
+    if (bin >= GLOSSY_BINS) share = -min(sqrt(share + 0.5 * max(1.0 - length(n), 0.0)), 1.0);  // -(its alpha)
     emitters[blocks[block] + rank] = Emitter(vec4(level_origins[level] + (vec3(cell) + clamp(place, 0.0, 1.0)) * size,
                                                   cluster_word(key, octave)),
                                              vec4(normal, area),
-                                             vec4(flux, float(sums[base + 10]) / weight));
+                                             vec4(flux, share));
 #endif
 #endif
 }

@@ -8,7 +8,8 @@
 // of them: each cluster where it stands far enough from the cell centre and the one twice
 // as wide holding it does not (gpu/light_grid.py NEAR_SIZES), so every emitter is counted
 // once, near ones in the finest clusters and far ones in wide ones. A cluster with a normal
-// lights the six faces as a square (emitter.glsl square_faces), one without as a point.
+// lights the six faces as a square (emitter.glsl square_faces), a glossy one or one without
+// a normal as a point.
 // A workgroup is one cell, its lanes share the emitters and add up their sums at the end:
 // cells alone are too few to fill a GPU. One dispatch adds the emitters [first_emitter,
 // first_emitter + batch) to what the ones before left: llvmpipe ends a loop nest after
@@ -96,7 +97,7 @@ void main() {
         Emitter e = emitters[j];
         if (!in_cut_and_room(e, centre, room)) continue;
         vec3 light, plus, minus;  // the light on surfaces facing +axis and -axis: light * plus, light * minus
-        if (dot(e.normal.xyz, e.normal.xyz) > 0.5) {
+        if (square_emitter(e)) {
             square_faces(e, centre, light, plus, minus);
         } else {
             vec3 d = centre - e.position.xyz;

@@ -2,7 +2,10 @@
 // VPL injection: each VPL adds (flux/pi) * cosLobe(n) at p + cell/2 * n, shared among the
 // eight cells around that point by trilinear weights, so the volume changes smoothly as a
 // VPL (or the grid) moves instead of jumping when it crosses a cell boundary. Fixed-point
-// integer atomics, one channel per integer, so many VPLs in a cell all add up.
+// integer atomics, one channel per integer, so many VPLs in a cell all add up. A glossy
+// VPL (emitter.glsl glossy_lobe) adds its lobe around its axis: the same first coefficient,
+// the next ones times its mean cosine over the cosine's 2/3, taken as a Phong lobe's of
+// the same spread, (k + 1) / (k + 2) for k = 1 / (2 alpha^2).
 // A workgroup's VPLs come from one patch of the light's map and fall into a few cells:
 // they add up in shared memory first (a small table of cells), and each cell goes to the
 // volume with one atomic per channel; a cell the full table cannot take goes straight.
@@ -59,6 +62,10 @@ void main() {
         ivec3 first = ivec3(floor(q));
         vec3 f = q - vec3(first);
         vec4 lobe = cos_lobe(n) / PI * fixed_point_scale;
+        if (v.flux.w < 0.0) {
+            float k = 0.5 / (v.flux.w * v.flux.w);
+            lobe.yzw *= 1.5 * (k + 1.0) / (k + 2.0);
+        }
         for (int corner = 0; corner < 8; ++corner) {
             ivec3 step = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
             ivec3 cell = first + step;

@@ -1,7 +1,7 @@
 #version 450 core
 // Reflective shadow map texel: position, light-facing normal, reflected flux (METHOD §2):
 // the diffuse and, with GLOSSY_LAYER (a scene with some F0), what the glossy layer over
-// it sends on (specular.glsl bounce_colour; rsm_surface.glsl).
+// it reflects, with its share of the flux (rsm_surface.glsl).
 // With CUT_OUT a texel the surface does not cover (surface.glsl) lets the light pass. With
 // TINT_MAP the fourth attachment starts at 1: transmitting surfaces in front multiply it
 // (passing_tint.frag). With RASTERISED a compute pass has made the texels of the small

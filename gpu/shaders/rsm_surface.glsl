@@ -2,6 +2,7 @@
 // (surface_vertices.glsl): rsm.frag's fragments, and rsm_resolve.comp's texels of the
 // triangles a compute pass rasterised.
 #include "common.glsl"
+#include "glossy_word.glsl"
 #include "light.glsl"
 #include "paraboloid.glsl"
 #include "specular.glsl"
@@ -17,7 +18,8 @@ uniform int projection_kind;
 
 // The texel at `texel_centre` (in the atlas) of the surface of albedo `surface_albedo`:
 // `position` xyz world, w shadow distance (0: empty); `normal` xyz toward the light, w
-// surfel area; `flux` rgb reflected flux in W, w 1.
+// surfel area; `flux` rgb reflected flux in W, w the share of it the glossy layer reflects
+// and its roughness (glossy_word.glsl; 0 without GLOSSY_LAYER).
 void surface_rsm_texel(vec4 surface_albedo, SurfacePoint here, vec2 texel_centre, out vec4 position, out vec4 normal,
                        out vec4 flux) {
     vec3 world_position = surface_vec3(0);
@@ -44,9 +46,14 @@ void surface_rsm_texel(vec4 surface_albedo, SurfacePoint here, vec2 texel_centre
     position = vec4(world_position, max(dist, 1e-30));
     normal = vec4(n, area);
     vec3 colour = surface_colour(surface_albedo, here);
+    float word = 0.0;
 #ifdef GLOSSY_LAYER
     vec4 specular = surface_vec4(VERTEX_SPECULAR);  // F0 rgb, roughness
-    colour = bounce_colour(colour, specular.rgb, surface_float(VERTEX_METALLIC), specular.a, abs(dot(n, w)));
+    float metallic = surface_float(VERTEX_METALLIC);
+    vec3 glossy = specular_albedo(specular.rgb, metallic, specular.a, abs(dot(n, w)));
+    colour = diffuse_bounce_colour(colour, specular.rgb, metallic, specular.a) + glossy;
+    float total = colour.r + colour.g + colour.b;
+    word = glossy_word(total > 0.0 ? (glossy.r + glossy.g + glossy.b) / total : 0.0, specular.a);
 #endif
-    flux = vec4(colour * power, 1.0);
+    flux = vec4(colour * power, word);
 }

@@ -99,11 +99,10 @@ float diffuse_under_layer(vec3 f0, float metallic, float roughness, float nv) {
     return kept_under(specular_albedo(f0, metallic, roughness, nv));
 }
 
-// What a surface of diffuse colour `albedo` under a glossy layer sends on of the light
-// arriving at cos `nl`, counted as diffuse light: the diffuse it keeps seen from every
-// direction (the layer's albedo meaned over them) and what the layer reflects of that
-// light (docs/method.md, "Specular light").
-vec3 bounce_colour(vec3 albedo, vec3 f0, float metallic, float roughness, float nl) {
-    float kept = kept_under(layer_albedo(f0, metallic, mean_specular_albedo_terms(roughness)));
-    return albedo * kept + specular_albedo(f0, metallic, roughness, nl);
+// What a surface of diffuse colour `albedo` under a glossy layer sends on as diffuse light:
+// the diffuse it keeps seen from every direction (the layer's albedo meaned over them). The
+// layer itself reflects specular_albedo of the light arriving at cos nl, along its lobe
+// (docs/method.md, "Specular light").
+vec3 diffuse_bounce_colour(vec3 albedo, vec3 f0, float metallic, float roughness) {
+    return albedo * kept_under(layer_albedo(f0, metallic, mean_specular_albedo_terms(roughness)));
 }

@@ -9,8 +9,19 @@
 // With `exclude`, texels whose surface lies in the box [exclude_low, exclude_high] count
 // for nothing (a sun's far field, whose near part another map samples). Each VPL carries
 // its light's room (rooms.glsl).
+// With `glossy`, the VPLs stand for what the texels' glossy layers reflect (flux.w:
+// glossy_word.glsl) and the rest of their flux for nothing: each is drawn by that share,
+// carries it and sends it about the mirror direction of the light's ray in a GGX lobe
+// (emitter.glsl glossy_lobe) of its alpha, roughness^2, at least `least_alpha` and
+// SHARPEST_ALPHA and at most 1. The lobe sends alpha^2 / (1 + alpha^2) of its flux more
+// than 90° off its axis, below the surface where the light arrives along the normal: its
+// flux is 1 + alpha^2 times the texel's share, so that what it sends above is that share.
+// Without, they stand for the rest.
 #define GROUP 64
+#include "common.glsl"
+#include "glossy_word.glsl"
 #include "hash.glsl"
+#include "light.glsl"
 #include "rooms.glsl"
 layout(local_size_x = GROUP) in;
 uniform sampler2D rsm_position;
@@ -19,7 +30,7 @@ uniform sampler2D rsm_flux;
 uniform isampler2D cell_ids;
 layout(std430, binding = 0) readonly buffer Samples { vec2 sample_texel[]; };  // atlas texels
 layout(std430, binding = 1) readonly buffer Bounds { ivec4 bounds[]; };
-struct VPL { vec4 position; vec4 normal; vec4 flux; };  // w: 1 + room (> 0: valid), surfel area, unused
+struct VPL { vec4 position; vec4 normal; vec4 flux; };  // emitter.glsl Emitter
 layout(std430, binding = 2) writeonly buffer VPLs { VPL vpls[]; };
 
 shared vec4 partial_flux[GROUP];   // rgb flux, a surfel area
@@ -32,6 +43,14 @@ uniform vec3 exclude_low;
 uniform vec3 exclude_high;
 uniform uint pattern;
 uniform int room;  // the light's
+uniform bool glossy;
+uniform float least_alpha;  // gpu/vpl.py glossy_blur_alpha
+
+// The share of a texel's flux (of flux.w `word`) these VPLs stand for.
+float lobe_share(float word) {
+    float share = glossy_word_share(word);
+    return glossy ? share : 1.0 - share;
+}
 
 void main() {
     int cell = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);
@@ -52,9 +71,9 @@ void main() {
         if (position.w <= 0.0) continue;
         if (exclude && all(greaterThanEqual(position.xyz, exclude_low)) && all(lessThanEqual(position.xyz, exclude_high)))
             continue;
-        vec3 flux = texelFetch(rsm_flux, texel, 0).rgb;
-        sum += vec4(flux, texelFetch(rsm_normal, texel, 0).w);
-        float weight = flux.r + flux.g + flux.b;
+        vec4 flux = texelFetch(rsm_flux, texel, 0);
+        sum += vec4(flux.rgb, texelFetch(rsm_normal, texel, 0).w);
+        float weight = (flux.r + flux.g + flux.b) * lobe_share(flux.w);
         drawn.x += weight;
         if (weight > 0.0 && hash_unit(hash32(seed ^ uint(i))) * drawn.x < weight) drawn.y = float(i);
         vec2 d = vec2(texel) + 0.5 - target;
@@ -83,10 +102,23 @@ void main() {
         int i = int(chosen.y >= 0.0 ? chosen.y : partial_best[0].y);
         if (i >= 0) {
             ivec2 texel = ivec2(box.x + i % width, box.y + i / width);
-            v.position = vec4(texelFetch(rsm_position, texel, 0).xyz, room_word(room));
-            v.normal = vec4(texelFetch(rsm_normal, texel, 0).xyz, partial_flux[0].a);
-            vec3 flux = texelFetch(rsm_flux, texel, 0).rgb;
-            if (chosen.y >= 0.0) v.flux = vec4(flux * (chosen.x / (flux.r + flux.g + flux.b)), 0.0);
+            vec3 p = texelFetch(rsm_position, texel, 0).xyz;
+            vec3 n = texelFetch(rsm_normal, texel, 0).xyz;
+            vec4 flux = texelFetch(rsm_flux, texel, 0);
+            v.position = vec4(p, room_word(room));
+            v.normal = vec4(n, partial_flux[0].a);
+            // The texel's share over its chance of being drawn: its whole flux over the cell's sum
+            if (chosen.y >= 0.0) v.flux = vec4(flux.rgb * (chosen.x / (flux.r + flux.g + flux.b)), 0.0);
+            if (glossy) {
+                vec3 w;
+                float dist;
+                light_ray(p, w, dist);
+                float roughness = glossy_word_roughness(flux.w);
+                float alpha = max(roughness * roughness, least_alpha);
+                v.normal.xyz = reflect(w, n);
+                alpha = clamp(alpha, SHARPEST_ALPHA, 1.0);
+                v.flux = vec4(v.flux.rgb * (1.0 + alpha * alpha), -alpha);
+            }
         }
         vpls[cell] = v;
     }

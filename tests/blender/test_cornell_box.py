@@ -67,13 +67,17 @@ def test_floor_next_to_the_red_wall_is_redder(cornell, frame):
 
 
 def test_vpls_carry_the_rsm_flux(cornell, pipeline):
+    """The VPLs and the glossy VPLs (of the Principled walls' layers) carry the map's flux
+    between them, the glossy ones 1 + alpha² times theirs (gpu/vpl.py)."""
     (maps,), _ = pipeline.light_maps(cornell)
-    rsm, vpls = maps.rsm, maps.vpls
+    rsm, vpls, glossy = maps.rsm, maps.vpls.read(), maps.glossy_vpls.read()
     rsm_flux = rsm.read(rsm.flux)[..., :3].astype(np.float64).sum(axis=(0, 1))
-    vpl_flux = vpls.read()["flux"].astype(np.float64).sum(axis=0)
-    print(f"\nRSM flux {rsm_flux} W, VPL flux {vpl_flux} W, {vpls.count} VPLs")
-    assert vpls.count == 2048
-    np.testing.assert_allclose(vpl_flux, rsm_flux, rtol=0.01)
+    vpl_flux = vpls["flux"].astype(np.float64).sum(axis=0)
+    reflected = (glossy["flux"] / (1.0 + glossy["lobe"][:, None] ** 2)).astype(np.float64).sum(axis=0)
+    print(f"\nRSM flux {rsm_flux} W, VPL flux {vpl_flux} W, glossy VPL flux {reflected} W, "
+          f"{maps.vpls.count} and {maps.glossy_vpls.count} VPLs")
+    assert (maps.vpls.count, maps.glossy_vpls.count) == (2048, 256)
+    np.testing.assert_allclose(vpl_flux + reflected, rsm_flux, rtol=0.01)
 
 
 def test_rsm_flux_is_the_light_power_times_albedo(cornell, pipeline):
@@ -101,7 +105,7 @@ def test_stats_report_every_stage(frame, cornell):
     for stage in ("rsm_ms", "vpl_ms", *INDIRECT_STAGES[Settings().indirect_method], "gbuffer_ms", "direct_ms",
                   "indirect_ms"):
         assert frame.stats[stage] > 0.0, stage
-    assert frame.stats["vpl_count"] == 2048
+    assert frame.stats["vpl_count"] == 2048 + 256 and frame.stats["glossy_vpl_count"] == 256
     assert frame.stats["triangles"] == cornell.triangle_count
     assert frame.stats["rsm_faces"] == 6
 

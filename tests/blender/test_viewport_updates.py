@@ -197,7 +197,8 @@ def test_overlay_data_follows_the_light_side_and_the_overlay_settings(cornell_sc
             "wdpm", True, True, True)
         drawn = draw()
         overlays = session.overlays
-        invalid = session.gl.call(lambda: int((~session.pipeline.last_light_maps[0].vpls.read()["valid"]).sum()))
+        invalid = session.gl.call(lambda: sum(int((~vpls.read()["valid"]).sum())
+                                              for vpls in session.pipeline.last_light_maps[0].vpl_sets()))
         assert len(overlays.vpls.positions) == drawn.stats["vpl_count"] - invalid
         assert overlays.slice.image.shape == (16, 16, 4) and overlays.slice.light.sum() > 0
         assert overlays.warp_status.shape[:2] == session.pipeline.last_light_maps[0].warp.texture.size[::-1]

@@ -25,7 +25,7 @@ def test_demo_writes_exr_pngs_and_stats(tmp_path, capsys):
     for image in passes.values():
         assert image.shape == (64, 64, 3) and np.all(np.isfinite(image))
     stats = json.loads((out / "stats.json").read_text())
-    assert stats["vpl_count"] == 512 and stats["triangles"] == 900
+    assert stats["vpl_count"] == 512 + 64 and stats["glossy_vpl_count"] == 64 and stats["triangles"] == 900
     assert all(stats[k] > 0 for k in ("rsm_ms", "vpl_ms", *INDIRECT_STAGES[Settings().indirect_method], "total_ms"))
 
 

@@ -12,6 +12,7 @@ from lpv_preview.gpu.pipeline import Pipeline
 from lpv_preview.gpu.scene import Camera, Light, Scene
 from lpv_preview.gpu.settings import Settings
 from lpv_preview.gpu.specular_albedo import bounce_colours, specular_albedo
+from lpv_preview.gpu.vpl import SHARPEST_ALPHA
 
 SIZE = 48
 ALBEDO = 0.5
@@ -140,3 +141,31 @@ def test_the_gbuffer_keeps_the_diffuse_the_layer_lets_through_toward_the_eye(pip
     seen = record.seen
     expected = ALBEDO * diffuse_kept(record.position[seen], f0, roughness, metallic)
     np.testing.assert_allclose(record.albedo[seen][:, 0], expected, rtol=2e-3)
+
+
+@pytest.mark.parametrize("f0, roughness, metallic", [(0.04, 0.25, 0.0), (0.9, 0.3, 1.0)])
+def test_glossy_vpls_carry_what_the_layer_reflects_along_the_mirror_direction(pipeline, f0, roughness, metallic):
+    """The glossy VPLs' flux is what the map's texels reflect off their layer, the diffuse
+    VPLs' the rest, each set summing exactly its share of the map's flux (every texel is
+    in a cell of both; the glossy ones' 1 + alpha² times it, what their lobes send below the
+    surface given back); each glossy VPL's lobe lies along the lamp's ray mirrored by the
+    floor, a GGX lobe of the floor's alpha, at least SHARPEST_ALPHA."""
+    scene = floor_scene((f0, f0, f0, roughness, metallic))
+    (maps,), _ = pipeline.light_maps(scene)
+    flux = maps.rsm.read(maps.rsm.flux)
+    channels = flux[..., :3].sum(axis=-1)
+    share = flux[..., 3] - np.floor(flux[..., 3])
+    diffuse, glossy = maps.vpls.read(), maps.glossy_vpls.read()
+    alpha = max(roughness ** 2, SHARPEST_ALPHA)
+    reflected = glossy["flux"].sum() / (1 + alpha ** 2)
+    assert abs(reflected / (channels * share).sum() - 1.0) < 1e-3
+    assert abs((diffuse["flux"].sum() + reflected) / channels.sum() - 1.0) < 1e-3
+    expected_share = 1.0 if metallic else 0.15
+    assert reflected / channels.sum() < expected_share + 1e-3
+    carrying = glossy["valid"] & (glossy["flux"].sum(axis=1) > 0)
+    rays = glossy["position"][carrying] - LAMP
+    rays /= np.linalg.norm(rays, axis=1, keepdims=True)
+    mirrored = rays * np.array([1.0, 1.0, -1.0])
+    np.testing.assert_allclose(glossy["normal"][carrying], mirrored, atol=1e-3)
+    np.testing.assert_allclose(glossy["lobe"][carrying], alpha, rtol=2 / 255 / roughness)  # the roughness in 255ths
+    assert np.all(diffuse["lobe"] == 0.0)
